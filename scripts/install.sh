@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Install belvedere and everything its tests need into the active Python environment.
+# Debian packages the tests use are installed when we are root (or have sudo).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+DEBIAN_PACKAGES=()  # later issues add e.g. liburdfdom-tools, chromium
+
+if [ ${#DEBIAN_PACKAGES[@]} -gt 0 ] && command -v apt-get >/dev/null 2>&1; then
+  missing=()
+  for p in "${DEBIAN_PACKAGES[@]}"; do
+    dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
+  done
+  if [ ${#missing[@]} -gt 0 ]; then
+    if [ "$(id -u)" = 0 ]; then SUDO=""; else SUDO="sudo"; fi
+    $SUDO apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${missing[@]}"
+  fi
+fi
+
+python -m pip install -q --upgrade pip
+python -m pip install -q -e ".[test]"

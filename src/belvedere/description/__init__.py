@@ -1,0 +1,1 @@
+"""Robot descriptions: xacro, URDF models, checks and meshes."""

@@ -1,0 +1,1033 @@
+"""The xacro tree walk: properties, macros, includes, conditionals, substitutions.
+
+It follows xacro 2.1.1 operation by operation (including where comments go and which
+whitespace nodes survive, since both show in the output) on our linked DOM, so moving nodes
+costs O(1). Legacy dialects change what an unprefixed tag means and how macros are scoped.
+"""
+
+from __future__ import annotations
+
+import enum
+import glob
+import logging
+import os
+import re
+import sys
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Final
+
+import yaml
+
+from belvedere.description.xacro._errors import XacroError
+from belvedere.description.xacro._expr import EXPR, EXTENSION, compile_expr, eval_code, tokenize
+from belvedere.description.xacro._symbols import (
+    NameSpace,
+    Scope,
+    YamlDict,
+    YamlList,
+    boolean,
+    make_global_symbols,
+)
+from belvedere.errors import BelvedereError, ParseError, SourceLocation
+from belvedere.packages import PackageIndex
+from belvedere.xmldom import Comment, Document, Element, Node, Text, parse_file
+
+__all__ = ["Dialect", "Processor", "XacroWarning"]
+
+logger = logging.getLogger("belvedere.xacro")
+
+
+class Dialect(enum.Enum):
+    """Which xacro the input was written for."""
+
+    AUTO = "auto"
+    """Modern semantics; legacy unprefixed tags and macro calls expanded, with a warning."""
+    MODERN = "modern"
+    """Exactly xacro 2.1.1 (ROS Noetic and later)."""
+    MELODIC = "melodic"
+    """xacro 1.13 in-order: unprefixed tags and calls, macros defined in macros leak."""
+    KINETIC = "kinetic"
+    """xacro 1.11 default: two passes (includes, macros, properties first), literal typing."""
+
+
+LEGACY_KEYWORDS: Final = frozenset(
+    {"property", "macro", "include", "arg", "if", "unless", "insert_block"}
+)
+
+# Tags of URDF, SDF and Gazebo extensions: an unprefixed tag of these names that also names a
+# macro is ambiguous (melodic swallowed it into the macro, ros/xacro#41).
+KNOWN_ELEMENTS: Final = frozenset(
+    """robot link joint inertial origin mass inertia visual collision geometry box cylinder
+    sphere mesh material color texture parent child axis calibration dynamics limit mimic
+    safety_controller transmission type hardwareInterface actuator mechanicalReduction joint
+    gazebo plugin sensor camera ray scan horizontal vertical range noise image clip
+    update_rate visualize always_on topic pose model world include uri name static light
+    physics scene state contact friction surface ode bounce kp kd mu mu1 mu2 fdir1 minDepth
+    maxVel selfCollide gravity turnGravityOff provideFeedback implicitSpringDamper
+    frame imu force_torque lidar gpu_ray depth_camera
+    """.split()
+)
+
+_FIX_SED: Final = (
+    "find . -iname \"*.xacro\" | xargs sed -i 's#<\\([/]\\?\\)\\(if\\|unless\\|include"
+    "\\|arg\\|property\\|macro\\|insert_block\\)\\([ >]\\)#<\\1xacro:\\2\\3#g'"
+)
+
+
+@dataclass(frozen=True, slots=True)
+class XacroWarning:
+    """A warning the processor gave, with where it applies."""
+
+    message: str
+    location: SourceLocation | None = None
+
+    def __str__(self) -> str:
+        return f"{self.location}: warning: {self.message}" if self.location else self.message
+
+
+@dataclass
+class Macro:
+    name: str
+    body: Element
+    params: list[str] = field(default_factory=list)
+    defaults: dict[str, tuple[str | None, str | None]] = field(default_factory=dict)
+    """param → (name to forward from the caller's scope, default text)."""
+
+
+class MacroTable:
+    """Macros visible at one level; lookups fall back to the parent level."""
+
+    __slots__ = ("macros", "parent")
+
+    def __init__(self, parent: MacroTable | None = None) -> None:
+        self.parent = parent
+        self.macros: dict[str, Macro | MacroTable] = {}
+
+    def get(self, name: str) -> Macro | MacroTable | None:
+        t: MacroTable | None = self
+        while t is not None:
+            m = t.macros.get(name)
+            if m is not None:
+                return m
+            t = t.parent
+        return None
+
+    def top(self) -> MacroTable:
+        t = self
+        while t.parent is not None:
+            t = t.parent
+        return t
+
+
+_MACRO_PARAM: Final = re.compile(
+    r"^\s*([^\s:=]+?)\s*:?=\s*(\^\|?)?(\$\{.*?\}|\$\(.*?\)|(?:'.*?'|\".*?\"|[^\s'\"]+)+|)(?:\s+|$)(.*)"
+)
+
+
+def parse_macro_params(spec: str) -> tuple[list[str], dict[str, tuple[str | None, str | None]]]:
+    """Split a ``params`` attribute: ``a b:=1 c:=^ d:=^|2 *blk **blks``."""
+    params: list[str] = []
+    defaults: dict[str, tuple[str | None, str | None]] = {}
+    rest = spec
+    while rest:
+        m = _MACRO_PARAM.match(rest)
+        if m:
+            param, forward, default, rest = m.groups()
+            defaults[param] = (param if forward else None, default or None)
+        else:
+            parts = rest.lstrip().split(None, 1)
+            if not parts:
+                break
+            param = parts[0]
+            rest = parts[1] if len(parts) > 1 else ""
+        params.append(param)
+    return params, defaults
+
+
+def _is_valid_name(name: str) -> bool:
+    import keyword
+
+    return name.isidentifier() and not keyword.iskeyword(name)
+
+
+class _MissingIncludeError(XacroError):
+    """An include whose file does not exist (skipped when the include is optional)."""
+
+
+MAX_MACRO_DEPTH: Final = 2000
+
+
+class Processor:
+    """One run of xacro over one document."""
+
+    def __init__(
+        self,
+        *,
+        mappings: dict[str, str] | None = None,
+        dialect: Dialect = Dialect.AUTO,
+        packages: PackageIndex | None = None,
+        root_dir: str | None = None,
+        warn: Callable[[XacroWarning], None] | None = None,
+    ) -> None:
+        self.args: dict[str, str] = dict(mappings or {})
+        self.dialect = dialect
+        self.legacy_tags = dialect is not Dialect.MODERN
+        self.packages = packages if packages is not None else PackageIndex([])
+        self.root_dir = root_dir or os.curdir
+        self.files: list[str | None] = []
+        self.calls: list[tuple[Macro, SourceLocation | None]] = []
+        self.includes: list[str] = []
+        self.warnings: list[XacroWarning] = []
+        self._warn_sink = warn
+        self._warned: set[str] = set()
+        self.marker = Text("\n\n")
+        """xacro moves one shared blank text node around to stop comment removal; so do we."""
+        self.current: Element | None = None
+        self.globals = make_global_symbols(
+            warn=self.warn,
+            xacro_functions={
+                "load_yaml": self.load_yaml,
+                "abs_filename": self.abs_filename,
+                "dotify": YamlDict,
+                "arg": lambda name: self.args[name],
+                "message": self._message("message"),
+                "warning": self._message("warning"),
+                "error": self._message("error"),
+                "print_location": self._message("print_location"),
+                "fatal": self._fatal,
+            },
+        )
+
+    # --- diagnostics -------------------------------------------------------------------------
+    def here(self) -> SourceLocation | None:
+        return self.current.loc if self.current is not None else None
+
+    def warn(self, message: str, location: SourceLocation | None = None) -> None:
+        w = XacroWarning(message, location or self.here())
+        self.warnings.append(w)
+        if self._warn_sink is not None:
+            self._warn_sink(w)
+        else:
+            logger.warning("%s", w)
+
+    def warn_once(self, key: str, message: str, location: SourceLocation | None = None) -> None:
+        if key not in self._warned:
+            self._warned.add(key)
+            self.warn(message, location)
+
+    def _message(self, kind: str) -> Callable[..., str]:
+        def emit(*args: Any, **kwargs: Any) -> str:
+            text = " ".join(str(a) for a in args)
+            if kind == "message":
+                logger.info("%s", text)
+            elif kind == "print_location":
+                logger.info("%s", self.trail_text())
+            else:
+                self.warn(f"{kind}: {text}" if kind == "error" else text)
+            return ""
+
+        return emit
+
+    def _fatal(self, *args: Any) -> str:
+        raise XacroError(" ".join(str(a) for a in args))
+
+    def trail_text(self) -> str:
+        lines = [f"when processing {self.here() or self.files[-1] or '<string>'}"]
+        for macro, at in reversed(self.calls):
+            lines.append(f"  in macro '{macro.name}' called from {at}")
+        return "\n".join(lines)
+
+    # --- files ---------------------------------------------------------------------------------
+    def abs_filename(self, spec: str) -> str:
+        if os.path.isabs(spec):
+            return spec
+        parent = self.files[-1] if self.files else None
+        base = os.path.dirname(parent) if parent else "."
+        return os.path.join(base, spec)
+
+    def load_yaml(self, filename: str) -> Any:
+        path = self.abs_filename(filename)
+        self.includes.append(path)
+        try:
+            with open(os.path.join(self.root_dir, path), encoding="utf-8") as f:
+                text = f.read()
+        except OSError as err:
+            msg = f"cannot load YAML file {path}: {err.strerror}"
+            raise XacroError(msg) from None
+        try:
+            data = yaml.load(text, Loader=_yaml_loader(self))  # noqa: S506 (a SafeLoader)
+        except yaml.YAMLError as err:
+            msg = f"invalid YAML in {path}: {err}"
+            raise XacroError(msg) from None
+        if isinstance(data, dict):
+            return YamlDict(data)
+        if isinstance(data, list):
+            return YamlList(data)
+        return data
+
+    # --- text evaluation -----------------------------------------------------------------------
+    def eval_text(self, text: str, scope: Scope) -> Any:
+        """Evaluate ``${}``/``$()`` in ``text``: one token keeps its type, more join as text."""
+        if "$" not in text:
+            return text
+        toks = tokenize(text)
+        if len(toks) == 1:
+            return self._eval_token(toks[0], scope)
+        return "".join([str(self._eval_token(t, scope)) for t in toks])
+
+    def _eval_token(self, tok: tuple[int, str], scope: Scope) -> Any:
+        kind, payload = tok
+        if kind == EXPR:
+            expr = payload if "$" not in payload else str(self.eval_text(payload, scope))
+            compiled = compile_expr(expr)
+            try:
+                return eval_code(compiled, scope)
+            except BelvedereError:
+                raise
+            except RecursionError:
+                raise
+            except Exception as err:  # noqa: BLE001 (user expressions may raise anything)
+                raise _expression_error(expr, err) from None
+        if kind == EXTENSION:
+            inner = str(self.eval_text(payload, scope)) if "$" in payload else payload
+            return self.substitute(inner)
+        return payload
+
+    def substitute(self, inner: str) -> str:
+        """One ``$(…)`` substitution (the text between the parentheses)."""
+        if inner == "cwd":
+            return os.path.abspath(self.root_dir)
+        if inner.startswith("eval ") or inner == "eval":
+            return self._subst_eval(inner[5:])
+        words = [w for w in inner.split(" ") if w]
+        if not words:
+            msg = "empty substitution $()"
+            raise XacroError(msg)
+        cmd, args = words[0], words[1:]
+        if cmd == "arg":
+            if len(args) != 1:
+                msg = f"$(arg NAME) takes exactly one name: $({inner})"
+                raise XacroError(msg)
+            try:
+                return self.args[args[0]]
+            except KeyError:
+                msg = f"undefined substitution argument {args[0]!r}"
+                hint = f"declare <xacro:arg name={args[0]!r} default=\"…\"/> or pass {args[0]}:=VALUE"
+                raise XacroError(msg, hint=hint) from None
+        if cmd == "find":
+            if len(args) != 1:
+                msg = f"$(find PACKAGE) takes exactly one package name: $({inner})"
+                raise XacroError(msg)
+            return str(self.packages.find(args[0], requested_at=self.here()))
+        if cmd == "env":
+            if len(args) != 1:
+                msg = f"$(env VAR) takes exactly one variable: $({inner})"
+                raise XacroError(msg)
+            try:
+                return os.environ[args[0]]
+            except KeyError:
+                msg = f"environment variable {args[0]} is not set"
+                raise XacroError(msg, hint=f"use $(optenv {args[0]} DEFAULT)") from None
+        if cmd == "optenv":
+            if not args:
+                msg = f"$(optenv VAR [DEFAULT]) needs a variable: $({inner})"
+                raise XacroError(msg)
+            return os.environ.get(args[0], " ".join(args[1:]))
+        if cmd == "dirname":
+            current = self.files[-1] if self.files else None
+            if not current:
+                msg = "$(dirname) needs a file; the input is a string"
+                raise XacroError(msg)
+            return os.path.abspath(os.path.dirname(current))
+        msg = f"unknown substitution command $({inner})"
+        hint = "valid commands: arg, find, env, optenv, dirname, eval, cwd"
+        raise XacroError(msg, hint=hint)
+
+    def _subst_eval(self, expr: str) -> str:
+        if "__" in expr:
+            msg = "$(eval ...) may not contain double underscore expressions"
+            raise XacroError(msg)
+        scope = Scope(None, root=self._eval_names())
+        compiled = compile_expr(expr)
+        try:
+            return str(eval_code(compiled, scope))
+        except BelvedereError:
+            raise
+        except Exception as err:  # noqa: BLE001
+            raise _expression_error(expr, err) from None
+
+    def _eval_names(self) -> dict[str, Any]:
+        names: dict[str, Any] = {k: v for k, v in vars(__import__("math")).items() if k[0] != "_"}
+        names.update(
+            {
+                "true": True,
+                "false": False,
+                "True": True,
+                "False": False,
+                "list": list,
+                "dict": dict,
+                "map": map,
+                "str": str,
+                "float": float,
+                "int": int,
+                "arg": lambda name: _auto_convert(self.args[name]),
+                "env": lambda name: os.environ[name],
+                "optenv": lambda name, default="": os.environ.get(name, default),
+                "find": lambda pkg: str(self.packages.find(pkg, requested_at=self.here())),
+                "dirname": lambda: self.substitute("dirname"),
+            }
+        )
+        for k, v in self.args.items():
+            names.setdefault(k, _auto_convert(v))
+        return names
+
+    # --- the walk ------------------------------------------------------------------------------
+    def process_document(self, doc: Document, path: str | None) -> None:
+        self.files = [path]
+        root = doc.root
+        target = root.attrs.pop("xacro:targetNamespace", None)
+        if target:
+            root.attrs["xmlns"] = target
+        macros = MacroTable()
+        scope = Scope(None, root=self.globals, evaluate=self.eval_text)
+        with _deep_recursion():
+            self.eval_all(root, macros, scope)
+
+    def eval_all(self, node: Element, macros: MacroTable, scope: Scope) -> None:
+        """Evaluate one element in place: attributes, then children in order."""
+        attrs = node.attrs
+        for name, value in list(attrs.items()):
+            if name.startswith("xacro:"):
+                del attrs[name]
+            elif "$" in value:
+                self.current = node
+                try:
+                    attrs[name] = str(self.eval_text(value, scope))
+                except XacroError as err:
+                    err.locate(node.loc)
+                    raise
+        attrs.pop("xmlns:xacro", None)
+
+        child = node.first
+        eval_comments = False
+        while child is not None:
+            nxt = child.next
+            kind = type(child)
+            if kind is Element:
+                assert isinstance(child, Element)
+                eval_comments = False
+                try:
+                    again = self.element(child, macros, scope)
+                except XacroError as err:
+                    err.locate(child.loc)
+                    raise
+                if again:
+                    continue  # xacro:element renamed it: process it again
+            elif kind is Text:
+                assert isinstance(child, Text)
+                data = child.data
+                if "$" in data:
+                    self.current = node
+                    try:
+                        data = child.data = str(self.eval_text(data, scope))
+                    except XacroError as err:
+                        err.locate(node.loc)
+                        raise
+                if eval_comments is not False and data.strip():
+                    eval_comments = False
+            elif kind is Comment:
+                assert isinstance(child, Comment)
+                if "xacro:eval-comments" in child.data:
+                    eval_comments = "xacro:eval-comments:off" not in child.data
+                    child.detach()
+                elif eval_comments:
+                    child.data = str(self.eval_text(child.data, scope))
+            child = nxt
+
+    def keyword(self, el: Element) -> str | None:
+        """The xacro keyword an element is, if any (``xacro:if`` → ``if``)."""
+        tag = el.tag
+        if tag.startswith("xacro:"):
+            return tag[6:]
+        if self.legacy_tags and tag in LEGACY_KEYWORDS:
+            if tag == "include" and el.first_element() is not None:
+                return None  # Gazebo's <include><uri>…</uri></include>
+            if self.dialect is Dialect.AUTO:
+                self.warn_once(
+                    f"tag:{tag}",
+                    f"xacro tag <{tag}> without the 'xacro:' prefix: processed as ROS Melodic "
+                    f"did; modern xacro copies it through. Write <xacro:{tag}>, or run "
+                    "'belvedere xacro --fix FILE'",
+                    el.loc,
+                )
+            else:
+                self.warn_once(
+                    "melodic-deprecated",
+                    f"Deprecated: xacro tag '{tag}' w/o 'xacro:' xml namespace prefix "
+                    f"(will be forbidden in Noetic)\nUse the following command to fix "
+                    f"incorrect tag usage:\n{_FIX_SED}",
+                    el.loc,
+                )
+            return tag
+        return None
+
+    def element(self, el: Element, macros: MacroTable, scope: Scope) -> bool:
+        """Process one child element; True means it was renamed and must be processed again."""
+        self.current = el
+        kw = self.keyword(el)
+        if kw == "insert_block":
+            self.insert_block(el, macros, scope)
+        elif kw == "include":
+            self.include(el, macros, scope)
+        elif kw == "property":
+            self.property(el, scope)
+        elif kw == "macro":
+            self.define_macro(el, macros)
+        elif kw == "arg":
+            (name, default) = self.attrs(el, ["name", "default"], [])
+            assert name is not None and default is not None
+            if name not in self.args:
+                self.args[name] = str(self.eval_text(default, scope))
+            self.remove_previous_comments(el)
+            el.detach()
+        elif kw == "element" and el.tag.startswith("xacro:"):
+            if "xacro:name" not in el.attrs:
+                msg = "xacro:element: missing attribute 'xacro:name'"
+                raise XacroError(msg)
+            name = self.eval_text(el.attrs["xacro:name"], scope)
+            if not name:
+                msg = "xacro:element: empty name"
+                raise XacroError(msg)
+            del el.attrs["xacro:name"]
+            el.tag = str(name)
+            return True
+        elif kw == "attribute" and el.tag.startswith("xacro:"):
+            for required in ("name", "value"):
+                if required not in el.attrs:
+                    msg = f"xacro:attribute: missing attribute '{required}'"
+                    raise XacroError(msg)
+            name = self.eval_text(el.attrs["name"], scope)
+            value = self.eval_text(el.attrs["value"], scope)
+            if not name:
+                msg = "xacro:attribute: empty name"
+                raise XacroError(msg)
+            parent = el.parent
+            if isinstance(parent, Element):
+                parent.attrs[str(name)] = str(value)
+            el.detach()
+        elif kw in ("if", "unless"):
+            self.remove_previous_comments(el)
+            (cond,) = self.attrs(el, ["value"], [])
+            assert cond is not None
+            keep = boolean(self.eval_text(cond, scope), cond)
+            if kw == "unless":
+                keep = not keep
+            if keep:
+                self.eval_all(el, macros, scope)
+                self.splice(el, el)
+            else:
+                el.detach()
+        elif not self.macro_call(el, macros, scope):
+            self.eval_all(el, macros, scope)
+        return False
+
+    def attrs(self, el: Element, required: list[str], optional: list[str]) -> list[str | None]:
+        """Required and optional attributes of a xacro tag; warns about unknown ones."""
+        values: list[str | None] = []
+        for name in required:
+            if name not in el.attrs:
+                msg = f"{el.tag}: missing attribute '{name}'"
+                raise XacroError(msg, el.loc)
+            values.append(el.attrs[name])
+        values.extend(el.attrs.get(name) for name in optional)
+        allowed = {*required, *optional}
+        extra = [a for a in el.attrs if a not in allowed and not a.startswith("xmlns:")]
+        if extra:
+            self.warn(f"{el.tag}: unknown attribute(s): {', '.join(extra)}", el.loc)
+        return values
+
+    # --- structure helpers ---------------------------------------------------------------------
+    def remove_previous_comments(self, node: Node) -> None:
+        """Drop the comments right before a xacro tag (at most one newline between)."""
+        nxt = node.next
+        prev = node.prev
+        parent = node.parent
+        while prev is not None:
+            if type(prev) is Text and prev.data.isspace() and prev.data.count("\n") <= 1:  # type: ignore[attr-defined]
+                prev = prev.prev
+            if prev is not None and type(prev) is Comment:
+                comment = prev
+                prev = prev.prev
+                comment.detach()
+            else:
+                if nxt is not None and nxt is not self.marker and parent is not None:
+                    parent.insert_before(self.marker, nxt)
+                return
+
+    @staticmethod
+    def splice(node: Node, content: Element) -> None:
+        """Replace ``node`` by the children of ``content`` (moved, not copied)."""
+        _move_children(content, node)
+        node.detach()
+
+    def import_namespaces(self, parent: Node | None, attrs: dict[str, str]) -> None:
+        """Lift ``xmlns:*`` declarations of an expanded root onto its new parent."""
+        if not isinstance(parent, Element):
+            return
+        for name, value in attrs.items():
+            if name.startswith("xmlns:"):
+                old = parent.attrs.get(name)
+                if old is not None and old != value:
+                    self.warn(
+                        f"inconsistent namespace redefinitions for {name}:\n"
+                        f" old: {old}\n new: {value} ({self.files[-1]})"
+                    )
+                else:
+                    parent.attrs[name] = value
+
+    # --- keywords ----------------------------------------------------------------------------
+    def insert_block(self, el: Element, macros: MacroTable, scope: Scope) -> None:
+        (name,) = self.attrs(el, ["name"], [])
+        assert name is not None
+        if "**" + name in scope:
+            block = scope["**" + name]
+            content_only = True
+        elif "*" + name in scope:
+            block = scope["*" + name]
+            content_only = False
+        else:
+            msg = f'Undefined block "{name}"'
+            raise XacroError(msg, el.loc)
+        block = block.clone()
+        self.eval_all(block, macros, scope)
+        if content_only:
+            self.splice(el, block)
+        else:
+            parent = el.parent
+            assert parent is not None
+            parent.insert_before(block, el)
+            el.detach()
+
+    def property(self, el: Element, scope: Scope) -> None:
+        self.remove_previous_comments(el)
+        name_t, value, default, remove_t, scope_kind, lazy_t = self.attrs(
+            el, ["name"], ["value", "default", "remove", "scope", "lazy_eval"]
+        )
+        assert name_t is not None
+        name = self.eval_text(name_t, scope)
+        if not isinstance(name, str) or not _is_valid_name(name):
+            msg = f"Property names must be valid python identifiers: {name}"
+            raise XacroError(msg, el.loc)
+        if name.startswith("__"):
+            msg = f"Property names must not start with double underscore: {name}"
+            raise XacroError(msg, el.loc)
+        remove = boolean(self.eval_text(remove_t or "false", scope), remove_t)
+        if sum([value is not None, default is not None, remove]) > 1:
+            msg = f"Property attributes default, value, and remove are mutually exclusive: {name}"
+            raise XacroError(msg, el.loc)
+        if remove and name in scope:
+            scope.remove(name)
+            if name in scope.root:
+                self.warn(f"Cannot remove global symbol: {name}")
+            el.detach()
+            return
+        if default is not None:
+            if scope_kind is not None:
+                self.warn(f"{name}: default property value can only be defined on local scope")
+            if name not in scope:
+                value = default
+            else:
+                el.detach()
+                return
+        stored: Any = value
+        if value is None:
+            name = "**" + name
+            stored = el
+        el.detach()
+        lazy = boolean(self.eval_text(lazy_t or "true", scope), lazy_t)
+        target: Scope = scope
+        if scope_kind == "global":
+            target = scope.top()
+            lazy = False
+        elif scope_kind == "parent":
+            if scope.parent is None:
+                self.warn(f"{name}: no parent scope at global scope ")
+                return
+            target = scope.parent
+            lazy = False
+            if not isinstance(scope, NameSpace):
+                while isinstance(target, NameSpace) and target.parent is not None:
+                    target = target.parent
+        if not lazy and isinstance(stored, str):
+            stored = self.eval_text(stored, scope)
+        if name in target.root:
+            self.warn(f"redefining global symbol: {name}")
+        target.define(name, stored, lazy=lazy)
+
+    def define_macro(self, el: Element, macros: MacroTable) -> None:
+        self.remove_previous_comments(el)
+        name, params = self.attrs(el, ["name"], ["params"])
+        assert name is not None
+        if name == "call":
+            msg = "Invalid use of macro name 'call'"
+            raise XacroError(msg, el.loc)
+        if "." in name:
+            msg = f"macro names must not contain '.' (reserved for namespaces): {name}"
+            raise XacroError(msg, el.loc)
+        if name.startswith("xacro:"):
+            self.warn(f"macro names must not contain prefix 'xacro:': {name}", el.loc)
+            name = name[6:]
+        plist, defaults = parse_macro_params(params or "")
+        target = macros.top() if self.dialect in (Dialect.MELODIC, Dialect.KINETIC) else macros
+        target.macros[name] = Macro(name, el, plist, defaults)
+        el.detach()
+
+    def include(self, el: Element, macros: MacroTable, scope: Scope) -> None:
+        spec, ns_t, optional_t = self.attrs(el, ["filename"], ["ns", "optional"])
+        assert spec is not None
+        ns_macros, ns_scope = macros, scope
+        if ns_t:
+            ns = str(self.eval_text(ns_t, scope))
+            ns_macros = MacroTable()
+            macros.macros[ns] = ns_macros
+            ns_scope = NameSpace(scope)
+            if ns in scope.root:
+                self.warn(f"redefining global symbol: {ns}")
+            scope.vars[ns] = ns_scope
+            scope.lazy.discard(ns)
+        optional = boolean(optional_t, None) if optional_t is not None else False
+        if el.first_element() is not None:
+            self.warn("Child elements of a <xacro:include> tag are ignored", el.loc)
+        included: list[Element] = []
+        for filename in self.include_files(spec, scope):
+            try:
+                doc = self.open_included(filename, el.loc)
+            except _MissingIncludeError:
+                if optional:
+                    continue
+                raise
+            self.files.append(filename)
+            try:
+                root = doc.root
+                self.eval_all(root, ns_macros, ns_scope)
+            except XacroError as err:
+                err.add_trail("included from", el.loc or SourceLocation("<string>"))
+                raise
+            finally:
+                self.files.pop()
+            included.append(root)
+            self.import_namespaces(el.parent, root.attrs)
+        self.remove_previous_comments(el)
+        for root in included:
+            _move_children(root, el)
+        el.detach()
+
+    def include_files(self, spec: str, scope: Scope) -> Iterator[str]:
+        filename = self.abs_filename(str(self.eval_text(spec, scope)))
+        if re.search(r"[*[?]+", filename):
+            names = sorted(glob.glob(os.path.join(self.root_dir, filename)))
+            if self.root_dir != os.curdir:
+                names = [os.path.relpath(n, self.root_dir) for n in names]
+            if not names:
+                self.warn(f'Include tag\'s filename spec "{filename}" matched no files.')
+        else:
+            names = [filename]
+        for name in names:
+            self.includes.append(name)
+            yield name
+
+    def open_included(self, filename: str, at: SourceLocation | None) -> Document:
+        path = os.path.join(self.root_dir, filename)
+        if not os.path.isfile(path):
+            reason = "is a directory" if os.path.isdir(path) else "no such file"
+            msg = f"cannot include {filename}: {reason}"
+            raise _MissingIncludeError(msg, at)
+        try:
+            return parse_file(path, display=filename)
+        except XacroError:
+            raise
+        except ParseError as err:
+            raise XacroError(err.message, err.location, hint=err.hint) from None
+
+    # --- macro calls -------------------------------------------------------------------------
+    def resolve_macro(
+        self, name: str, macros: MacroTable, scope: Scope
+    ) -> tuple[MacroTable, Scope, Macro] | None:
+        found = macros.get(name)
+        if isinstance(found, Macro):
+            return macros, scope, found
+        parts = name.split(".")
+        if len(parts) < 2:
+            return None
+        m_tab: MacroTable | Macro | None = macros
+        s_tab: Any = scope
+        for ns in parts[:-1]:
+            if not isinstance(m_tab, MacroTable):
+                return None
+            m_tab = m_tab.get(ns)
+            try:
+                s_tab = s_tab[ns]
+            except (KeyError, TypeError):
+                return None
+        if not isinstance(m_tab, MacroTable) or not isinstance(s_tab, Scope):
+            return None
+        found = m_tab.get(parts[-1])
+        if isinstance(found, Macro):
+            return m_tab, s_tab, found
+        return None
+
+    def macro_call(self, el: Element, macros: MacroTable, scope: Scope) -> bool:
+        tag = el.tag
+        if tag == "xacro:call":
+            if "macro" not in el.attrs:
+                msg = "xacro:call: missing attribute 'macro'"
+                raise XacroError(msg, el.loc)
+            name = str(self.eval_text(el.attrs.pop("macro"), scope))
+            if not name:
+                msg = "xacro:call is missing the 'macro' attribute"
+                raise XacroError(msg, el.loc)
+            el.tag = "xacro:" + name
+            tag = el.tag
+        if tag.startswith("xacro:"):
+            name = tag[6:]
+            resolved = self.resolve_macro(name, macros, scope)
+            if resolved is None:
+                msg = f"unknown macro name: {tag}"
+                raise XacroError(msg, el.loc, hint=self._near_macros(name, macros))
+        else:
+            resolved = self.resolve_macro(tag, macros, scope) if ":" not in tag else None
+            if resolved is None:
+                return False
+            if not self._expand_unprefixed(el):
+                return False
+        self.expand(el, *resolved, caller_macros=macros, caller_scope=scope)
+        return True
+
+    def _expand_unprefixed(self, el: Element) -> bool:
+        tag = el.tag
+        if self.dialect is Dialect.MODERN:
+            self.warn_once(
+                f"call:{tag}",
+                f"<{tag}> names a macro but has no 'xacro:' prefix: modern xacro leaves it "
+                f"unexpanded (write <xacro:{tag}>, or use --dialect auto)",
+                el.loc,
+            )
+            return False
+        if self.dialect is Dialect.AUTO:
+            if tag in KNOWN_ELEMENTS:
+                self.warn_once(
+                    f"call:{tag}",
+                    f"<{tag}> is both a macro and a URDF/SDF element: kept as the element. "
+                    f"If you meant the macro, write <xacro:{tag}>",
+                    el.loc,
+                )
+                return False
+            self.warn_once(
+                f"call:{tag}",
+                f"deprecated macro call <{tag}> without the 'xacro:' prefix: expanded as ROS "
+                f"Melodic did (modern xacro leaves it unexpanded and the robot loses it). "
+                f"Write <xacro:{tag}>, or run 'belvedere xacro --fix FILE'",
+                el.loc,
+            )
+        else:
+            self.warn_once(
+                "melodic-deprecated",
+                f"Deprecated: xacro tag '{tag}' w/o 'xacro:' xml namespace prefix "
+                f"(will be forbidden in Noetic)\nUse the following command to fix incorrect "
+                f"tag usage:\n{_FIX_SED}",
+                el.loc,
+            )
+        return True
+
+    def _near_macros(self, name: str, macros: MacroTable) -> str | None:
+        import difflib
+
+        known: list[str] = []
+        t: MacroTable | None = macros
+        while t is not None:
+            known.extend(k for k, v in t.macros.items() if isinstance(v, Macro))
+            t = t.parent
+        close = difflib.get_close_matches(name, known, n=3)
+        if close:
+            return "did you mean " + ", ".join(f"xacro:{c}" for c in close) + "?"
+        if known:
+            return "defined macros: " + ", ".join(sorted(set(known))[:12])
+        return "no macros are defined at this point (macros must be defined before use)"
+
+    def expand(
+        self,
+        el: Element,
+        macro_tab: MacroTable,
+        macro_scope: Scope,
+        m: Macro,
+        *,
+        caller_macros: MacroTable,
+        caller_scope: Scope,
+    ) -> None:
+        if len(self.calls) >= MAX_MACRO_DEPTH:
+            chain = " -> ".join(c[0].name for c in self.calls[-6:])
+            msg = (
+                f"macro nesting deeper than {MAX_MACRO_DEPTH} levels (… {chain} -> {m.name}): "
+                "a macro that calls itself without end?"
+            )
+            raise XacroError(msg, el.loc, hint="guard the recursive call with xacro:if")
+        body = m.body.clone()
+        self.calls.append((m, el.loc))
+        try:
+            self._expand(el, body, macro_tab, macro_scope, m, caller_macros, caller_scope)
+        except XacroError as err:
+            err.add_trail(f"in macro '{m.name}' called from", el.loc or SourceLocation("?"))
+            raise
+        finally:
+            self.calls.pop()
+
+    def _expand(
+        self,
+        el: Element,
+        body: Element,
+        macro_tab: MacroTable,
+        macro_scope: Scope,
+        m: Macro,
+        caller_macros: MacroTable,
+        caller_scope: Scope,
+    ) -> None:
+        scope = Scope(macro_scope)
+        # Melodic evaluated bodies with the caller's macro table, so definitions leaked.
+        local_macros = (
+            macro_tab
+            if self.dialect in (Dialect.MELODIC, Dialect.KINETIC)
+            else MacroTable(macro_tab)
+        )
+        remaining = list(m.params)
+        root = scope.root
+        for name, value in list(el.attrs.items()):
+            if name not in remaining:
+                msg = f'Invalid parameter "{name}" of macro {m.name!r}'
+                expected = ", ".join(p for p in m.params if not p.startswith("*"))
+                raise XacroError(msg, el.loc, hint=f"parameters: {expected or '(none)'}")
+            remaining.remove(name)
+            if name in root:
+                self.warn(f"redefining global symbol: {name}")
+            scope.define(name, self.eval_text(value, caller_scope), lazy=False)
+            el.attrs[name] = ""
+        self.eval_all(el, caller_macros, caller_scope)
+
+        block = el.first_element()
+        for param in list(remaining):
+            if param.startswith("*"):
+                if block is None:
+                    msg = f"Not enough blocks for macro {m.name!r} (missing {param})"
+                    raise XacroError(msg, el.loc)
+                remaining.remove(param)
+                scope.vars[param] = block
+                nxt = block.next
+                while nxt is not None and not isinstance(nxt, Element):
+                    nxt = nxt.next
+                block = nxt
+        if block is not None:
+            msg = f'Unused block "{block.tag}" in call of macro {m.name!r}'
+            raise XacroError(msg, block.loc)
+
+        for param in list(remaining):
+            if param.startswith("*"):
+                continue
+            forward, default = m.defaults.get(param, (None, None))
+            if forward is None and default is None:
+                continue
+            if forward is None:
+                assert default is not None
+                value = self.eval_text(default, caller_scope)
+            elif forward in caller_scope:
+                value = caller_scope[forward]
+            elif default is not None:
+                value = self.eval_text(default, caller_scope)
+            else:
+                msg = f"Undefined property to forward: {forward}"
+                raise XacroError(msg, el.loc)
+            if param in root:
+                self.warn(f"redefining global symbol: {param}")
+            scope.define(param, value, lazy=False)
+            remaining.remove(param)
+        if remaining:
+            msg = f"Undefined parameters [{','.join(remaining)}] of macro {m.name!r}"
+            raise XacroError(msg, el.loc)
+
+        self.eval_all(body, local_macros, scope)
+        self.remove_previous_comments(el)
+        self.import_namespaces(el.parent, body.attrs)
+        self.splice(el, body)
+
+
+def _move_children(content: Element, before: Node) -> None:
+    parent = before.parent
+    assert parent is not None
+    c = content.first
+    while c is not None:
+        n = c.next
+        parent.insert_before(c, before)
+        c = n
+
+
+def _expression_error(expr: str, err: Exception) -> XacroError:
+    if isinstance(err, NameError):
+        msg = f"{err} when evaluating expression '{expr}'"
+    else:
+        msg = f"{type(err).__name__}: {err} when evaluating expression '{expr}'"
+    return XacroError(msg)
+
+
+def _auto_convert(value: str) -> Any:
+    try:
+        return float(value) if "." in value else int(value)
+    except ValueError:
+        pass
+    low = value.lower()
+    if low in ("true", "false"):
+        return low == "true"
+    return value
+
+
+def _yaml_loader(proc: Processor) -> type[yaml.SafeLoader]:
+    units = {
+        "!radians": 1.0,
+        "!degrees": 3.141592653589793 / 180.0,
+        "!meters": 1.0,
+        "!millimeters": 0.001,
+        "!foot": 0.3048,
+        "!inches": 0.0254,
+    }
+
+    class Loader(yaml.SafeLoader):
+        pass
+
+    def constructor(factor: float) -> Callable[[yaml.SafeLoader, yaml.Node], float]:
+        def construct(loader: yaml.SafeLoader, node: yaml.Node) -> float:
+            assert isinstance(node, yaml.ScalarNode)
+            text = loader.construct_scalar(node)
+            scope = Scope(None, root=proc.globals, evaluate=proc.eval_text)
+            try:
+                return float(eval_code(compile_expr(str(text)), scope)) * factor
+            except XacroError:
+                raise
+            except Exception as err:  # noqa: BLE001
+                raise _expression_error(str(text), err) from None
+
+        return construct
+
+    for tag, factor in units.items():
+        Loader.add_constructor(tag, constructor(factor))
+    return Loader
+
+
+@contextmanager
+def _deep_recursion() -> Iterator[None]:
+    """Let legitimately deep macro nesting recurse (Python frames are cheap since 3.11)."""
+    old = sys.getrecursionlimit()
+    sys.setrecursionlimit(max(old, MAX_MACRO_DEPTH * 12 + 2000))
+    try:
+        yield
+    finally:
+        sys.setrecursionlimit(old)

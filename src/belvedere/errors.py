@@ -1,0 +1,99 @@
+"""The error types every part of belvedere raises, and how they print.
+
+All errors share the root :class:`BelvedereError`; the CLI turns any of them into one
+``error: …`` line (plus context lines) and exit code 1. Errors about a place in a file carry a
+:class:`SourceLocation` and print like a compiler::
+
+    arm.xacro:42:5: error: unknown macro name: xacro:wheel
+      in macro 'arm' called from robot.xacro:10:3
+      included from robot.xacro:3:5
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+__all__ = ["BelvedereError", "ParseError", "SourceLocation"]
+
+
+@dataclass(frozen=True, slots=True)
+class SourceLocation:
+    """A place in a file: 1-based line and column; 0 means unknown."""
+
+    path: str
+    """The file's path as the user gave it (or ``<string>`` for in-memory input)."""
+    line: int = 0
+    col: int = 0
+
+    def __str__(self) -> str:
+        if self.line <= 0:
+            return self.path
+        if self.col <= 0:
+            return f"{self.path}:{self.line}"
+        return f"{self.path}:{self.line}:{self.col}"
+
+    @classmethod
+    def of_file(cls, path: str | Path) -> SourceLocation:
+        return cls(str(path))
+
+
+class BelvedereError(Exception):
+    """Root of every error belvedere raises on purpose (bad input, missing files, …)."""
+
+    def __init__(self, message: str, *, hint: str | None = None) -> None:
+        super().__init__(message)
+        self.message = message
+        self.hint = hint
+
+    def describe(self) -> str:
+        """The full text the CLI prints after ``error:``."""
+        text = self.message
+        if self.hint:
+            text += f"\n  hint: {self.hint}"
+        return text
+
+    def __str__(self) -> str:
+        return self.describe()
+
+
+@dataclass(frozen=True, slots=True)
+class TrailEntry:
+    """One step of the include/macro trail that led to an error."""
+
+    what: str
+    """E.g. ``in macro 'arm' called from`` or ``included from``."""
+    location: SourceLocation
+
+
+class ParseError(BelvedereError):
+    """An error at a place in a file, printed as ``file:line:col: error: message``."""
+
+    def __init__(
+        self,
+        message: str,
+        location: SourceLocation | None = None,
+        *,
+        hint: str | None = None,
+        trail: list[TrailEntry] | None = None,
+    ) -> None:
+        super().__init__(message, hint=hint)
+        self.location = location
+        self.trail: list[TrailEntry] = list(trail or [])
+
+    def locate(self, location: SourceLocation | None) -> None:
+        """Set the location if none is known yet (the innermost place wins)."""
+        if self.location is None and location is not None:
+            self.location = location
+
+    def add_trail(self, what: str, location: SourceLocation) -> None:
+        """Append an outer step of the trail (call sites are added innermost first)."""
+        self.trail.append(TrailEntry(what, location))
+
+    def describe(self) -> str:
+        head = f"{self.location}: error: " if self.location else ""
+        lines = [head + self.message]
+        lines.extend(f"  {t.what} {t.location}" for t in self.trail)
+        if self.hint:
+            lines.append(f"  hint: {self.hint}")
+        return "\n".join(lines)

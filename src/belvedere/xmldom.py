@@ -1,0 +1,473 @@
+"""A small, fast XML DOM for the files users give us, parsed safely with source positions.
+
+Why our own: xacro's output format is defined by how ``xml.dom.minidom`` (over expat) builds
+and prints trees, so we parse with the same expat and keep the same node kinds — but children
+sit in a doubly linked list, so moving a node is O(1) where minidom's list insert/remove is
+O(n). Every element remembers the file, line and column it came from.
+
+Safety: a DOCTYPE may declare internal entities (expat expands them, with its built-in
+amplification limits), but external entities and DTDs are never loaded, and nothing touches
+the network.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Final
+from xml.parsers import expat
+
+from belvedere.errors import ParseError, SourceLocation
+
+__all__ = [
+    "CData",
+    "Comment",
+    "Document",
+    "Element",
+    "Node",
+    "ProcessingInstruction",
+    "Text",
+    "parse_file",
+    "parse_string",
+    "write_pretty",
+]
+
+
+class Node:
+    """A node in a sibling list. Subclasses add their payload."""
+
+    __slots__ = ("next", "parent", "prev")
+
+    def __init__(self) -> None:
+        self.parent: Element | Document | None = None
+        self.prev: Node | None = None
+        self.next: Node | None = None
+
+    def clone(self) -> Node:
+        raise NotImplementedError
+
+    def detach(self) -> None:
+        """Remove this node from its parent (no-op when it has none)."""
+        parent = self.parent
+        if parent is None:
+            return
+        if self.prev is None:
+            parent.first = self.next
+        else:
+            self.prev.next = self.next
+        if self.next is None:
+            parent.last = self.prev
+        else:
+            self.next.prev = self.prev
+        self.parent = self.prev = self.next = None
+
+
+class Text(Node):
+    __slots__ = ("data",)
+
+    def __init__(self, data: str) -> None:
+        super().__init__()
+        self.data = data
+
+    def clone(self) -> Text:
+        return Text(self.data)
+
+
+class CData(Node):
+    __slots__ = ("data",)
+
+    def __init__(self, data: str) -> None:
+        super().__init__()
+        self.data = data
+
+    def clone(self) -> CData:
+        return CData(self.data)
+
+
+class Comment(Node):
+    __slots__ = ("data",)
+
+    def __init__(self, data: str) -> None:
+        super().__init__()
+        self.data = data
+
+    def clone(self) -> Comment:
+        return Comment(self.data)
+
+
+class ProcessingInstruction(Node):
+    __slots__ = ("data", "target")
+
+    def __init__(self, target: str, data: str) -> None:
+        super().__init__()
+        self.target = target
+        self.data = data
+
+    def clone(self) -> ProcessingInstruction:
+        return ProcessingInstruction(self.target, self.data)
+
+
+class _Container:
+    """Shared child-list operations of elements and documents."""
+
+    __slots__ = ()
+    first: Node | None
+    last: Node | None
+
+    def children(self) -> list[Node]:
+        """A snapshot of the children (safe to mutate the tree while iterating it)."""
+        out: list[Node] = []
+        child = self.first
+        while child is not None:
+            out.append(child)
+            child = child.next
+        return out
+
+    def elements(self) -> Iterator[Element]:
+        child = self.first
+        while child is not None:
+            nxt = child.next
+            if isinstance(child, Element):
+                yield child
+            child = nxt
+
+    def first_element(self) -> Element | None:
+        child = self.first
+        while child is not None and not isinstance(child, Element):
+            child = child.next
+        return child
+
+    def append(self, node: Node) -> None:
+        node.detach()
+        node.parent = self  # type: ignore[assignment]
+        node.prev = self.last
+        if self.last is None:
+            self.first = node
+        else:
+            self.last.next = node
+        self.last = node
+
+    def insert_before(self, node: Node, ref: Node | None) -> None:
+        """Insert ``node`` (detached from wherever it was) before ``ref`` (None: append)."""
+        if ref is None:
+            self.append(node)
+            return
+        if node is ref:
+            return
+        node.detach()
+        node.parent = self  # type: ignore[assignment]
+        node.next = ref
+        node.prev = ref.prev
+        if ref.prev is None:
+            self.first = node
+        else:
+            ref.prev.next = node
+        ref.prev = node
+
+    def has_single_text_child(self) -> bool:
+        first = self.first
+        return first is not None and first.next is None and type(first) is Text
+
+
+class Element(Node, _Container):
+    """An element: qualified tag name, attributes in document order, children, origin."""
+
+    __slots__ = ("attrs", "first", "last", "loc", "tag")
+
+    def __init__(
+        self, tag: str, attrs: dict[str, str] | None = None, loc: SourceLocation | None = None
+    ) -> None:
+        super().__init__()
+        self.tag = tag
+        self.attrs: dict[str, str] = {} if attrs is None else attrs
+        self.first: Node | None = None
+        self.last: Node | None = None
+        self.loc = loc
+
+    def clone(self) -> Element:
+        """A deep copy, detached, with the same source locations."""
+        copy = Element(self.tag, dict(self.attrs), self.loc)
+        child = self.first
+        prev: Node | None = None
+        while child is not None:
+            c = child.clone()
+            c.parent = copy
+            c.prev = prev
+            if prev is None:
+                copy.first = c
+            else:
+                prev.next = c
+            prev = c
+            child = child.next
+        copy.last = prev
+        return copy
+
+    def text_content(self) -> str:
+        parts: list[str] = []
+        for node in self.children():
+            if isinstance(node, Text | CData):
+                parts.append(node.data)
+            elif isinstance(node, Element):
+                parts.append(node.text_content())
+        return "".join(parts)
+
+    def __repr__(self) -> str:
+        return f"<Element {self.tag} at {self.loc}>"
+
+
+class Document(_Container):
+    """The top of a parsed file: comments/PIs around one root element."""
+
+    __slots__ = ("first", "last", "path")
+
+    def __init__(self, path: str) -> None:
+        self.first: Node | None = None
+        self.last: Node | None = None
+        self.path = path
+
+    @property
+    def root(self) -> Element:
+        root = self.first_element()
+        if root is None:  # the parser guarantees one
+            msg = f"{self.path}: document has no root element"
+            raise ParseError(msg)
+        return root
+
+
+# --- parsing -------------------------------------------------------------------------------
+
+
+class _Builder:
+    """Builds our DOM from expat events the way minidom's namespace-aware builder does."""
+
+    def __init__(self, path: str) -> None:
+        self.path = path
+        self.doc = Document(path)
+        self.cur: Document | Element = self.doc
+        self.in_cdata = False
+        self.cdata_continue = False
+        self.parser = expat.ParserCreate(namespace_separator=" ")
+        p = self.parser
+        p.namespace_prefixes = True
+        p.buffer_text = True
+        p.ordered_attributes = True
+        p.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
+        p.StartElementHandler = self.start
+        p.EndElementHandler = self.end
+        p.CharacterDataHandler = self.chars
+        p.CommentHandler = self.comment
+        p.ProcessingInstructionHandler = self.pi
+        p.StartCdataSectionHandler = self.start_cdata
+        p.EndCdataSectionHandler = self.end_cdata
+        p.StartNamespaceDeclHandler = self.ns_decl
+        p.ExternalEntityRefHandler = self.external_entity
+        p.EntityDeclHandler = self.entity_decl
+        p.StartDoctypeDeclHandler = self.doctype
+        self.pending_ns: list[tuple[str, str]] = []
+        self.in_dtd = False
+
+    def loc(self) -> SourceLocation:
+        return SourceLocation(
+            self.path, self.parser.CurrentLineNumber, self.parser.CurrentColumnNumber + 1
+        )
+
+    @staticmethod
+    def qname(name: str) -> str:
+        if " " not in name:
+            return name
+        parts = name.split(" ")
+        if len(parts) == 3:
+            return f"{parts[2]}:{parts[1]}"
+        return parts[1]
+
+    def ns_decl(self, prefix: str | None, uri: str | None) -> None:
+        self.pending_ns.append((prefix or "", uri or ""))
+
+    def start(self, name: str, attributes: list[str]) -> None:
+        attrs: dict[str, str] = {}
+        for prefix, uri in self.pending_ns:
+            attrs[f"xmlns:{prefix}" if prefix else "xmlns"] = uri
+        self.pending_ns.clear()
+        qname = self.qname
+        for i in range(0, len(attributes), 2):
+            attrs[qname(attributes[i])] = attributes[i + 1]
+        el = Element(qname(name), attrs, self.loc())
+        self.cur.append(el)
+        self.cur = el
+
+    def end(self, name: str) -> None:
+        parent = self.cur.parent if isinstance(self.cur, Element) else None
+        self.cur = parent if parent is not None else self.doc
+
+    def chars(self, data: str) -> None:
+        last = self.cur.last
+        if self.in_cdata:
+            if self.cdata_continue and type(last) is CData:
+                last.data += data
+                return
+            self.cur.append(CData(data))
+            self.cdata_continue = True
+        elif type(last) is Text:
+            last.data += data
+        else:
+            self.cur.append(Text(data))
+
+    def start_cdata(self) -> None:
+        self.in_cdata = True
+        self.cdata_continue = False
+
+    def end_cdata(self) -> None:
+        self.in_cdata = False
+        self.cdata_continue = False
+
+    def comment(self, data: str) -> None:
+        if not self.in_dtd:
+            self.cur.append(Comment(data))
+
+    def pi(self, target: str, data: str) -> None:
+        if not self.in_dtd:
+            self.cur.append(ProcessingInstruction(target, data))
+
+    def doctype(self, name: str, sysid: str | None, pubid: str | None, internal: bool) -> None:
+        if sysid or pubid:
+            msg = "external DTDs are not loaded: remove the SYSTEM/PUBLIC identifier"
+            raise ParseError(msg, self.loc())
+        msg = f"DOCTYPE declarations are not supported (<!DOCTYPE {name} …>)"
+        raise ParseError(msg, self.loc(), hint="robot and world files need no DOCTYPE")
+
+    def entity_decl(self, name: str, *args: object) -> None:
+        msg = f"entity declarations are not supported (entity {name!r})"
+        raise ParseError(msg, self.loc())
+
+    def external_entity(self, *args: object) -> int:
+        msg = "external entities are never loaded"
+        raise ParseError(msg, self.loc())
+
+
+def parse_string(text: str | bytes, path: str = "<string>") -> Document:
+    """Parse XML text; ``path`` names it in source locations and errors."""
+    builder = _Builder(path)
+    try:
+        builder.parser.Parse(text, True)
+    except expat.ExpatError as err:
+        where = SourceLocation(path, err.lineno, err.offset + 1)
+        reason = expat.ErrorString(err.code)
+        msg = f"malformed XML: {reason}"
+        raise ParseError(msg, where) from None
+    if builder.doc.first_element() is None:
+        msg = "no root element"
+        raise ParseError(msg, SourceLocation(path))
+    return builder.doc
+
+
+def parse_file(path: str | Path, display: str | None = None) -> Document:
+    """Parse an XML file. ``display`` is the name used in locations (default: ``path``)."""
+    name = display if display is not None else str(path)
+    try:
+        data = Path(path).read_bytes()
+    except OSError as err:
+        msg = f"cannot read {name}: {err.strerror or err}"
+        raise ParseError(msg) from None
+    return parse_string(data, name)
+
+
+# --- writing -------------------------------------------------------------------------------
+
+# xml.dom.minidom (which xacro prints with) changed in Python 3.13: it stopped escaping '"' in
+# text and started escaping CR/LF/TAB in attribute values. Match the interpreter we run on, so
+# our output is the reference's, byte for byte, wherever both run.
+_MINIDOM_313: Final = sys.version_info >= (3, 13)
+
+
+def _escape_text(s: str) -> str:
+    if "&" in s:
+        s = s.replace("&", "&amp;")
+    if "<" in s:
+        s = s.replace("<", "&lt;")
+    if not _MINIDOM_313 and '"' in s:
+        s = s.replace('"', "&quot;")
+    if ">" in s:
+        s = s.replace(">", "&gt;")
+    return s
+
+
+def _escape_attr(s: str) -> str:
+    if "&" in s:
+        s = s.replace("&", "&amp;")
+    if "<" in s:
+        s = s.replace("<", "&lt;")
+    if '"' in s:
+        s = s.replace('"', "&quot;")
+    if ">" in s:
+        s = s.replace(">", "&gt;")
+    if _MINIDOM_313:
+        s = s.replace("\r", "&#13;").replace("\n", "&#10;").replace("\t", "&#9;")
+    return s
+
+
+def _write_node(out: list[str], node: Node, indent: str, step: str) -> None:
+    kind = type(node)
+    if kind is Element:
+        assert isinstance(node, Element)
+        _write_element(out, node, indent, step)
+    elif kind is Text:
+        assert isinstance(node, Text)
+        out.append(_escape_text(indent + node.data + "\n"))
+    elif kind is Comment:
+        assert isinstance(node, Comment)
+        if "--" in node.data:
+            msg = f"a comment cannot contain '--': {node.data!r}"
+            raise ParseError(msg)
+        out.append(f"{indent}<!--{node.data}-->\n")
+    elif kind is CData:
+        assert isinstance(node, CData)
+        if "]]>" in node.data:
+            msg = "']]>' is not allowed in a CDATA section"
+            raise ParseError(msg)
+        out.append(f"<![CDATA[{node.data}]]>")
+    elif kind is ProcessingInstruction:
+        assert isinstance(node, ProcessingInstruction)
+        out.append(f"{indent}<?{node.target} {node.data}?>\n")
+
+
+def _write_element(out: list[str], el: Element, indent: str, step: str) -> None:
+    attrs = el.attrs
+    if attrs:
+        parts = [indent, "<", el.tag]
+        for name in sorted(attrs):
+            parts.append(f' {name}="{_escape_attr(attrs[name])}"')
+        out.append("".join(parts))
+    else:
+        out.append(f"{indent}<{el.tag}")
+    first = el.first
+    if first is None:
+        out.append("/>\n")
+        return
+    if first.next is None and type(first) is Text:
+        out.append(f">{_escape_text(first.data)}</{el.tag}>\n")
+        return
+    out.append(">\n")
+    inner = indent + step
+    child: Node | None = first
+    while child is not None:
+        if type(child) is Text:
+            data = child.data  # type: ignore[attr-defined]
+            if data and not data.isspace():
+                out.append(_escape_text(inner + data + "\n"))
+        else:
+            _write_node(out, child, inner, step)
+        child = child.next
+    out.append(f"{indent}</{el.tag}>\n")
+
+
+def write_pretty(doc: Document | Element, *, indent: str = "  ") -> str:
+    """Serialise exactly as xacro does (minidom ``toprettyxml`` with xacro's element writer)."""
+    out: list[str] = []
+    if isinstance(doc, Document):
+        out.append('<?xml version="1.0" ?>\n')
+        for node in doc.children():
+            _write_node(out, node, "", indent)
+    else:
+        _write_node(out, doc, "", indent)
+    return "".join(out)
