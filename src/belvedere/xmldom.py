@@ -40,7 +40,7 @@ class Node:
     __slots__ = ("next", "parent", "prev")
 
     def __init__(self) -> None:
-        self.parent: Element | Document | None = None
+        self.parent: Element | None = None
         self.prev: Node | None = None
         self.next: Node | None = None
 
@@ -108,12 +108,20 @@ class ProcessingInstruction(Node):
         return ProcessingInstruction(self.target, self.data)
 
 
-class _Container:
-    """Shared child-list operations of elements and documents."""
+class Element(Node):
+    """An element: qualified tag name, attributes in document order, children, origin."""
 
-    __slots__ = ()
-    first: Node | None
-    last: Node | None
+    __slots__ = ("attrs", "first", "last", "loc", "tag")
+
+    def __init__(
+        self, tag: str, attrs: dict[str, str] | None = None, loc: SourceLocation | None = None
+    ) -> None:
+        super().__init__()
+        self.tag = tag
+        self.attrs: dict[str, str] = {} if attrs is None else attrs
+        self.first: Node | None = None
+        self.last: Node | None = None
+        self.loc = loc
 
     def children(self) -> list[Node]:
         """A snapshot of the children (safe to mutate the tree while iterating it)."""
@@ -140,7 +148,7 @@ class _Container:
 
     def append(self, node: Node) -> None:
         node.detach()
-        node.parent = self  # type: ignore[assignment]
+        node.parent = self
         node.prev = self.last
         if self.last is None:
             self.first = node
@@ -156,7 +164,7 @@ class _Container:
         if node is ref:
             return
         node.detach()
-        node.parent = self  # type: ignore[assignment]
+        node.parent = self
         node.next = ref
         node.prev = ref.prev
         if ref.prev is None:
@@ -168,22 +176,6 @@ class _Container:
     def has_single_text_child(self) -> bool:
         first = self.first
         return first is not None and first.next is None and type(first) is Text
-
-
-class Element(Node, _Container):
-    """An element: qualified tag name, attributes in document order, children, origin."""
-
-    __slots__ = ("attrs", "first", "last", "loc", "tag")
-
-    def __init__(
-        self, tag: str, attrs: dict[str, str] | None = None, loc: SourceLocation | None = None
-    ) -> None:
-        super().__init__()
-        self.tag = tag
-        self.attrs: dict[str, str] = {} if attrs is None else attrs
-        self.first: Node | None = None
-        self.last: Node | None = None
-        self.loc = loc
 
     def clone(self) -> Element:
         """A deep copy, detached, with the same source locations."""
@@ -216,14 +208,13 @@ class Element(Node, _Container):
         return f"<Element {self.tag} at {self.loc}>"
 
 
-class Document(_Container):
+class Document(Element):
     """The top of a parsed file: comments/PIs around one root element."""
 
-    __slots__ = ("first", "last", "path")
+    __slots__ = ("path",)
 
     def __init__(self, path: str) -> None:
-        self.first: Node | None = None
-        self.last: Node | None = None
+        super().__init__("#document")
         self.path = path
 
     @property
@@ -244,7 +235,7 @@ class _Builder:
     def __init__(self, path: str) -> None:
         self.path = path
         self.doc = Document(path)
-        self.cur: Document | Element = self.doc
+        self.cur: Element = self.doc
         self.in_cdata = False
         self.cdata_continue = False
         self.parser = expat.ParserCreate(namespace_separator=" ")
@@ -297,7 +288,7 @@ class _Builder:
         self.cur = el
 
     def end(self, name: str) -> None:
-        parent = self.cur.parent if isinstance(self.cur, Element) else None
+        parent = self.cur.parent
         self.cur = parent if parent is not None else self.doc
 
     def chars(self, data: str) -> None:
@@ -452,7 +443,7 @@ def _write_element(out: list[str], el: Element, indent: str, step: str) -> None:
     child: Node | None = first
     while child is not None:
         if type(child) is Text:
-            data = child.data  # type: ignore[attr-defined]
+            data = child.data
             if data and not data.isspace():
                 out.append(_escape_text(inner + data + "\n"))
         else:

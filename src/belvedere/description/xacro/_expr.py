@@ -10,12 +10,13 @@ start with ``_``. Builtins are empty; only the names the scope provides exist.
 from __future__ import annotations
 
 import ast
+import contextlib
 import re
 import string
 from collections.abc import Mapping
 from functools import partial
 from types import CodeType
-from typing import Any, Final
+from typing import Any, Final, Protocol, cast
 
 from belvedere.description.xacro._errors import XacroError
 
@@ -112,9 +113,7 @@ def _forbidden_names(tree: ast.AST) -> list[str]:
             name = node.id
         elif isinstance(node, ast.Attribute):
             name = node.attr
-        elif isinstance(node, ast.arg):
-            name = node.arg
-        elif isinstance(node, ast.keyword):
+        elif isinstance(node, ast.arg | ast.keyword):
             name = node.arg
         if name is not None and name.startswith("__") and name not in bad:
             bad.append(name)
@@ -171,17 +170,21 @@ def compile_expr(expr: str) -> Compiled:
 _PLAIN_GLOBALS: Final[dict[str, Any]] = {"__builtins__": {}, _FORMAT_HELPER: _format_attr}
 
 
-def eval_code(compiled: Compiled, scope: Mapping[str, Any]) -> Any:
+class Lookup(Protocol):
+    """What an expression reads its names from (a property scope)."""
+
+    def __getitem__(self, key: str, /) -> Any: ...
+
+
+def eval_code(compiled: Compiled, scope: Lookup) -> Any:
     """Evaluate in ``scope`` (a mapping with lazy lookups) with no builtins."""
     if not compiled.nested_names:
-        return eval(compiled.code, _PLAIN_GLOBALS, scope)  # noqa: S307 (sandboxed above)
+        return eval(compiled.code, _PLAIN_GLOBALS, cast(Mapping[str, Any], scope))
     # Python looks names up as globals inside lambdas and comprehensions: give them the
     # names they use, resolved from the scope now.
     env: dict[str, Any] = dict(_PLAIN_GLOBALS)
     for name in compiled.nested_names:
-        try:
+        # Misses are attribute names or the comprehension's own locals.
+        with contextlib.suppress(KeyError, XacroError):
             env[name] = scope[name]
-        except (KeyError, XacroError):
-            pass  # an attribute name, or a local of the comprehension
-    return eval(compiled.code, env, scope)  # noqa: S307
-
+    return eval(compiled.code, env, cast(Mapping[str, Any], scope))

@@ -16,7 +16,6 @@ import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any, Final
 
 import yaml
@@ -60,19 +59,20 @@ LEGACY_KEYWORDS: Final = frozenset(
 # Tags of URDF, SDF and Gazebo extensions: an unprefixed tag of these names that also names a
 # macro is ambiguous (melodic swallowed it into the macro, ros/xacro#41).
 KNOWN_ELEMENTS: Final = frozenset(
-    """robot link joint inertial origin mass inertia visual collision geometry box cylinder
-    sphere mesh material color texture parent child axis calibration dynamics limit mimic
-    safety_controller transmission type hardwareInterface actuator mechanicalReduction joint
-    gazebo plugin sensor camera ray scan horizontal vertical range noise image clip
-    update_rate visualize always_on topic pose model world include uri name static light
-    physics scene state contact friction surface ode bounce kp kd mu mu1 mu2 fdir1 minDepth
-    maxVel selfCollide gravity turnGravityOff provideFeedback implicitSpringDamper
-    frame imu force_torque lidar gpu_ray depth_camera
-    """.split()
+    """
+    robot link joint inertial origin mass inertia visual collision geometry box cylinder sphere
+    mesh material color texture parent child axis calibration dynamics limit mimic
+    safety_controller transmission type hardwareInterface actuator mechanicalReduction gazebo
+    plugin sensor camera ray scan horizontal vertical range noise image clip update_rate
+    visualize always_on topic pose model world include uri name static light physics scene
+    state contact friction surface ode bounce kp kd mu mu1 mu2 fdir1 minDepth maxVel
+    selfCollide gravity turnGravityOff provideFeedback implicitSpringDamper frame imu
+    force_torque lidar gpu_ray depth_camera
+    """.split()  # noqa: SIM905 (a word list reads better than a literal)
 )
 
 _FIX_SED: Final = (
-    "find . -iname \"*.xacro\" | xargs sed -i 's#<\\([/]\\?\\)\\(if\\|unless\\|include"
+    'find . -iname "*.xacro" | xargs sed -i \'s#<\\([/]\\?\\)\\(if\\|unless\\|include'
     "\\|arg\\|property\\|macro\\|insert_block\\)\\([ >]\\)#<\\1xacro:\\2\\3#g'"
 )
 
@@ -181,6 +181,8 @@ class Processor:
         self.calls: list[tuple[Macro, SourceLocation | None]] = []
         self.includes: list[str] = []
         self.warnings: list[XacroWarning] = []
+        self.legacy_sites: list[tuple[SourceLocation, str]] = []
+        """Unprefixed tags treated as xacro (for --fix): where, and the tag."""
         self._warn_sink = warn
         self._warned: set[str] = set()
         self.marker = Text("\n\n")
@@ -258,7 +260,7 @@ class Processor:
             msg = f"cannot load YAML file {path}: {err.strerror}"
             raise XacroError(msg) from None
         try:
-            data = yaml.load(text, Loader=_yaml_loader(self))  # noqa: S506 (a SafeLoader)
+            data = yaml.load(text, Loader=_yaml_loader(self))
         except yaml.YAMLError as err:
             msg = f"invalid YAML in {path}: {err}"
             raise XacroError(msg) from None
@@ -315,7 +317,7 @@ class Processor:
                 return self.args[args[0]]
             except KeyError:
                 msg = f"undefined substitution argument {args[0]!r}"
-                hint = f"declare <xacro:arg name={args[0]!r} default=\"…\"/> or pass {args[0]}:=VALUE"
+                hint = f'declare <xacro:arg name={args[0]!r} default="…"/> or pass {args[0]}:=VALUE'
                 raise XacroError(msg, hint=hint) from None
         if cmd == "find":
             if len(args) != 1:
@@ -455,6 +457,8 @@ class Processor:
         if self.legacy_tags and tag in LEGACY_KEYWORDS:
             if tag == "include" and el.first_element() is not None:
                 return None  # Gazebo's <include><uri>…</uri></include>
+            if el.loc is not None:
+                self.legacy_sites.append((el.loc, tag))
             if self.dialect is Dialect.AUTO:
                 self.warn_once(
                     f"tag:{tag}",
@@ -487,8 +491,7 @@ class Processor:
         elif kw == "macro":
             self.define_macro(el, macros)
         elif kw == "arg":
-            (name, default) = self.attrs(el, ["name", "default"], [])
-            assert name is not None and default is not None
+            (name, default), _ = self.attrs(el, ["name", "default"])
             if name not in self.args:
                 self.args[name] = str(self.eval_text(default, scope))
             self.remove_previous_comments(el)
@@ -520,8 +523,7 @@ class Processor:
             el.detach()
         elif kw in ("if", "unless"):
             self.remove_previous_comments(el)
-            (cond,) = self.attrs(el, ["value"], [])
-            assert cond is not None
+            (cond,), _ = self.attrs(el, ["value"])
             keep = boolean(self.eval_text(cond, scope), cond)
             if kw == "unless":
                 keep = not keep
@@ -534,20 +536,21 @@ class Processor:
             self.eval_all(el, macros, scope)
         return False
 
-    def attrs(self, el: Element, required: list[str], optional: list[str]) -> list[str | None]:
+    def attrs(
+        self, el: Element, required: list[str], optional: tuple[str, ...] | list[str] = ()
+    ) -> tuple[list[str], list[str | None]]:
         """Required and optional attributes of a xacro tag; warns about unknown ones."""
-        values: list[str | None] = []
+        values: list[str] = []
         for name in required:
             if name not in el.attrs:
                 msg = f"{el.tag}: missing attribute '{name}'"
                 raise XacroError(msg, el.loc)
             values.append(el.attrs[name])
-        values.extend(el.attrs.get(name) for name in optional)
         allowed = {*required, *optional}
         extra = [a for a in el.attrs if a not in allowed and not a.startswith("xmlns:")]
         if extra:
             self.warn(f"{el.tag}: unknown attribute(s): {', '.join(extra)}", el.loc)
-        return values
+        return values, [el.attrs.get(name) for name in optional]
 
     # --- structure helpers ---------------------------------------------------------------------
     def remove_previous_comments(self, node: Node) -> None:
@@ -556,7 +559,7 @@ class Processor:
         prev = node.prev
         parent = node.parent
         while prev is not None:
-            if type(prev) is Text and prev.data.isspace() and prev.data.count("\n") <= 1:  # type: ignore[attr-defined]
+            if isinstance(prev, Text) and prev.data.isspace() and prev.data.count("\n") <= 1:
                 prev = prev.prev
             if prev is not None and type(prev) is Comment:
                 comment = prev
@@ -590,8 +593,7 @@ class Processor:
 
     # --- keywords ----------------------------------------------------------------------------
     def insert_block(self, el: Element, macros: MacroTable, scope: Scope) -> None:
-        (name,) = self.attrs(el, ["name"], [])
-        assert name is not None
+        (name,), _ = self.attrs(el, ["name"])
         if "**" + name in scope:
             block = scope["**" + name]
             content_only = True
@@ -613,10 +615,9 @@ class Processor:
 
     def property(self, el: Element, scope: Scope) -> None:
         self.remove_previous_comments(el)
-        name_t, value, default, remove_t, scope_kind, lazy_t = self.attrs(
+        (name_t,), (value, default, remove_t, scope_kind, lazy_t) = self.attrs(
             el, ["name"], ["value", "default", "remove", "scope", "lazy_eval"]
         )
-        assert name_t is not None
         name = self.eval_text(name_t, scope)
         if not isinstance(name, str) or not _is_valid_name(name):
             msg = f"Property names must be valid python identifiers: {name}"
@@ -669,8 +670,7 @@ class Processor:
 
     def define_macro(self, el: Element, macros: MacroTable) -> None:
         self.remove_previous_comments(el)
-        name, params = self.attrs(el, ["name"], ["params"])
-        assert name is not None
+        (name,), (params,) = self.attrs(el, ["name"], ["params"])
         if name == "call":
             msg = "Invalid use of macro name 'call'"
             raise XacroError(msg, el.loc)
@@ -686,8 +686,7 @@ class Processor:
         el.detach()
 
     def include(self, el: Element, macros: MacroTable, scope: Scope) -> None:
-        spec, ns_t, optional_t = self.attrs(el, ["filename"], ["ns", "optional"])
-        assert spec is not None
+        (spec,), (ns_t, optional_t) = self.attrs(el, ["filename"], ["ns", "optional"])
         ns_macros, ns_scope = macros, scope
         if ns_t:
             ns = str(self.eval_text(ns_t, scope))
@@ -803,6 +802,8 @@ class Processor:
                 return False
             if not self._expand_unprefixed(el):
                 return False
+            if el.loc is not None:
+                self.legacy_sites.append((el.loc, tag))
         self.expand(el, *resolved, caller_macros=macros, caller_scope=scope)
         return True
 

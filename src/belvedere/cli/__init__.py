@@ -1,0 +1,92 @@
+"""``belvedere <verb>``: the command line.
+
+Every verb is a module here with ``add_parser(subparsers)`` and ``run(args) -> int``. Any
+:class:`~belvedere.errors.BelvedereError` prints as one ``error: …`` message and exits 1
+(usage errors exit 2); a traceback appears only with ``--debug``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import sys
+import traceback
+from collections.abc import Sequence
+
+from belvedere import __version__
+from belvedere.cli import xacro as xacro_verb
+from belvedere.errors import BelvedereError
+
+__all__ = ["main"]
+
+_VERBS = (xacro_verb,)
+
+
+class _Formatter(logging.Formatter):
+    """Plain messages for info; ``warning:`` prefixes unless the message carries its own."""
+
+    def format(self, record: logging.LogRecord) -> str:
+        msg = record.getMessage()
+        own_prefix = ": warning: " in msg or msg.startswith("warning:")
+        if record.levelno >= logging.WARNING and not own_prefix:
+            msg = f"{record.levelname.lower()}: {msg}"
+        return msg
+
+
+def _setup_logging(verbosity: int) -> None:
+    level = {-1: logging.ERROR, 0: logging.INFO, 1: logging.DEBUG}.get(
+        max(-1, min(verbosity, 1)), logging.INFO
+    )
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(_Formatter())
+    root = logging.getLogger("belvedere")
+    root.handlers[:] = [handler]
+    root.setLevel(level)
+    root.propagate = False
+
+
+def build_parser() -> argparse.ArgumentParser:
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("-v", "--verbose", action="count", default=0, help="more output")
+    common.add_argument("-q", "--quiet", action="count", default=0, help="less output")
+    common.add_argument("--debug", action="store_true", help="show tracebacks on errors")
+    common.add_argument(
+        "--package-path",
+        action="append",
+        default=[],
+        metavar="DIR",
+        help="search DIR for ROS packages (before BELVEDERE_PACKAGE_PATH, ROS_PACKAGE_PATH)",
+    )
+    parser = argparse.ArgumentParser(
+        prog="belvedere",
+        description="The ROS robot-modelling and simulation workflow, with no ROS to install.",
+        parents=[common],
+    )
+    parser.add_argument("--version", action="version", version=f"belvedere {__version__}")
+    sub = parser.add_subparsers(dest="verb", metavar="VERB", required=True)
+    for verb in _VERBS:
+        verb.add_parser(sub, common)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args_list = list(sys.argv[1:] if argv is None else argv)
+    parser = build_parser()
+    try:
+        args, extra = parser.parse_known_args(args_list)
+    except SystemExit as exc:  # argparse: --help/--version exit 0, usage errors exit 2
+        return int(exc.code or 0)
+    args.extra = extra
+    _setup_logging(args.verbose - args.quiet)
+    try:
+        code: int = args.run(args)
+        return code
+    except BelvedereError as err:
+        if args.debug:
+            traceback.print_exc()
+        sys.stderr.write(f"error: {err.describe()}\n")
+        return 1
+    except KeyboardInterrupt:
+        return 130
+    except BrokenPipeError:
+        return 1

@@ -1,0 +1,55 @@
+"""``belvedere xacro FILE [name:=value …]``: expand xacro to URDF on stdout (or ``-o``)."""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import sys
+from pathlib import Path
+
+from belvedere.description.xacro import run_command
+from belvedere.description.xacro._command import (
+    add_xacro_arguments,
+    command_from_namespace,
+    split_mappings,
+)
+from belvedere.errors import BelvedereError
+from belvedere.packages import PackageIndex
+
+logger = logging.getLogger("belvedere.cli")
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(
+    sub: argparse._SubParsersAction[argparse.ArgumentParser], common: argparse.ArgumentParser
+) -> None:
+    p = sub.add_parser(
+        "xacro",
+        parents=[common],
+        help="expand a xacro file to URDF",
+        description="Expand a xacro file. Arguments name:=value set xacro args.",
+    )
+    add_xacro_arguments(p)
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    extra, mappings = split_mappings(list(args.extra))
+    if extra:
+        msg = f"unexpected arguments: {' '.join(extra)} (xacro args are written name:=value)"
+        raise BelvedereError(msg)
+    cmd = command_from_namespace(args, mappings)
+    for notice in cmd.notices:
+        logger.info("%s", notice)
+    packages = PackageIndex.from_environment(package_path=args.package_path)
+    result = run_command(cmd, packages=packages)
+    if result.text is not None:
+        if cmd.output:
+            out = Path(cmd.output)
+            out.parent.mkdir(parents=True, exist_ok=True)
+            out.write_text(result.text, encoding="utf-8")
+        else:
+            sys.stdout.write(result.text)
+            sys.stdout.flush()
+    return result.exit_code
