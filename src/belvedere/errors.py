@@ -47,8 +47,8 @@ class BelvedereError(Exception):
         self.hint = hint
 
     def describe(self) -> str:
-        """The full text the CLI prints after ``error:``."""
-        text = self.message
+        """The full text the CLI prints: ``error: message`` and a hint."""
+        text = f"error: {self.message}"
         if self.hint:
             text += f"\n  hint: {self.hint}"
         return text
@@ -91,9 +91,25 @@ class ParseError(BelvedereError):
         self.trail.append(TrailEntry(what, location))
 
     def describe(self) -> str:
-        head = f"{self.location}: error: " if self.location else ""
+        head = f"{self.location}: error: " if self.location else "error: "
         lines = [head + self.message]
-        lines.extend(f"  {t.what} {t.location}" for t in self.trail)
+        lines.extend(_trail_lines(self.trail))
         if self.hint:
             lines.append(f"  hint: {self.hint}")
         return "\n".join(lines)
+
+
+def _trail_lines(trail: list[TrailEntry], *, keep: int = 8) -> list[str]:
+    """The trail, repeats folded (``×N``) and the middle of a very long one elided."""
+    folded: list[tuple[TrailEntry, int]] = []
+    for entry in trail:
+        if folded and folded[-1][0] == entry:
+            folded[-1] = (entry, folded[-1][1] + 1)
+        else:
+            folded.append((entry, 1))
+    lines = [
+        f"  {e.what} {e.location}" + (f" (×{n})" if n > 1 else "") for e, n in folded
+    ]
+    if len(lines) > 2 * keep:
+        lines = [*lines[:keep], f"  … {len(lines) - 2 * keep} more …", *lines[-keep:]]
+    return lines

@@ -84,7 +84,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BelvedereError as err:
         if args.debug:
             traceback.print_exc()
-        sys.stderr.write(f"error: {err.describe()}\n")
+        sys.stderr.write(err.describe() + "\n")
         return 1
     except KeyboardInterrupt:
         return 130

@@ -152,8 +152,10 @@ def compile_expr(expr: str) -> Compiled:
     try:
         tree = ast.parse(source, "<expression>", "eval")
     except SyntaxError as err:
-        where = f" at column {err.offset}" if err.offset else ""
-        msg = f"invalid expression '{expr}': {err.msg}{where}"
+        caret = ""
+        if err.offset and err.lineno == 1:
+            caret = "\n    " + source + "\n    " + " " * (err.offset - 1) + "^"
+        msg = f"invalid expression '{expr}': {err.msg}{caret}"
         raise XacroError(msg) from None
     bad = _forbidden_names(tree)
     if bad:

@@ -292,7 +292,7 @@ class Processor:
             except RecursionError:
                 raise
             except Exception as err:  # noqa: BLE001 (user expressions may raise anything)
-                raise _expression_error(expr, err) from None
+                raise _expression_error(expr, err, scope) from None
         if kind == EXTENSION:
             inner = str(self.eval_text(payload, scope)) if "$" in payload else payload
             return self.substitute(inner)
@@ -800,14 +800,14 @@ class Processor:
             resolved = self.resolve_macro(tag, macros, scope) if ":" not in tag else None
             if resolved is None:
                 return False
-            if not self._expand_unprefixed(el):
+            if not self._expand_unprefixed(el, resolved[2]):
                 return False
             if el.loc is not None:
                 self.legacy_sites.append((el.loc, tag))
         self.expand(el, *resolved, caller_macros=macros, caller_scope=scope)
         return True
 
-    def _expand_unprefixed(self, el: Element) -> bool:
+    def _expand_unprefixed(self, el: Element, macro: Macro) -> bool:
         tag = el.tag
         if self.dialect is Dialect.MODERN:
             self.warn_once(
@@ -823,6 +823,16 @@ class Processor:
                     f"call:{tag}",
                     f"<{tag}> is both a macro and a URDF/SDF element: kept as the element. "
                     f"If you meant the macro, write <xacro:{tag}>",
+                    el.loc,
+                )
+                return False
+            unknown = [a for a in el.attrs if a not in macro.params]
+            if unknown:
+                self.warn_once(
+                    f"call:{tag}",
+                    f"<{tag}> has the name of a macro but attributes it does not take "
+                    f"({', '.join(unknown)}): kept as an element. If it is a call, write "
+                    f"<xacro:{tag}>",
                     el.loc,
                 )
                 return False
@@ -972,12 +982,30 @@ def _move_children(content: Element, before: Node) -> None:
         c = n
 
 
-def _expression_error(expr: str, err: Exception) -> XacroError:
+def _expression_error(expr: str, err: Exception, scope: Scope | None = None) -> XacroError:
     if isinstance(err, NameError):
         msg = f"{err} when evaluating expression '{expr}'"
-    else:
-        msg = f"{type(err).__name__}: {err} when evaluating expression '{expr}'"
+        name = getattr(err, "name", None)
+        hint = _did_you_mean(name, scope) if name and scope is not None else None
+        return XacroError(msg, hint=hint)
+    msg = f"{type(err).__name__}: {err} when evaluating expression '{expr}'"
     return XacroError(msg)
+
+
+def _did_you_mean(name: str, scope: Scope) -> str | None:
+    import difflib
+
+    known: set[str] = set()
+    s: Scope | None = scope
+    while s is not None:
+        known.update(k for k in s.vars if not k.startswith("*"))
+        s = s.parent
+    close = difflib.get_close_matches(name, sorted(known), n=3, cutoff=0.6)
+    if not close:
+        close = difflib.get_close_matches(name, sorted(scope.root), n=3, cutoff=0.75)
+    if close:
+        return "did you mean " + " or ".join(repr(c) for c in close) + "?"
+    return "properties must be defined (xacro:property) before the expression is evaluated"
 
 
 def _auto_convert(value: str) -> Any:

@@ -1,0 +1,75 @@
+"""Shared test configuration: paths, golden files, and the xacro 2.1.1 oracle."""
+
+from __future__ import annotations
+
+import importlib.metadata
+import os
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+TESTS = Path(__file__).parent
+DATA = TESTS / "data"
+REPO = TESTS.parent
+EXAMPLES = REPO / "examples"
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    parser.addoption(
+        "--update-golden",
+        action="store_true",
+        help="rewrite golden files under tests/data from the current output",
+    )
+
+
+@pytest.fixture
+def update_golden(request: pytest.FixtureRequest) -> bool:
+    return bool(request.config.getoption("--update-golden"))
+
+
+def _oracle_version() -> str | None:
+    try:
+        return importlib.metadata.version("xacro")
+    except importlib.metadata.PackageNotFoundError:
+        return None
+
+
+@dataclass(frozen=True)
+class OracleResult:
+    returncode: int
+    stdout: str
+    stderr: str
+
+
+class Oracle:
+    """Runs the reference xacro 2.1.1 (PyPI) in a subprocess."""
+
+    def run(
+        self, file: str, *args: str, cwd: Path, packages: dict[str, Path] | None = None
+    ) -> OracleResult:
+        env = dict(os.environ)
+        env["PYTHONPATH"] = str(TESTS / "oracle_shim")
+        env["BELVEDERE_ORACLE_PACKAGES"] = os.pathsep.join(
+            f"{name}={path}" for name, path in (packages or {}).items()
+        )
+        proc = subprocess.run(
+            [sys.executable, "-c", "import xacro; xacro.main()", file, *args],
+            cwd=cwd,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=120,
+            check=False,
+        )
+        return OracleResult(proc.returncode, proc.stdout, proc.stderr)
+
+
+@pytest.fixture(scope="session")
+def oracle() -> Oracle:
+    version = _oracle_version()
+    if version != "2.1.1":
+        pytest.skip(f"xacro 2.1.1 (the reference) is not installed (found {version})")
+    return Oracle()
