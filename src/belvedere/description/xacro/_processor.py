@@ -55,6 +55,18 @@ class Dialect(enum.Enum):
 LEGACY_KEYWORDS: Final = frozenset(
     {"property", "macro", "include", "arg", "if", "unless", "insert_block"}
 )
+_NOT_CALLS: Final = LEGACY_KEYWORDS | {"element", "attribute"}
+
+
+def calls_macros_with_prefix(root: Element) -> bool:
+    """Whether a file calls any macro as ``<xacro:name>`` (so it is written in modern style)."""
+    stack = [root]
+    while stack:
+        el = stack.pop()
+        if el.tag.startswith("xacro:") and el.tag[6:] not in _NOT_CALLS:
+            return True
+        stack.extend(el.elements())
+    return False
 
 # Tags of URDF, SDF and Gazebo extensions: an unprefixed tag of these names that also names a
 # macro is ambiguous (melodic swallowed it into the macro, ros/xacro#41).
@@ -182,6 +194,8 @@ class Processor:
         self.includes: list[str] = []
         self.warnings: list[XacroWarning] = []
         self.legacy_sites: list[tuple[SourceLocation, str]] = []
+        self.modern_files: set[str] = set()
+        """Files that call macros with the prefix: their unprefixed tags are plain elements."""
         """Unprefixed tags treated as xacro (for --fix): where, and the tag."""
         self._warn_sink = warn
         self._warned: set[str] = set()
@@ -202,6 +216,10 @@ class Processor:
                 "fatal": self._fatal,
             },
         )
+
+    def _note_style(self, root: Element) -> None:
+        if root.loc is not None and calls_macros_with_prefix(root):
+            self.modern_files.add(root.loc.path)
 
     # --- diagnostics -------------------------------------------------------------------------
     def here(self) -> SourceLocation | None:
@@ -393,6 +411,7 @@ class Processor:
         target = root.attrs.pop("xacro:targetNamespace", None)
         if target:
             root.attrs["xmlns"] = target
+        self._note_style(root)
         macros = MacroTable()
         scope = Scope(None, root=self.globals, evaluate=self.eval_text)
         with _deep_recursion():
@@ -711,6 +730,7 @@ class Processor:
             self.files.append(filename)
             try:
                 root = doc.root
+                self._note_style(root)
                 self.eval_all(root, ns_macros, ns_scope)
             except XacroError as err:
                 err.add_trail("included from", el.loc or SourceLocation("<string>"))
@@ -823,6 +843,15 @@ class Processor:
                     f"call:{tag}",
                     f"<{tag}> is both a macro and a URDF/SDF element: kept as the element. "
                     f"If you meant the macro, write <xacro:{tag}>",
+                    el.loc,
+                )
+                return False
+            if el.loc is not None and el.loc.path in self.modern_files:
+                self.warn_once(
+                    f"call:{tag}",
+                    f"<{tag}> has the name of a macro, but this file calls its macros with the "
+                    f"'xacro:' prefix, so it is kept as an element. If it is a call, write "
+                    f"<xacro:{tag}>",
                     el.loc,
                 )
                 return False
