@@ -20,3 +20,7 @@ fi
 
 python -m pip install -q --upgrade pip
 python -m pip install -q -e ".[test]"
+
+# Test oracles that cannot share the environment with the 2.1.1 reference (same module name):
+# ROS Melodic's xacro 1.13.3, for differential tests of the legacy dialects.
+python -m pip install -q --no-deps --upgrade --target .oracles/xacro-1.13.3 xacro==1.13.3

@@ -73,3 +73,31 @@ def oracle() -> Oracle:
     if version != "2.1.1":
         pytest.skip(f"xacro 2.1.1 (the reference) is not installed (found {version})")
     return Oracle()
+
+
+MELODIC_ORACLE = REPO / ".oracles" / "xacro-1.13.3"
+
+
+class MelodicOracle:
+    """ROS Melodic's xacro 1.13.3 (installed apart by scripts/install.sh)."""
+
+    def run(self, file: str, *args: str, cwd: Path) -> OracleResult:
+        env = dict(os.environ)
+        env["PYTHONPATH"] = str(MELODIC_ORACLE)
+        proc = subprocess.run(
+            [sys.executable, "-c", "import xacro; xacro.main()", file, *args],
+            cwd=cwd,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=120,
+            check=False,
+        )
+        return OracleResult(proc.returncode, proc.stdout, proc.stderr)
+
+
+@pytest.fixture(scope="session")
+def melodic_oracle() -> MelodicOracle:
+    if not (MELODIC_ORACLE / "xacro" / "__init__.py").is_file():
+        pytest.skip("xacro 1.13.3 (ROS Melodic's) is not installed under .oracles/")
+    return MelodicOracle()

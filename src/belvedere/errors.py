@@ -100,16 +100,14 @@ class ParseError(BelvedereError):
 
 
 def _trail_lines(trail: list[TrailEntry], *, keep: int = 8) -> list[str]:
-    """The trail, repeats folded (``×N``) and the middle of a very long one elided."""
+    """The trail, repeats folded (``N times``) and the middle of a very long one elided."""
     folded: list[tuple[TrailEntry, int]] = []
     for entry in trail:
         if folded and folded[-1][0] == entry:
             folded[-1] = (entry, folded[-1][1] + 1)
         else:
             folded.append((entry, 1))
-    lines = [
-        f"  {e.what} {e.location}" + (f" (×{n})" if n > 1 else "") for e, n in folded
-    ]
+    lines = [f"  {e.what} {e.location}" + (f" ({n} times)" if n > 1 else "") for e, n in folded]
     if len(lines) > 2 * keep:
         lines = [*lines[:keep], f"  … {len(lines) - 2 * keep} more …", *lines[-keep:]]
     return lines

@@ -28,6 +28,9 @@ from belvedere.description.xacro._symbols import (
     YamlDict,
     YamlList,
     boolean,
+    kinetic_boolean,
+    kinetic_literal,
+    literal,
     make_global_symbols,
 )
 from belvedere.errors import BelvedereError, ParseError, SourceLocation
@@ -55,18 +58,6 @@ class Dialect(enum.Enum):
 LEGACY_KEYWORDS: Final = frozenset(
     {"property", "macro", "include", "arg", "if", "unless", "insert_block"}
 )
-_NOT_CALLS: Final = LEGACY_KEYWORDS | {"element", "attribute"}
-
-
-def calls_macros_with_prefix(root: Element) -> bool:
-    """Whether a file calls any macro as ``<xacro:name>`` (so it is written in modern style)."""
-    stack = [root]
-    while stack:
-        el = stack.pop()
-        if el.tag.startswith("xacro:") and el.tag[6:] not in _NOT_CALLS:
-            return True
-        stack.extend(el.elements())
-    return False
 
 # Tags of URDF, SDF and Gazebo extensions: an unprefixed tag of these names that also names a
 # macro is ambiguous (melodic swallowed it into the macro, ros/xacro#41).
@@ -187,6 +178,10 @@ class Processor:
         self.args: dict[str, str] = dict(mappings or {})
         self.dialect = dialect
         self.legacy_tags = dialect is not Dialect.MODERN
+        self.two_pass = dialect is Dialect.KINETIC
+        self.boolean = kinetic_boolean if self.two_pass else boolean
+        self.keep_xmlns = dialect in (Dialect.MELODIC, Dialect.KINETIC)
+        """ROS 1 xacro left the xmlns:xacro declaration in its output."""
         self.packages = packages if packages is not None else PackageIndex([])
         self.root_dir = root_dir or os.curdir
         self.files: list[str | None] = []
@@ -194,8 +189,8 @@ class Processor:
         self.includes: list[str] = []
         self.warnings: list[XacroWarning] = []
         self.legacy_sites: list[tuple[SourceLocation, str]] = []
-        self.modern_files: set[str] = set()
-        """Files that call macros with the prefix: their unprefixed tags are plain elements."""
+        self.nested_definitions: dict[str, str] = {}
+        """Macros defined inside another macro's expansion (name -> enclosing macro)."""
         """Unprefixed tags treated as xacro (for --fix): where, and the tag."""
         self._warn_sink = warn
         self._warned: set[str] = set()
@@ -216,10 +211,6 @@ class Processor:
                 "fatal": self._fatal,
             },
         )
-
-    def _note_style(self, root: Element) -> None:
-        if root.loc is not None and calls_macros_with_prefix(root):
-            self.modern_files.add(root.loc.path)
 
     # --- diagnostics -------------------------------------------------------------------------
     def here(self) -> SourceLocation | None:
@@ -411,11 +402,39 @@ class Processor:
         target = root.attrs.pop("xacro:targetNamespace", None)
         if target:
             root.attrs["xmlns"] = target
-        self._note_style(root)
         macros = MacroTable()
-        scope = Scope(None, root=self.globals, evaluate=self.eval_text)
+        scope = Scope(
+            None,
+            root=self.globals,
+            evaluate=self.eval_text,
+            typing=kinetic_literal if self.two_pass else literal,
+        )
         with _deep_recursion():
+            if self.two_pass:
+                self._first_pass(root, macros, scope)
             self.eval_all(root, macros, scope)
+
+    def _first_pass(self, root: Element, macros: MacroTable, scope: Scope) -> None:
+        """Kinetic's order: all includes, then every macro, then every property (even in
+        false conditionals; the last definition wins), before anything is evaluated."""
+        for el in _walk(root):
+            if self.keyword(el) == "include":
+                if "ns" in el.attrs:
+                    msg = "namespaces are supported with in-order option only"
+                    raise XacroError(msg, el.loc, hint="use --dialect melodic or auto")
+                if "${" in el.attrs.get("filename", ""):
+                    msg = "variable filename is supported with in-order option only"
+                    raise XacroError(msg, el.loc, hint="use --dialect melodic or auto")
+                self.current = el
+                self.include(el, macros, scope, evaluate=False)
+        for el in _walk(root):
+            if self.keyword(el) == "macro":
+                self.current = el
+                self.define_macro(el, macros)
+        for el in _walk(root):
+            if self.keyword(el) == "property":
+                self.current = el
+                self.property(el, scope)
 
     def eval_all(self, node: Element, macros: MacroTable, scope: Scope) -> None:
         """Evaluate one element in place: attributes, then children in order."""
@@ -430,7 +449,8 @@ class Processor:
                 except XacroError as err:
                     err.locate(node.loc)
                     raise
-        attrs.pop("xmlns:xacro", None)
+        if not self.keep_xmlns:
+            attrs.pop("xmlns:xacro", None)
 
         child = node.first
         eval_comments = False
@@ -474,7 +494,7 @@ class Processor:
         if tag.startswith("xacro:"):
             return tag[6:]
         if self.legacy_tags and tag in LEGACY_KEYWORDS:
-            if tag == "include" and el.first_element() is not None:
+            if tag == "include" and not _is_xacro_include(el):
                 return None  # Gazebo's <include><uri>…</uri></include>
             if el.loc is not None:
                 self.legacy_sites.append((el.loc, tag))
@@ -543,7 +563,7 @@ class Processor:
         elif kw in ("if", "unless"):
             self.remove_previous_comments(el)
             (cond,), _ = self.attrs(el, ["value"])
-            keep = boolean(self.eval_text(cond, scope), cond)
+            keep = self.boolean(self.eval_text(cond, scope), cond)
             if kw == "unless":
                 keep = not keep
             if keep:
@@ -644,7 +664,7 @@ class Processor:
         if name.startswith("__"):
             msg = f"Property names must not start with double underscore: {name}"
             raise XacroError(msg, el.loc)
-        remove = boolean(self.eval_text(remove_t or "false", scope), remove_t)
+        remove = self.boolean(self.eval_text(remove_t or "false", scope), remove_t)
         if sum([value is not None, default is not None, remove]) > 1:
             msg = f"Property attributes default, value, and remove are mutually exclusive: {name}"
             raise XacroError(msg, el.loc)
@@ -667,7 +687,7 @@ class Processor:
             name = "**" + name
             stored = el
         el.detach()
-        lazy = boolean(self.eval_text(lazy_t or "true", scope), lazy_t)
+        lazy = self.boolean(self.eval_text(lazy_t or "true", scope), lazy_t)
         target: Scope = scope
         if scope_kind == "global":
             target = scope.top()
@@ -702,9 +722,13 @@ class Processor:
         plist, defaults = parse_macro_params(params or "")
         target = macros.top() if self.dialect in (Dialect.MELODIC, Dialect.KINETIC) else macros
         target.macros[name] = Macro(name, el, plist, defaults)
+        if target.parent is not None and self.calls:
+            self.nested_definitions.setdefault(name, self.calls[-1][0].name)
         el.detach()
 
-    def include(self, el: Element, macros: MacroTable, scope: Scope) -> None:
+    def include(
+        self, el: Element, macros: MacroTable, scope: Scope, *, evaluate: bool = True
+    ) -> None:
         (spec,), (ns_t, optional_t) = self.attrs(el, ["filename"], ["ns", "optional"])
         ns_macros, ns_scope = macros, scope
         if ns_t:
@@ -716,7 +740,7 @@ class Processor:
                 self.warn(f"redefining global symbol: {ns}")
             scope.vars[ns] = ns_scope
             scope.lazy.discard(ns)
-        optional = boolean(optional_t, None) if optional_t is not None else False
+        optional = self.boolean(optional_t, None) if optional_t is not None else False
         if el.first_element() is not None:
             self.warn("Child elements of a <xacro:include> tag are ignored", el.loc)
         included: list[Element] = []
@@ -730,8 +754,8 @@ class Processor:
             self.files.append(filename)
             try:
                 root = doc.root
-                self._note_style(root)
-                self.eval_all(root, ns_macros, ns_scope)
+                if evaluate:
+                    self.eval_all(root, ns_macros, ns_scope)
             except XacroError as err:
                 err.add_trail("included from", el.loc or SourceLocation("<string>"))
                 raise
@@ -846,12 +870,11 @@ class Processor:
                     el.loc,
                 )
                 return False
-            if el.loc is not None and el.loc.path in self.modern_files:
+            if any(m.name == tag for m, _ in self.calls):
                 self.warn_once(
                     f"call:{tag}",
-                    f"<{tag}> has the name of a macro, but this file calls its macros with the "
-                    f"'xacro:' prefix, so it is kept as an element. If it is a call, write "
-                    f"<xacro:{tag}>",
+                    f"<{tag}> inside the expansion of macro '{tag}' is kept as an element "
+                    f"(as a call it would recurse). If it is a call, write <xacro:{tag}>",
                     el.loc,
                 )
                 return False
@@ -885,6 +908,12 @@ class Processor:
     def _near_macros(self, name: str, macros: MacroTable) -> str | None:
         import difflib
 
+        if name in self.nested_definitions:
+            return (
+                f"'{name}' was defined inside macro '{self.nested_definitions[name]}', so it "
+                "exists only there; ROS Melodic and Kinetic made such macros global "
+                "(--dialect melodic)"
+            )
         known: list[str] = []
         t: MacroTable | None = macros
         while t is not None:
@@ -999,6 +1028,31 @@ class Processor:
         self.remove_previous_comments(el)
         self.import_namespaces(el.parent, body.attrs)
         self.splice(el, body)
+
+
+def _is_xacro_include(el: Element) -> bool:
+    """Melodic's rule for an unprefixed <include>: no children, or a single text node."""
+    first = el.first
+    return first is None or (first.next is None and isinstance(first, Text))
+
+
+def _walk(root: Element) -> Iterator[Element]:
+    """Elements in document order, tolerating removal or replacement of the current one:
+    after an element is replaced by content, the walk continues with that content."""
+    stack: list[Node | None] = [root.first]
+    while stack:
+        node = stack.pop()
+        if node is None:
+            continue
+        stack.append(node.next)
+        if not isinstance(node, Element):
+            continue
+        prev, parent = node.prev, node.parent
+        yield node
+        if node.parent is parent:  # still in place: descend
+            stack.append(node.first)
+        else:  # removed or replaced: resume at whatever now follows its old position
+            stack[-1] = prev.next if prev is not None else (parent.first if parent else None)
 
 
 def _move_children(content: Element, before: Node) -> None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import ast
 import math
 import re
 from collections.abc import Callable, Iterator
@@ -15,6 +16,8 @@ __all__ = [
     "YamlDict",
     "YamlList",
     "boolean",
+    "kinetic_boolean",
+    "kinetic_literal",
     "literal",
     "make_global_symbols",
 ]
@@ -49,6 +52,33 @@ def literal(value: Any) -> Any:
     return value
 
 
+def kinetic_literal(value: Any) -> Any:
+    """ROS Kinetic's typing (Python 2 ``ast.literal_eval``): ``"true"`` stays text, ``0x10``
+    is 16, ``007`` is octal; lists, tuples and dicts stay text."""
+    if not isinstance(value, str) or "_" in value or "$" in value:
+        return value
+    text = value.strip()
+    if re.fullmatch(r"[+-]?0[0-7]+", text):
+        return int(text, 8)
+    try:
+        evaluated = ast.literal_eval(text)
+    except (ValueError, SyntaxError, TypeError, MemoryError, RecursionError):
+        return value
+    if isinstance(evaluated, list | dict | tuple | set):
+        return value
+    return evaluated
+
+
+def kinetic_boolean(value: Any, condition: str | None) -> bool:
+    """ROS Kinetic's conditions also accept floats (``value="1.0"``)."""
+    try:
+        if isinstance(value, str) and value not in ("true", "True", "false", "False"):
+            return bool(float(value))
+    except ValueError:
+        pass
+    return boolean(value, condition)
+
+
 def boolean(value: Any, condition: str | None) -> bool:
     """The truth of a condition value: true/True/false/False or anything ``int()`` accepts."""
     try:
@@ -74,7 +104,7 @@ class Scope:
     (lazy evaluation), then cached. Lookups walk up to the parent scopes, then the globals.
     """
 
-    __slots__ = ("evaluate", "lazy", "parent", "resolving", "root", "vars")
+    __slots__ = ("evaluate", "lazy", "literal", "parent", "resolving", "root", "vars")
 
     def __init__(
         self,
@@ -82,6 +112,7 @@ class Scope:
         *,
         root: dict[str, Any] | None = None,
         evaluate: TextEvaluator | None = None,
+        typing: Callable[[Any], Any] = literal,
     ) -> None:
         self.parent = parent
         self.vars: dict[str, Any] = {}
@@ -90,9 +121,11 @@ class Scope:
         if parent is not None:
             self.root: dict[str, Any] = parent.root
             self.evaluate: TextEvaluator | None = parent.evaluate
+            self.literal: Callable[[Any], Any] = parent.literal
         else:
             self.root = {} if root is None else root
             self.evaluate = evaluate
+            self.literal = typing
 
     # --- lookup ----------------------------------------------------------------------------
     def __getitem__(self, key: str) -> Any:
@@ -125,7 +158,7 @@ class Scope:
         assert self.evaluate is not None
         self.resolving.append(key)
         try:
-            value = literal(self.evaluate(self.vars[key], self))
+            value = self.literal(self.evaluate(self.vars[key], self))
         finally:
             self.resolving.pop()
         self.vars[key] = value
@@ -135,7 +168,7 @@ class Scope:
     # --- definition ------------------------------------------------------------------------
     def define(self, key: str, value: Any, *, lazy: bool) -> None:
         """Store ``value`` (typed like a literal); text stays unevaluated when ``lazy``."""
-        value = literal(value)
+        value = self.literal(value)
         self.vars[key] = value
         if lazy and isinstance(value, str):
             self.lazy.add(key)
