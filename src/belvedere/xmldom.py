@@ -34,15 +34,44 @@ __all__ = [
 ]
 
 
+class _Siblings:
+    """The identity of one element's child list.
+
+    Children point here instead of at their parent, so that moving *all* children of one
+    element into another (what every macro expansion does) is O(1): the emptied list just
+    forwards to the receiving one. ``Node.parent`` follows (and shortens) the forwarding.
+    """
+
+    __slots__ = ("forward", "owner")
+
+    def __init__(self, owner: Element) -> None:
+        self.owner = owner
+        self.forward: _Siblings | None = None
+
+
 class Node:
     """A node in a sibling list. Subclasses add their payload."""
 
-    __slots__ = ("next", "parent", "prev")
+    __slots__ = ("_siblings", "next", "prev")
 
     def __init__(self) -> None:
-        self.parent: Element | None = None
+        self._siblings: _Siblings | None = None
         self.prev: Node | None = None
         self.next: Node | None = None
+
+    @property
+    def parent(self) -> Element | None:
+        s = self._siblings
+        if s is None:
+            return None
+        if s.forward is None:
+            return s.owner
+        root = s.forward
+        while root.forward is not None:
+            root = root.forward
+        s.forward = root
+        self._siblings = root
+        return root.owner
 
     def clone(self) -> Node:
         raise NotImplementedError
@@ -60,7 +89,8 @@ class Node:
             parent.last = self.prev
         else:
             self.next.prev = self.prev
-        self.parent = self.prev = self.next = None
+        self._siblings = None
+        self.prev = self.next = None
 
 
 class Text(Node):
@@ -111,7 +141,7 @@ class ProcessingInstruction(Node):
 class Element(Node):
     """An element: qualified tag name, attributes in document order, children, origin."""
 
-    __slots__ = ("attrs", "first", "last", "loc", "tag")
+    __slots__ = ("attrs", "first", "kids", "last", "loc", "tag")
 
     def __init__(
         self, tag: str, attrs: dict[str, str] | None = None, loc: SourceLocation | None = None
@@ -121,7 +151,14 @@ class Element(Node):
         self.attrs: dict[str, str] = {} if attrs is None else attrs
         self.first: Node | None = None
         self.last: Node | None = None
+        self.kids: _Siblings | None = None  # made when the first child arrives
         self.loc = loc
+
+    def _siblings_of_children(self) -> _Siblings:
+        kids = self.kids
+        if kids is None:
+            kids = self.kids = _Siblings(self)
+        return kids
 
     def children(self) -> list[Node]:
         """A snapshot of the children (safe to mutate the tree while iterating it)."""
@@ -148,7 +185,7 @@ class Element(Node):
 
     def append(self, node: Node) -> None:
         node.detach()
-        node.parent = self
+        node._siblings = self._siblings_of_children()
         node.prev = self.last
         if self.last is None:
             self.first = node
@@ -164,7 +201,7 @@ class Element(Node):
         if node is ref:
             return
         node.detach()
-        node.parent = self
+        node._siblings = self._siblings_of_children()
         node.next = ref
         node.prev = ref.prev
         if ref.prev is None:
@@ -172,6 +209,23 @@ class Element(Node):
         else:
             ref.prev.next = node
         ref.prev = node
+
+    def move_children_before(self, content: Element, ref: Node) -> None:
+        """Move all children of ``content`` before ``ref`` (a child of this element), in O(1)."""
+        first, last = content.first, content.last
+        if first is None or last is None:
+            return
+        first.prev = ref.prev
+        if ref.prev is None:
+            self.first = first
+        else:
+            ref.prev.next = first
+        last.next = ref
+        ref.prev = last
+        assert content.kids is not None  # it has children
+        content.kids.forward = self._siblings_of_children()
+        content.kids = None
+        content.first = content.last = None
 
     def has_single_text_child(self) -> bool:
         first = self.first
@@ -181,10 +235,13 @@ class Element(Node):
         """A deep copy, detached, with the same source locations."""
         copy = Element(self.tag, dict(self.attrs), self.loc)
         child = self.first
+        if child is None:
+            return copy
+        kids = copy.kids = _Siblings(copy)
         prev: Node | None = None
         while child is not None:
             c = child.clone()
-            c.parent = copy
+            c._siblings = kids
             c.prev = prev
             if prev is None:
                 copy.first = c

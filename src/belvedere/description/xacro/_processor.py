@@ -8,6 +8,7 @@ costs O(1). Legacy dialects change what an unprefixed tag means and how macros a
 from __future__ import annotations
 
 import enum
+import gc
 import glob
 import logging
 import os
@@ -189,6 +190,8 @@ class Processor:
         self.includes: list[str] = []
         self.warnings: list[XacroWarning] = []
         self.legacy_sites: list[tuple[SourceLocation, str]] = []
+        self.macro_names: set[str] = set()
+        """Every name a macro was ever given (a quick test before scoped lookups)."""
         self.nested_definitions: dict[str, str] = {}
         """Macros defined inside another macro's expansion (name -> enclosing macro)."""
         """Unprefixed tags treated as xacro (for --fix): where, and the tag."""
@@ -409,7 +412,7 @@ class Processor:
             evaluate=self.eval_text,
             typing=kinetic_literal if self.two_pass else literal,
         )
-        with _deep_recursion():
+        with _expanding():
             if self.two_pass:
                 self._first_pass(root, macros, scope)
             self.eval_all(root, macros, scope)
@@ -722,6 +725,7 @@ class Processor:
         plist, defaults = parse_macro_params(params or "")
         target = macros.top() if self.dialect in (Dialect.MELODIC, Dialect.KINETIC) else macros
         target.macros[name] = Macro(name, el, plist, defaults)
+        self.macro_names.add(name)
         if target.parent is not None and self.calls:
             self.nested_definitions.setdefault(name, self.calls[-1][0].name)
         el.detach()
@@ -841,7 +845,9 @@ class Processor:
                 msg = f"unknown macro name: {tag}"
                 raise XacroError(msg, el.loc, hint=self._near_macros(name, macros))
         else:
-            resolved = self.resolve_macro(tag, macros, scope) if ":" not in tag else None
+            if tag not in self.macro_names:
+                return False
+            resolved = self.resolve_macro(tag, macros, scope)
             if resolved is None:
                 return False
             if not self._expand_unprefixed(el, resolved[2]):
@@ -1058,11 +1064,7 @@ def _walk(root: Element) -> Iterator[Element]:
 def _move_children(content: Element, before: Node) -> None:
     parent = before.parent
     assert parent is not None
-    c = content.first
-    while c is not None:
-        n = c.next
-        parent.insert_before(c, before)
-        c = n
+    parent.move_children_before(content, before)
 
 
 def _expression_error(expr: str, err: Exception, scope: Scope | None = None) -> XacroError:
@@ -1135,11 +1137,17 @@ def _yaml_loader(proc: Processor) -> type[yaml.SafeLoader]:
 
 
 @contextmanager
-def _deep_recursion() -> Iterator[None]:
-    """Let legitimately deep macro nesting recurse (Python frames are cheap since 3.11)."""
+def _expanding() -> Iterator[None]:
+    """Let legitimately deep macro nesting recurse (Python frames are cheap since 3.11), and
+    pause the cyclic garbage collector, whose full passes over the growing tree (parents and
+    children refer to each other) would make large expansions superlinear."""
     old = sys.getrecursionlimit()
     sys.setrecursionlimit(max(old, MAX_MACRO_DEPTH * 12 + 2000))
+    gc_was_enabled = gc.isenabled()
+    gc.disable()
     try:
         yield
     finally:
+        if gc_was_enabled:
+            gc.enable()
         sys.setrecursionlimit(old)
