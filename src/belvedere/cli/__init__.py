@@ -45,22 +45,35 @@ def _setup_logging(verbosity: int) -> None:
     root.propagate = False
 
 
-def build_parser() -> argparse.ArgumentParser:
+def _common_options(*, suppress: bool) -> argparse.ArgumentParser:
+    """Options valid before and after the verb. After it, defaults are suppressed so they do
+    not overwrite what was given before it."""
+
+    def default(value: object) -> object:
+        return argparse.SUPPRESS if suppress else value
+
     common = argparse.ArgumentParser(add_help=False)
-    common.add_argument("-v", "--verbose", action="count", default=0, help="more output")
-    common.add_argument("-q", "--quiet", action="count", default=0, help="less output")
-    common.add_argument("--debug", action="store_true", help="show tracebacks on errors")
+    common.add_argument("-v", "--verbose", action="count", default=default(0), help="more output")
+    common.add_argument("-q", "--quiet", action="count", default=default(0), help="less output")
+    common.add_argument(
+        "--debug", action="store_true", default=default(False), help="show tracebacks on errors"
+    )
     common.add_argument(
         "--package-path",
         action="append",
-        default=[],
+        default=default([]),
         metavar="DIR",
         help="search DIR for ROS packages (before BELVEDERE_PACKAGE_PATH, ROS_PACKAGE_PATH)",
     )
+    return common
+
+
+def build_parser() -> argparse.ArgumentParser:
+    common = _common_options(suppress=True)
     parser = argparse.ArgumentParser(
         prog="belvedere",
         description="The ROS robot-modelling and simulation workflow, with no ROS to install.",
-        parents=[common],
+        parents=[_common_options(suppress=False)],
     )
     parser.add_argument("--version", action="version", version=f"belvedere {__version__}")
     sub = parser.add_subparsers(dest="verb", metavar="VERB", required=True)

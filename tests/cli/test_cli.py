@@ -1,0 +1,136 @@
+"""The command line: help, version, exit codes, one clear error line, data on stdout."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from belvedere import __version__
+from belvedere.cli import main
+from tests.conftest import DATA, EXAMPLES
+
+MBOT_WRAPPER = EXAMPLES / "mbot_description" / "urdf" / "xacro" / "gazebo" / "mbot_gazebo.xacro"
+
+
+def test_help_and_version(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["--help"]) == 0
+    assert "xacro" in capsys.readouterr().out
+    assert main(["--version"]) == 0
+    assert capsys.readouterr().out.strip() == f"belvedere {__version__}"
+
+
+def test_usage_error_exits_2(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["no-such-verb"]) == 2
+    assert main([]) == 2
+    assert main(["xacro"]) == 2
+    assert "FILE" in capsys.readouterr().err
+
+
+def test_python_dash_m_works() -> None:
+    proc = subprocess.run(
+        [sys.executable, "-m", "belvedere", "--version"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert proc.returncode == 0
+    assert proc.stdout.startswith("belvedere ")
+
+
+def test_xacro_writes_urdf_to_stdout_and_warnings_to_stderr(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    assert main(["xacro", str(MBOT_WRAPPER)]) == 0
+    captured = capsys.readouterr()
+    assert captured.out.startswith('<?xml version="1.0" ?>')
+    assert captured.out.count("<link ") == 6
+    assert f"{MBOT_WRAPPER}:4:5: warning: deprecated macro call <mbot_base_gazebo>" in captured.err
+
+
+def test_quiet_hides_warnings(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["-q", "xacro", str(MBOT_WRAPPER)]) == 0
+    assert capsys.readouterr().err == ""
+
+
+def test_error_is_one_message_and_exit_1(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    bad = tmp_path / "bad.xacro"
+    bad.write_text("<robot>\n  <link>\n</robot>\n")
+    assert main(["xacro", str(bad)]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith(f"{bad}:3:3: error: malformed XML: mismatched tag")
+    assert "Traceback" not in err
+
+
+def test_debug_shows_traceback(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    bad = tmp_path / "bad.xacro"
+    bad.write_text("<robot>")
+    assert main(["--debug", "xacro", str(bad)]) == 1
+    assert "Traceback" in capsys.readouterr().err
+
+
+def test_output_file_and_mappings(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(DATA / "xacro" / "modern")
+    out = tmp_path / "new" / "dir" / "args.urdf"
+    assert main(["xacro", "args.xacro", "a:=0", "-o", str(out)]) == 0
+    text = out.read_text()
+    assert 'a="0"' in text
+    assert "<yes/>" not in text
+
+
+def test_deps_lists_included_files(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    monkeypatch.chdir(DATA / "xacro" / "modern")
+    assert main(["xacro", "--deps", "include_main.xacro"]) == 0
+    deps = capsys.readouterr().out.split()
+    assert deps[0] == "./inc/part.xacro" or deps[0].endswith("inc/part.xacro")
+    assert any(d.endswith("inc/deeper.xacro") for d in deps)
+
+
+def test_inorder_is_accepted_with_a_notice(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    monkeypatch.chdir(DATA / "xacro" / "modern")
+    assert main(["xacro", "--inorder", "args.xacro"]) == 0
+    assert "in-order processing became default" in capsys.readouterr().err
+
+
+def test_check_order_reports_incompatible_documents(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    monkeypatch.chdir(DATA / "xacro" / "legacy")
+    assert main(["xacro", "--check-order", "two_pass.xacro"]) == 1
+    assert "incompatible to in-order processing" in capsys.readouterr().err
+    assert main(["xacro", "--check-order", "unprefixed_calls.xacro"]) == 0
+
+
+def test_unexpected_positional_arguments(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["xacro", str(MBOT_WRAPPER), "stray"]) == 1
+    assert "name:=value" in capsys.readouterr().err
+
+
+def test_package_path_option(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    robot = tmp_path / "elsewhere" / "robot.xacro"
+    robot.parent.mkdir()
+    robot.write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '<xacro:include filename="$(find mbot_description)/urdf/xacro/gazebo/'
+        'mbot_base_gazebo_modern.xacro"/><xacro:mbot_base_gazebo/></robot>'
+    )
+    assert main(["xacro", str(robot)]) == 1
+    assert "package 'mbot_description' not found" in capsys.readouterr().err
+    assert main(["--package-path", str(EXAMPLES), "xacro", str(robot)]) == 0
+    assert capsys.readouterr().out.count("<link ") == 6
+
+
+def test_launch_file_spelling_runs_the_same_code() -> None:
+    from belvedere.description.xacro import parse_xacro_argv, process_file, run_command
+
+    cmd = parse_xacro_argv(["--inorder", str(MBOT_WRAPPER), "unused:=1"])
+    assert cmd.mappings == {"unused": "1"}
+    assert run_command(cmd).text == process_file(MBOT_WRAPPER, mappings={"unused": "1"})
