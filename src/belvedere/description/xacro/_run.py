@@ -64,10 +64,7 @@ def _check_order(cmd: XacroCommand, packages: PackageIndex | None) -> CommandRes
         logger.warning("two-pass (kinetic) processing fails: %s", err.describe())
         two_pass = None
     in_order = run(Dialect.MELODIC)
-    if (
-        two_pass is not None
-        and two_pass.replace(' xmlns:xacro="http://www.ros.org/wiki/xacro"', "") == in_order
-    ):
+    if two_pass == in_order:
         logger.info("%s: same result in-order and two-pass", cmd.input)
         return CommandResult(None)
     logger.warning(
