@@ -134,3 +134,25 @@ def test_launch_file_spelling_runs_the_same_code() -> None:
     cmd = parse_xacro_argv(["--inorder", str(MBOT_WRAPPER), "unused:=1"])
     assert cmd.mappings == {"unused": "1"}
     assert run_command(cmd).text == process_file(MBOT_WRAPPER, mappings={"unused": "1"})
+
+
+@pytest.mark.parametrize(
+    "program",
+    ["/opt/ros/melodic/share/xacro/xacro", "xacro", "/opt/ros/kinetic/lib/xacro/xacro.py"],
+)
+def test_launch_command_strings(program: str) -> None:
+    from belvedere.description.xacro import parse_xacro_command, run_command
+
+    cmd = parse_xacro_command(f"{program} --inorder '{MBOT_WRAPPER}' use_gui:=true")
+    assert cmd.input == str(MBOT_WRAPPER)
+    assert cmd.mappings == {"use_gui": "true"}
+    result = run_command(cmd)
+    assert result.text is not None
+    assert result.text.count("<link ") == 6
+
+
+def test_not_a_xacro_command() -> None:
+    from belvedere.description.xacro import XacroError, parse_xacro_command
+
+    with pytest.raises(XacroError, match="not a xacro command"):
+        parse_xacro_command("cat robot.urdf")

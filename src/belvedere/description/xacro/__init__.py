@@ -6,7 +6,7 @@ Entry points:
 - :func:`expand_file` returns an :class:`Expansion`: the expanded document, whose elements keep
   the xacro file and line that produced them, with the warnings and the files read.
 - :func:`run_command` runs a xacro command line (``belvedere xacro``, or ``xacro --inorder
-  FILE args`` as launch files write it, parsed by :func:`parse_xacro_argv`).
+  FILE args`` as launch files write it, parsed by :func:`parse_xacro_command`).
 
 The default dialect ``auto`` gives modern results, except that legacy unprefixed tags and
 macro calls (which modern xacro silently leaves unexpanded) are expanded with a warning.
@@ -19,7 +19,12 @@ from belvedere.description.xacro._api import (
     process_file,
     process_string,
 )
-from belvedere.description.xacro._command import XacroCommand, parse_xacro_argv
+from belvedere.description.xacro._command import (
+    XacroCommand,
+    is_xacro_program,
+    parse_xacro_argv,
+    parse_xacro_command,
+)
 from belvedere.description.xacro._errors import XacroError
 from belvedere.description.xacro._processor import Dialect, XacroWarning
 from belvedere.description.xacro._run import CommandResult, run_command
@@ -33,7 +38,9 @@ __all__ = [
     "XacroWarning",
     "expand_file",
     "expand_string",
+    "is_xacro_program",
     "parse_xacro_argv",
+    "parse_xacro_command",
     "process_file",
     "process_string",
     "run_command",

@@ -7,6 +7,8 @@
 from __future__ import annotations
 
 import argparse
+import os
+import shlex
 from dataclasses import dataclass, field
 
 from belvedere.description.xacro._errors import XacroError
@@ -16,7 +18,9 @@ __all__ = [
     "XacroCommand",
     "add_xacro_arguments",
     "command_from_namespace",
+    "is_xacro_program",
     "parse_xacro_argv",
+    "parse_xacro_command",
     "split_mappings",
 ]
 
@@ -117,6 +121,24 @@ def command_from_namespace(ns: argparse.Namespace, mappings: dict[str, str]) -> 
         root_dir=ns.root_dir,
         notices=notices,
     )
+
+
+XACRO_PROGRAMS = ("xacro", "xacro.py")
+
+
+def is_xacro_program(word: str) -> bool:
+    """Whether a command's first word runs xacro (``xacro``, ``xacro.py``, ``…/xacro/xacro``)."""
+    return os.path.basename(word) in XACRO_PROGRAMS
+
+
+def parse_xacro_command(command: str) -> XacroCommand:
+    """Parse a whole xacro command as a launch file's ``<param command=…>`` holds it, after
+    its ``$(…)`` substitutions: ``/path/to/xacro --inorder 'robot.xacro' name:=value``."""
+    words = shlex.split(command)
+    if not words or not is_xacro_program(words[0]):
+        msg = f"not a xacro command: {command!r} (expected xacro or xacro.py first)"
+        raise XacroError(msg)
+    return parse_xacro_argv(words[1:])
 
 
 def parse_xacro_argv(argv: list[str]) -> XacroCommand:
