@@ -187,3 +187,17 @@ def test_fix_adds_missing_namespace_declaration(tmp_path: Path) -> None:
         '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">'
     )
     assert '<a v="1"/>' in process_file(src, dialect=Dialect.MODERN)
+
+
+def test_python2_float_printing_is_opt_in(tmp_path: Path) -> None:
+    src = tmp_path / "f.xacro"
+    src.write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '<a x="${0.1*3}" p="${pi}" two="${4/2}" mixed="v${0.1*3}" big="${1e16}" i="${7}"/>'
+        "</robot>"
+    )
+    py3 = process_file(src)
+    assert 'x="0.30000000000000004"' in py3
+    assert 'p="3.141592653589793"' in py3
+    py2 = process_file(src, dialect=Dialect.MELODIC, python2_floats=True)
+    assert '<a big="1e+16" i="7" mixed="v0.3" p="3.14159265359" two="2.0" x="0.3"/>' in py2

@@ -55,13 +55,18 @@ def _make_processor(
     packages: PackageIndex | None,
     near: str | Path | None,
     root_dir: str | None = None,
+    python2_floats: bool = False,
 ) -> Processor:
     if packages is None:
         packages = PackageIndex.from_environment(near=near)
     elif near is not None:
         packages = packages.with_workspace_of(near)
     return Processor(
-        mappings=mappings, dialect=Dialect(dialect), packages=packages, root_dir=root_dir
+        mappings=mappings,
+        dialect=Dialect(dialect),
+        packages=packages,
+        root_dir=root_dir,
+        python2_floats=python2_floats,
     )
 
 
@@ -72,13 +77,15 @@ def expand_file(
     dialect: Dialect | str = Dialect.AUTO,
     packages: PackageIndex | None = None,
     root_dir: str | None = None,
+    python2_floats: bool = False,
 ) -> Expansion:
     """Expand a xacro file. ``packages`` defaults to the environment's search path; the
     workspace of ``path`` is always searched last. Relative paths resolve against
-    ``root_dir`` (default: the current directory), as xacro's ``--root-dir``."""
+    ``root_dir`` (default: the current directory), as xacro's ``--root-dir``.
+    ``python2_floats`` prints floats as ROS 1 under Python 2 did (12 significant digits)."""
     name = os.fspath(path)
     full = os.path.join(root_dir, name) if root_dir else name
-    proc = _make_processor(mappings, dialect, packages, full, root_dir)
+    proc = _make_processor(mappings, dialect, packages, full, root_dir, python2_floats)
     try:
         doc = parse_file(full, display=name)
     except XacroError:
@@ -124,10 +131,16 @@ def process_file(
     dialect: Dialect | str = Dialect.AUTO,
     packages: PackageIndex | None = None,
     root_dir: str | None = None,
+    python2_floats: bool = False,
 ) -> str:
     """Expand a xacro file to XML text, exactly as ``xacro FILE`` prints it."""
     return expand_file(
-        path, mappings=mappings, dialect=dialect, packages=packages, root_dir=root_dir
+        path,
+        mappings=mappings,
+        dialect=dialect,
+        packages=packages,
+        root_dir=root_dir,
+        python2_floats=python2_floats,
     ).to_xml()
 
 

@@ -62,6 +62,7 @@ class XacroCommand:
     check_order: bool = False
     fix: bool = False
     root_dir: str | None = None
+    python2_floats: bool = False
     notices: list[str] = field(default_factory=list)
 
 
@@ -96,6 +97,12 @@ def add_xacro_arguments(p: argparse.ArgumentParser) -> None:
         "in place, keeping FILE.orig backups",
     )
     p.add_argument("--root-dir", metavar="DIR", help="resolve relative paths against DIR")
+    p.add_argument(
+        "--python2-floats",
+        action="store_true",
+        help="print floats as ROS 1 did under Python 2: 12 significant digits (0.3, not "
+        "0.30000000000000004)",
+    )
     p.add_argument("--xacro-ns", action="store_true", help=argparse.SUPPRESS)
     p.add_argument("--includes", action="store_true", help=argparse.SUPPRESS)
 
@@ -119,6 +126,7 @@ def command_from_namespace(ns: argparse.Namespace, mappings: dict[str, str]) -> 
         check_order=ns.check_order,
         fix=ns.fix,
         root_dir=ns.root_dir,
+        python2_floats=ns.python2_floats,
         notices=notices,
     )
 

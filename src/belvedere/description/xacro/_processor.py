@@ -175,9 +175,12 @@ class Processor:
         packages: PackageIndex | None = None,
         root_dir: str | None = None,
         warn: Callable[[XacroWarning], None] | None = None,
+        python2_floats: bool = False,
     ) -> None:
         self.args: dict[str, str] = dict(mappings or {})
         self.dialect = dialect
+        self.text: Callable[[Any], str] = _python2_str if python2_floats else str
+        """How values become text (ROS 1 under Python 2 printed floats with 12 digits)."""
         self.legacy_tags = dialect is not Dialect.MODERN
         self.two_pass = dialect is Dialect.KINETIC
         self.boolean = kinetic_boolean if self.two_pass else boolean
@@ -290,7 +293,7 @@ class Processor:
         toks = tokenize(text)
         if len(toks) == 1:
             return self._eval_token(toks[0], scope)
-        return "".join([str(self._eval_token(t, scope)) for t in toks])
+        return "".join([self.text(self._eval_token(t, scope)) for t in toks])
 
     def _eval_token(self, tok: tuple[int, str], scope: Scope) -> Any:
         kind, payload = tok
@@ -448,7 +451,7 @@ class Processor:
             elif "$" in value:
                 self.current = node
                 try:
-                    attrs[name] = str(self.eval_text(value, scope))
+                    attrs[name] = self.text(self.eval_text(value, scope))
                 except XacroError as err:
                     err.locate(node.loc)
                     raise
@@ -476,7 +479,7 @@ class Processor:
                 if "$" in data:
                     self.current = node
                     try:
-                        data = child.data = str(self.eval_text(data, scope))
+                        data = child.data = self.text(self.eval_text(data, scope))
                     except XacroError as err:
                         err.locate(node.loc)
                         raise
@@ -488,7 +491,7 @@ class Processor:
                     eval_comments = "xacro:eval-comments:off" not in child.data
                     child.detach()
                 elif eval_comments:
-                    child.data = str(self.eval_text(child.data, scope))
+                    child.data = self.text(self.eval_text(child.data, scope))
             child = nxt
 
     def keyword(self, el: Element) -> str | None:
@@ -535,7 +538,7 @@ class Processor:
         elif kw == "arg":
             (name, default), _ = self.attrs(el, ["name", "default"])
             if name not in self.args:
-                self.args[name] = str(self.eval_text(default, scope))
+                self.args[name] = self.text(self.eval_text(default, scope))
             self.remove_previous_comments(el)
             el.detach()
         elif kw == "element" and el.tag.startswith("xacro:"):
@@ -561,7 +564,7 @@ class Processor:
                 raise XacroError(msg)
             parent = el.parent
             if isinstance(parent, Element):
-                parent.attrs[str(name)] = str(value)
+                parent.attrs[str(name)] = self.text(value)
             el.detach()
         elif kw in ("if", "unless"):
             self.remove_previous_comments(el)
@@ -1034,6 +1037,17 @@ class Processor:
         self.remove_previous_comments(el)
         self.import_namespaces(el.parent, body.attrs)
         self.splice(el, body)
+
+
+def _python2_str(value: Any) -> str:
+    """``str()`` as Python 2 printed a float: 12 significant digits (``0.3``, not
+    ``0.30000000000000004``); everything else as Python 3 prints it."""
+    if type(value) is not float:
+        return str(value)
+    text = f"{value:.12g}"
+    if text.lstrip("-").isdigit():
+        text += ".0"
+    return text
 
 
 def _is_xacro_include(el: Element) -> bool:

@@ -42,6 +42,7 @@ def run_command(cmd: XacroCommand, *, packages: PackageIndex | None = None) -> C
         dialect=cmd.dialect,
         packages=packages,
         root_dir=cmd.root_dir,
+        python2_floats=cmd.python2_floats,
     )
     if cmd.deps:
         return CommandResult(" ".join(dict.fromkeys(expansion.dependencies)))
