@@ -45,13 +45,16 @@ class OracleResult:
 
 
 class Oracle:
-    """Runs the reference xacro 2.1.1 (PyPI) in a subprocess."""
+    """Runs a reference xacro in a subprocess, imported from ``pythonpath`` first."""
+
+    def __init__(self, pythonpath: Path) -> None:
+        self.pythonpath = pythonpath
 
     def run(
         self, file: str, *args: str, cwd: Path, packages: dict[str, Path] | None = None
     ) -> OracleResult:
         env = dict(os.environ)
-        env["PYTHONPATH"] = str(TESTS / "oracle_shim")
+        env["PYTHONPATH"] = str(self.pythonpath)
         env["BELVEDERE_ORACLE_PACKAGES"] = os.pathsep.join(
             f"{name}={path}" for name, path in (packages or {}).items()
         )
@@ -67,37 +70,21 @@ class Oracle:
         return OracleResult(proc.returncode, proc.stdout, proc.stderr)
 
 
-@pytest.fixture(scope="session")
-def oracle() -> Oracle:
-    version = _oracle_version()
-    if version != "2.1.1":
-        pytest.skip(f"xacro 2.1.1 (the reference) is not installed (found {version})")
-    return Oracle()
-
-
 MELODIC_ORACLE = REPO / ".oracles" / "xacro-1.13.3"
 
 
-class MelodicOracle:
-    """ROS Melodic's xacro 1.13.3 (installed apart by scripts/install.sh)."""
-
-    def run(self, file: str, *args: str, cwd: Path) -> OracleResult:
-        env = dict(os.environ)
-        env["PYTHONPATH"] = str(MELODIC_ORACLE)
-        proc = subprocess.run(
-            [sys.executable, "-c", "import xacro; xacro.main()", file, *args],
-            cwd=cwd,
-            env=env,
-            capture_output=True,
-            text=True,
-            timeout=120,
-            check=False,
-        )
-        return OracleResult(proc.returncode, proc.stdout, proc.stderr)
+@pytest.fixture(scope="session")
+def oracle() -> Oracle:
+    """xacro 2.1.1 from the test environment (with a stand-in package index for $(find))."""
+    version = _oracle_version()
+    if version != "2.1.1":
+        pytest.skip(f"xacro 2.1.1 (the reference) is not installed (found {version})")
+    return Oracle(TESTS / "oracle_shim")
 
 
 @pytest.fixture(scope="session")
-def melodic_oracle() -> MelodicOracle:
+def melodic_oracle() -> Oracle:
+    """ROS Melodic's xacro 1.13.3, installed apart by scripts/install.sh."""
     if not (MELODIC_ORACLE / "xacro" / "__init__.py").is_file():
         pytest.skip("xacro 1.13.3 (ROS Melodic's) is not installed under .oracles/")
-    return MelodicOracle()
+    return Oracle(MELODIC_ORACLE)

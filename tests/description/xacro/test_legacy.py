@@ -10,7 +10,7 @@ import pytest
 
 from belvedere.description.xacro import Dialect, XacroError, expand_file, process_file
 from belvedere.description.xacro._fix import fix_file
-from tests.conftest import DATA, EXAMPLES, MelodicOracle
+from tests.conftest import DATA, EXAMPLES, Oracle
 
 LEGACY = DATA / "xacro" / "legacy"
 FIXTURES = sorted(LEGACY.glob("*.xacro"))
@@ -33,7 +33,7 @@ def test_identical_to_melodic_xacro(
     fixture: Path,
     dialect: Dialect,
     flags: list[str],
-    melodic_oracle: MelodicOracle,
+    melodic_oracle: Oracle,
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     ref = melodic_oracle.run(fixture.name, *flags, cwd=fixture.parent)
