@@ -11,6 +11,7 @@ import enum
 import gc
 import glob
 import logging
+import math
 import os
 import re
 import sys
@@ -24,6 +25,7 @@ import yaml
 from belvedere.description.xacro._errors import XacroError
 from belvedere.description.xacro._expr import EXPR, EXTENSION, compile_expr, eval_code, tokenize
 from belvedere.description.xacro._symbols import (
+    SAFE_BUILTINS,
     NameSpace,
     Scope,
     YamlDict,
@@ -377,7 +379,9 @@ class Processor:
             raise _expression_error(expr, err) from None
 
     def _eval_names(self) -> dict[str, Any]:
-        names: dict[str, Any] = {k: v for k, v in vars(__import__("math")).items() if k[0] != "_"}
+        # 2.1.1 evaluates $(eval) with Python's builtins; we give the harmless ones.
+        names: dict[str, Any] = dict(SAFE_BUILTINS)
+        names.update({k: v for k, v in vars(math).items() if k[0] != "_"})
         names.update(
             {
                 "true": True,

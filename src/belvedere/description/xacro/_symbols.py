@@ -11,6 +11,7 @@ from typing import Any, Final
 from belvedere.description.xacro._errors import XacroError
 
 __all__ = [
+    "SAFE_BUILTINS",
     "NameSpace",
     "Scope",
     "YamlDict",
@@ -289,6 +290,10 @@ _PYTHON_EXTRA: Final[dict[str, Any]] = {
 }
 
 
+SAFE_BUILTINS: Final[dict[str, Any]] = {**_BUILTINS, **_PYTHON_EXTRA}
+"""Builtins with no access to files, the interpreter or attributes by name."""
+
+
 def tokenize_string(s: str, sep: str = ",; ", skip_empty: bool = True) -> list[str]:
     """``xacro.tokenize``: split on any of the separator characters."""
     parts = re.split(f"[{sep}]", s)
@@ -314,8 +319,7 @@ def make_global_symbols(
 
     symbols: dict[str, Any] = dict(_BUILTINS)
     python = NameSpace(None)
-    python.vars.update(_BUILTINS)
-    python.vars.update(_PYTHON_EXTRA)
+    python.vars.update(SAFE_BUILTINS)
     symbols["python"] = python
     for name in ("sorted", "range"):
         symbols[name] = deprecated(name, "python", _PYTHON_EXTRA[name])
