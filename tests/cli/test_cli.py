@@ -156,3 +156,21 @@ def test_not_a_xacro_command() -> None:
 
     with pytest.raises(XacroError, match="not a xacro command"):
         parse_xacro_command("cat robot.urdf")
+
+
+def test_unwritable_output_is_a_clear_error(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(["-q", "xacro", str(MBOT_WRAPPER), "-o", str(tmp_path)]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith(f"error: cannot write {tmp_path}")
+    assert "Traceback" not in err
+
+
+def test_failed_expansion_leaves_existing_output_untouched(tmp_path: Path) -> None:
+    out = tmp_path / "robot.urdf"
+    out.write_text("previous")
+    bad = tmp_path / "bad.xacro"
+    bad.write_text("<robot><unclosed></robot>")
+    assert main(["xacro", str(bad), "-o", str(out)]) == 1
+    assert out.read_text() == "previous"

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import argparse
 import logging
+import os
 import sys
+import tempfile
 from pathlib import Path
 
 from belvedere.description.xacro import run_command
@@ -46,10 +48,21 @@ def run(args: argparse.Namespace) -> int:
     result = run_command(cmd, packages=packages)
     if result.text is not None:
         if cmd.output:
-            out = Path(cmd.output)
-            out.parent.mkdir(parents=True, exist_ok=True)
-            out.write_text(result.text, encoding="utf-8")
+            _write_atomically(Path(cmd.output), result.text)
         else:
             sys.stdout.write(result.text)
             sys.stdout.flush()
     return result.exit_code
+
+
+def _write_atomically(out: Path, text: str) -> None:
+    """Write ``out`` whole or not at all (creating its directory, as xacro's ``-o`` does)."""
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=out.parent, prefix=f".{out.name}.", suffix=".tmp")
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(text)
+        os.replace(tmp, out)
+    except OSError as err:
+        msg = f"cannot write {out}: {err.strerror or err}"
+        raise BelvedereError(msg) from None
