@@ -19,8 +19,9 @@ from types import CodeType
 from typing import Any, Final, Protocol, cast
 
 from belvedere.description.xacro._errors import XacroError
+from belvedere.errors import BelvedereError
 
-__all__ = ["TEXT", "Token", "compile_expr", "eval_code", "tokenize"]
+__all__ = ["TEXT", "ExpressionError", "Token", "compile_expr", "eval_code", "evaluate", "tokenize"]
 
 TEXT: Final = 0
 EXPR: Final = 1
@@ -190,3 +191,27 @@ def eval_code(compiled: Compiled, scope: Lookup) -> Any:
         with contextlib.suppress(KeyError, XacroError):
             env[name] = scope[name]
     return eval(compiled.code, env, cast(Mapping[str, Any], scope))
+
+
+class ExpressionError(XacroError):
+    """An expression that raised when evaluated; ``cause`` is what Python raised."""
+
+    def __init__(self, expr: str, cause: Exception) -> None:
+        if isinstance(cause, NameError):
+            msg = f"{cause} when evaluating expression '{expr}'"
+        else:
+            msg = f"{type(cause).__name__}: {cause} when evaluating expression '{expr}'"
+        super().__init__(msg)
+        self.cause = cause
+
+
+def evaluate(expr: str, scope: Lookup) -> Any:
+    """Compile (cached) and evaluate one expression; whatever it raises becomes an error
+    that names the expression."""
+    compiled = compile_expr(expr)
+    try:
+        return eval_code(compiled, scope)
+    except (BelvedereError, RecursionError):
+        raise
+    except Exception as err:  # noqa: BLE001 (user expressions may raise anything)
+        raise ExpressionError(expr, err) from None

@@ -7,36 +7,36 @@ costs O(1). Legacy dialects change what an unprefixed tag means and how macros a
 
 from __future__ import annotations
 
+import difflib
 import enum
 import gc
 import glob
+import keyword
 import logging
-import math
 import os
 import re
 import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, Final
 
-import yaml
-
 from belvedere.description.xacro._errors import XacroError
-from belvedere.description.xacro._expr import EXPR, EXTENSION, compile_expr, eval_code, tokenize
+from belvedere.description.xacro._expr import EXPR, EXTENSION, ExpressionError, evaluate, tokenize
+from belvedere.description.xacro._macros import Macro, MacroTable, parse_macro_params
+from belvedere.description.xacro._substitutions import Substitutions
 from belvedere.description.xacro._symbols import (
-    SAFE_BUILTINS,
     NameSpace,
     Scope,
     YamlDict,
-    YamlList,
     boolean,
     kinetic_boolean,
     kinetic_literal,
     literal,
     make_global_symbols,
 )
-from belvedere.errors import BelvedereError, ParseError, SourceLocation
+from belvedere.description.xacro._yaml import parse_yaml
+from belvedere.errors import ParseError, SourceLocation
 from belvedere.packages import PackageIndex
 from belvedere.xmldom import Comment, Document, Element, Node, Text, parse_file
 
@@ -94,68 +94,7 @@ class XacroWarning:
         return f"{self.location}: warning: {self.message}" if self.location else self.message
 
 
-@dataclass
-class Macro:
-    name: str
-    body: Element
-    params: list[str] = field(default_factory=list)
-    defaults: dict[str, tuple[str | None, str | None]] = field(default_factory=dict)
-    """param → (name to forward from the caller's scope, default text)."""
-
-
-class MacroTable:
-    """Macros visible at one level; lookups fall back to the parent level."""
-
-    __slots__ = ("macros", "parent")
-
-    def __init__(self, parent: MacroTable | None = None) -> None:
-        self.parent = parent
-        self.macros: dict[str, Macro | MacroTable] = {}
-
-    def get(self, name: str) -> Macro | MacroTable | None:
-        t: MacroTable | None = self
-        while t is not None:
-            m = t.macros.get(name)
-            if m is not None:
-                return m
-            t = t.parent
-        return None
-
-    def top(self) -> MacroTable:
-        t = self
-        while t.parent is not None:
-            t = t.parent
-        return t
-
-
-_MACRO_PARAM: Final = re.compile(
-    r"^\s*([^\s:=]+?)\s*:?=\s*(\^\|?)?(\$\{.*?\}|\$\(.*?\)|(?:'.*?'|\".*?\"|[^\s'\"]+)+|)(?:\s+|$)(.*)"
-)
-
-
-def parse_macro_params(spec: str) -> tuple[list[str], dict[str, tuple[str | None, str | None]]]:
-    """Split a ``params`` attribute: ``a b:=1 c:=^ d:=^|2 *blk **blks``."""
-    params: list[str] = []
-    defaults: dict[str, tuple[str | None, str | None]] = {}
-    rest = spec
-    while rest:
-        m = _MACRO_PARAM.match(rest)
-        if m:
-            param, forward, default, rest = m.groups()
-            defaults[param] = (param if forward else None, default or None)
-        else:
-            parts = rest.lstrip().split(None, 1)
-            if not parts:
-                break
-            param = parts[0]
-            rest = parts[1] if len(parts) > 1 else ""
-        params.append(param)
-    return params, defaults
-
-
 def _is_valid_name(name: str) -> bool:
-    import keyword
-
     return name.isidentifier() and not keyword.iskeyword(name)
 
 
@@ -205,6 +144,13 @@ class Processor:
         self.marker = Text("\n\n")
         """xacro moves one shared blank text node around to stop comment removal; so do we."""
         self.current: Element | None = None
+        self.substitute = Substitutions(
+            args=self.args,
+            packages=self.packages,
+            root_dir=self.root_dir,
+            current_file=lambda: self.files[-1] if self.files else None,
+            here=self.here,
+        )
         self.globals = make_global_symbols(
             warn=self.warn,
             xacro_functions={
@@ -276,16 +222,8 @@ class Processor:
         except OSError as err:
             msg = f"cannot load YAML file {path}: {err.strerror}"
             raise XacroError(msg) from None
-        try:
-            data = yaml.load(text, Loader=_yaml_loader(self))
-        except yaml.YAMLError as err:
-            msg = f"invalid YAML in {path}: {err}"
-            raise XacroError(msg) from None
-        if isinstance(data, dict):
-            return YamlDict(data)
-        if isinstance(data, list):
-            return YamlList(data)
-        return data
+        unit_scope = Scope(None, root=self.globals, evaluate=self.eval_text)
+        return parse_yaml(text, path=path, unit_scope=unit_scope)
 
     # --- text evaluation -----------------------------------------------------------------------
     def eval_text(self, text: str, scope: Scope) -> Any:
@@ -301,109 +239,17 @@ class Processor:
         kind, payload = tok
         if kind == EXPR:
             expr = payload if "$" not in payload else str(self.eval_text(payload, scope))
-            compiled = compile_expr(expr)
             try:
-                return eval_code(compiled, scope)
-            except BelvedereError:
+                return evaluate(expr, scope)
+            except ExpressionError as err:
+                name = getattr(err.cause, "name", None)
+                if isinstance(err.cause, NameError) and name:
+                    err.hint = _did_you_mean(name, scope)
                 raise
-            except RecursionError:
-                raise
-            except Exception as err:  # noqa: BLE001 (user expressions may raise anything)
-                raise _expression_error(expr, err, scope) from None
         if kind == EXTENSION:
             inner = str(self.eval_text(payload, scope)) if "$" in payload else payload
             return self.substitute(inner)
         return payload
-
-    def substitute(self, inner: str) -> str:
-        """One ``$(…)`` substitution (the text between the parentheses)."""
-        if inner == "cwd":
-            return os.path.abspath(self.root_dir)
-        if inner.startswith("eval ") or inner == "eval":
-            return self._subst_eval(inner[5:])
-        words = [w for w in inner.split(" ") if w]
-        if not words:
-            msg = "empty substitution $()"
-            raise XacroError(msg)
-        cmd, args = words[0], words[1:]
-        if cmd == "arg":
-            if len(args) != 1:
-                msg = f"$(arg NAME) takes exactly one name: $({inner})"
-                raise XacroError(msg)
-            try:
-                return self.args[args[0]]
-            except KeyError:
-                msg = f"undefined substitution argument {args[0]!r}"
-                hint = f'declare <xacro:arg name={args[0]!r} default="…"/> or pass {args[0]}:=VALUE'
-                raise XacroError(msg, hint=hint) from None
-        if cmd == "find":
-            if len(args) != 1:
-                msg = f"$(find PACKAGE) takes exactly one package name: $({inner})"
-                raise XacroError(msg)
-            return str(self.packages.find(args[0], requested_at=self.here()))
-        if cmd == "env":
-            if len(args) != 1:
-                msg = f"$(env VAR) takes exactly one variable: $({inner})"
-                raise XacroError(msg)
-            try:
-                return os.environ[args[0]]
-            except KeyError:
-                msg = f"environment variable {args[0]} is not set"
-                raise XacroError(msg, hint=f"use $(optenv {args[0]} DEFAULT)") from None
-        if cmd == "optenv":
-            if not args:
-                msg = f"$(optenv VAR [DEFAULT]) needs a variable: $({inner})"
-                raise XacroError(msg)
-            return os.environ.get(args[0], " ".join(args[1:]))
-        if cmd == "dirname":
-            current = self.files[-1] if self.files else None
-            if not current:
-                msg = "$(dirname) needs a file; the input is a string"
-                raise XacroError(msg)
-            return os.path.abspath(os.path.dirname(current))
-        msg = f"unknown substitution command $({inner})"
-        hint = "valid commands: arg, find, env, optenv, dirname, eval, cwd"
-        raise XacroError(msg, hint=hint)
-
-    def _subst_eval(self, expr: str) -> str:
-        if "__" in expr:
-            msg = "$(eval ...) may not contain double underscore expressions"
-            raise XacroError(msg)
-        scope = Scope(None, root=self._eval_names())
-        compiled = compile_expr(expr)
-        try:
-            return str(eval_code(compiled, scope))
-        except BelvedereError:
-            raise
-        except Exception as err:  # noqa: BLE001
-            raise _expression_error(expr, err) from None
-
-    def _eval_names(self) -> dict[str, Any]:
-        # 2.1.1 evaluates $(eval) with Python's builtins; we give the harmless ones.
-        names: dict[str, Any] = dict(SAFE_BUILTINS)
-        names.update({k: v for k, v in vars(math).items() if k[0] != "_"})
-        names.update(
-            {
-                "true": True,
-                "false": False,
-                "True": True,
-                "False": False,
-                "list": list,
-                "dict": dict,
-                "map": map,
-                "str": str,
-                "float": float,
-                "int": int,
-                "arg": lambda name: _auto_convert(self.args[name]),
-                "env": lambda name: os.environ[name],
-                "optenv": lambda name, default="": os.environ.get(name, default),
-                "find": lambda pkg: str(self.packages.find(pkg, requested_at=self.here())),
-                "dirname": lambda: self.substitute("dirname"),
-            }
-        )
-        for k, v in self.args.items():
-            names.setdefault(k, _auto_convert(v))
-        return names
 
     # --- the walk ------------------------------------------------------------------------------
     def process_document(self, doc: Document, path: str | None) -> None:
@@ -919,8 +765,6 @@ class Processor:
         return True
 
     def _near_macros(self, name: str, macros: MacroTable) -> str | None:
-        import difflib
-
         if name in self.nested_definitions:
             return (
                 f"'{name}' was defined inside macro '{self.nested_definitions[name]}', so it "
@@ -1085,19 +929,7 @@ def _move_children(content: Element, before: Node) -> None:
     parent.move_children_before(content, before)
 
 
-def _expression_error(expr: str, err: Exception, scope: Scope | None = None) -> XacroError:
-    if isinstance(err, NameError):
-        msg = f"{err} when evaluating expression '{expr}'"
-        name = getattr(err, "name", None)
-        hint = _did_you_mean(name, scope) if name and scope is not None else None
-        return XacroError(msg, hint=hint)
-    msg = f"{type(err).__name__}: {err} when evaluating expression '{expr}'"
-    return XacroError(msg)
-
-
 def _did_you_mean(name: str, scope: Scope) -> str | None:
-    import difflib
-
     known: set[str] = set()
     s: Scope | None = scope
     while s is not None:
@@ -1109,49 +941,6 @@ def _did_you_mean(name: str, scope: Scope) -> str | None:
     if close:
         return "did you mean " + " or ".join(repr(c) for c in close) + "?"
     return "properties must be defined (xacro:property) before the expression is evaluated"
-
-
-def _auto_convert(value: str) -> Any:
-    try:
-        return float(value) if "." in value else int(value)
-    except ValueError:
-        pass
-    low = value.lower()
-    if low in ("true", "false"):
-        return low == "true"
-    return value
-
-
-def _yaml_loader(proc: Processor) -> type[yaml.SafeLoader]:
-    units = {
-        "!radians": 1.0,
-        "!degrees": 3.141592653589793 / 180.0,
-        "!meters": 1.0,
-        "!millimeters": 0.001,
-        "!foot": 0.3048,
-        "!inches": 0.0254,
-    }
-
-    class Loader(yaml.SafeLoader):
-        pass
-
-    def constructor(factor: float) -> Callable[[yaml.SafeLoader, yaml.Node], float]:
-        def construct(loader: yaml.SafeLoader, node: yaml.Node) -> float:
-            assert isinstance(node, yaml.ScalarNode)
-            text = loader.construct_scalar(node)
-            scope = Scope(None, root=proc.globals, evaluate=proc.eval_text)
-            try:
-                return float(eval_code(compile_expr(str(text)), scope)) * factor
-            except XacroError:
-                raise
-            except Exception as err:  # noqa: BLE001
-                raise _expression_error(str(text), err) from None
-
-        return construct
-
-    for tag, factor in units.items():
-        Loader.add_constructor(tag, constructor(factor))
-    return Loader
 
 
 @contextmanager

@@ -1,0 +1,56 @@
+"""``xacro.load_yaml``: YAML with unit tags (``!degrees 90``), dotted access to the result."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any, Final
+
+import yaml
+
+from belvedere.description.xacro._errors import XacroError
+from belvedere.description.xacro._expr import evaluate
+from belvedere.description.xacro._symbols import Scope, YamlDict, YamlList
+
+__all__ = ["parse_yaml"]
+
+UNITS: Final = {
+    "!radians": 1.0,
+    "!degrees": math.pi / 180.0,
+    "!meters": 1.0,
+    "!millimeters": 0.001,
+    "!foot": 0.3048,
+    "!inches": 0.0254,
+}
+
+
+def _loader(unit_scope: Scope) -> type[yaml.SafeLoader]:
+    """A SafeLoader whose unit tags evaluate their value as an expression (``!degrees 2*45``)."""
+
+    class Loader(yaml.SafeLoader):
+        pass
+
+    def constructor(factor: float) -> Callable[[yaml.SafeLoader, yaml.Node], float]:
+        def construct(loader: yaml.SafeLoader, node: yaml.Node) -> float:
+            assert isinstance(node, yaml.ScalarNode)
+            return float(evaluate(str(loader.construct_scalar(node)), unit_scope)) * factor
+
+        return construct
+
+    for tag, factor in UNITS.items():
+        Loader.add_constructor(tag, constructor(factor))
+    return Loader
+
+
+def parse_yaml(text: str, *, path: str, unit_scope: Scope) -> Any:
+    """Parse YAML text; mappings come back with dotted access (``cfg.arm.length``)."""
+    try:
+        data = yaml.load(text, Loader=_loader(unit_scope))
+    except yaml.YAMLError as err:
+        msg = f"invalid YAML in {path}: {err}"
+        raise XacroError(msg) from None
+    if isinstance(data, dict):
+        return YamlDict(data)
+    if isinstance(data, list):
+        return YamlList(data)
+    return data
