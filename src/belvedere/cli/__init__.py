@@ -10,7 +10,6 @@ from __future__ import annotations
 import argparse
 import logging
 import sys
-import traceback
 from collections.abc import Sequence
 
 from belvedere import __version__
@@ -96,6 +95,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return code
     except BelvedereError as err:
         if args.debug:
+            import traceback
+
             traceback.print_exc()
         sys.stderr.write(err.describe() + "\n")
         return 1

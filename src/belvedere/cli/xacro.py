@@ -6,7 +6,6 @@ import argparse
 import logging
 import os
 import sys
-import tempfile
 from pathlib import Path
 
 from belvedere.description.xacro import run_command
@@ -57,6 +56,8 @@ def run(args: argparse.Namespace) -> int:
 
 def _write_atomically(out: Path, text: str) -> None:
     """Write ``out`` whole or not at all (creating its directory, as xacro's ``-o`` does)."""
+    import tempfile
+
     try:
         out.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(dir=out.parent, prefix=f".{out.name}.", suffix=".tmp")

@@ -35,7 +35,6 @@ from belvedere.description.xacro._symbols import (
     literal,
     make_global_symbols,
 )
-from belvedere.description.xacro._yaml import parse_yaml
 from belvedere.errors import ParseError, SourceLocation
 from belvedere.packages import PackageIndex
 from belvedere.xmldom import Comment, Document, Element, Node, Text, parse_file
@@ -222,6 +221,8 @@ class Processor:
         except OSError as err:
             msg = f"cannot load YAML file {path}: {err.strerror}"
             raise XacroError(msg) from None
+        from belvedere.description.xacro._yaml import parse_yaml  # PyYAML loads only if used
+
         unit_scope = Scope(None, root=self.globals, evaluate=self.eval_text)
         return parse_yaml(text, path=path, unit_scope=unit_scope)
 
