@@ -12,7 +12,6 @@ All errors share the root :class:`BelvedereError`; the CLI turns any of them int
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 
 __all__ = ["BelvedereError", "ParseError", "SourceLocation"]
 
@@ -32,10 +31,6 @@ class SourceLocation:
         if self.col <= 0:
             return f"{self.path}:{self.line}"
         return f"{self.path}:{self.line}:{self.col}"
-
-    @classmethod
-    def of_file(cls, path: str | Path) -> SourceLocation:
-        return cls(str(path))
 
 
 class BelvedereError(Exception):

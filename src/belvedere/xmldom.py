@@ -227,10 +227,6 @@ class Element(Node):
         content.kids = None
         content.first = content.last = None
 
-    def has_single_text_child(self) -> bool:
-        first = self.first
-        return first is not None and first.next is None and type(first) is Text
-
     def clone(self) -> Element:
         """A deep copy, detached, with the same source locations."""
         copy = Element(self.tag, dict(self.attrs), self.loc)

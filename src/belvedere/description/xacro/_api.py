@@ -6,6 +6,7 @@ import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TypedDict, Unpack
 
 from belvedere.description.xacro._errors import XacroError
 from belvedere.description.xacro._processor import Dialect, Processor, XacroWarning
@@ -105,9 +106,11 @@ def expand_string(
     mappings: dict[str, str] | None = None,
     dialect: Dialect | str = Dialect.AUTO,
     packages: PackageIndex | None = None,
+    root_dir: str | None = None,
+    python2_floats: bool = False,
 ) -> Expansion:
-    """Expand xacro text held in memory (no banner, includes relative to the cwd)."""
-    proc = _make_processor(mappings, dialect, packages, None)
+    """Expand xacro text held in memory (no banner; includes relative to ``root_dir``)."""
+    proc = _make_processor(mappings, dialect, packages, None, root_dir, python2_floats)
     try:
         doc = parse_string(text)
     except ParseError as err:
@@ -124,32 +127,22 @@ def _run(proc: Processor, doc: Document, path: str | None) -> None:
         raise XacroError(msg, proc.here()) from None
 
 
-def process_file(
-    path: str | Path,
-    *,
-    mappings: dict[str, str] | None = None,
-    dialect: Dialect | str = Dialect.AUTO,
-    packages: PackageIndex | None = None,
-    root_dir: str | None = None,
-    python2_floats: bool = False,
-) -> str:
-    """Expand a xacro file to XML text, exactly as ``xacro FILE`` prints it."""
-    return expand_file(
-        path,
-        mappings=mappings,
-        dialect=dialect,
-        packages=packages,
-        root_dir=root_dir,
-        python2_floats=python2_floats,
-    ).to_xml()
+class XacroOptions(TypedDict, total=False):
+    """Keyword options of :func:`process_file` and :func:`process_string`."""
+
+    mappings: dict[str, str] | None
+    dialect: Dialect | str
+    packages: PackageIndex | None
+    root_dir: str | None
+    python2_floats: bool
 
 
-def process_string(
-    text: str,
-    *,
-    mappings: dict[str, str] | None = None,
-    dialect: Dialect | str = Dialect.AUTO,
-    packages: PackageIndex | None = None,
-) -> str:
-    """Expand xacro text to XML text."""
-    return expand_string(text, mappings=mappings, dialect=dialect, packages=packages).to_xml()
+def process_file(path: str | Path, **options: Unpack[XacroOptions]) -> str:
+    """Expand a xacro file to XML text, exactly as ``xacro FILE`` prints it (options as for
+    :func:`expand_file`)."""
+    return expand_file(path, **options).to_xml()
+
+
+def process_string(text: str, **options: Unpack[XacroOptions]) -> str:
+    """Expand xacro text to XML text (no banner; includes relative to the cwd)."""
+    return expand_string(text, **options).to_xml()

@@ -148,9 +148,6 @@ class Scope:
             s = s.parent
         return key in self.root
 
-    def get_local(self, key: str) -> Any:
-        return self.vars.get(key)
-
     def _resolve(self, key: str) -> Any:
         if key in self.resolving:
             chain = " -> ".join([*self.resolving, key])
