@@ -285,15 +285,16 @@ class Document(Element):
 class _Builder:
     """Builds our DOM from expat events the way minidom's namespace-aware builder does."""
 
-    def __init__(self, path: str) -> None:
+    def __init__(self, path: str, *, namespaces: bool) -> None:
         self.path = path
         self.doc = Document(path)
         self.cur: Element = self.doc
         self.in_cdata = False
         self.cdata_continue = False
-        self.parser = expat.ParserCreate(namespace_separator=" ")
+        self.parser = expat.ParserCreate(namespace_separator=" " if namespaces else None)
         p = self.parser
-        p.namespace_prefixes = True
+        if namespaces:
+            p.namespace_prefixes = True
         p.buffer_text = True
         p.ordered_attributes = True
         p.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
@@ -389,9 +390,12 @@ class _Builder:
         raise ParseError(msg, self.loc())
 
 
-def parse_string(text: str | bytes, path: str = "<string>") -> Document:
-    """Parse XML text; ``path`` names it in source locations and errors."""
-    builder = _Builder(path)
+def parse_string(text: str | bytes, path: str = "<string>", *, namespaces: bool = True) -> Document:
+    """Parse XML text; ``path`` names it in source locations and errors.
+
+    With ``namespaces`` (xacro's way) undeclared prefixes are errors; without, ``a:b`` is just a
+    name (TinyXML's way, which urdfdom uses)."""
+    builder = _Builder(path, namespaces=namespaces)
     try:
         builder.parser.Parse(text, True)
     except expat.ExpatError as err:
@@ -405,7 +409,9 @@ def parse_string(text: str | bytes, path: str = "<string>") -> Document:
     return builder.doc
 
 
-def parse_file(path: str | Path, display: str | None = None) -> Document:
+def parse_file(
+    path: str | Path, display: str | None = None, *, namespaces: bool = True
+) -> Document:
     """Parse an XML file. ``display`` is the name used in locations (default: ``path``)."""
     name = display if display is not None else str(path)
     try:
@@ -413,7 +419,7 @@ def parse_file(path: str | Path, display: str | None = None) -> Document:
     except OSError as err:
         msg = f"cannot read {name}: {err.strerror or err}"
         raise ParseError(msg) from None
-    return parse_string(data, name)
+    return parse_string(data, name, namespaces=namespaces)
 
 
 # --- writing -------------------------------------------------------------------------------

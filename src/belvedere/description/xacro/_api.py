@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import re
 from dataclasses import dataclass, field
+from collections.abc import Callable
 from pathlib import Path
 from typing import TypedDict, Unpack
 
@@ -57,6 +58,7 @@ def _make_processor(
     near: str | Path | None,
     root_dir: str | None = None,
     python2_floats: bool = False,
+    on_warning: Callable[[XacroWarning], None] | None = None,
 ) -> Processor:
     if packages is None:
         packages = PackageIndex.from_environment(near=near)
@@ -68,6 +70,7 @@ def _make_processor(
         packages=packages,
         root_dir=root_dir,
         python2_floats=python2_floats,
+        warn=on_warning,
     )
 
 
@@ -79,14 +82,16 @@ def expand_file(
     packages: PackageIndex | None = None,
     root_dir: str | None = None,
     python2_floats: bool = False,
+    on_warning: Callable[[XacroWarning], None] | None = None,
 ) -> Expansion:
     """Expand a xacro file. ``packages`` defaults to the environment's search path; the
     workspace of ``path`` is always searched last. Relative paths resolve against
     ``root_dir`` (default: the current directory), as xacro's ``--root-dir``.
-    ``python2_floats`` prints floats as ROS 1 under Python 2 did (12 significant digits)."""
+    ``python2_floats`` prints floats as ROS 1 under Python 2 did (12 significant digits).
+    Warnings are logged unless ``on_warning`` takes them (they are in the result either way)."""
     name = os.fspath(path)
     full = os.path.join(root_dir, name) if root_dir else name
-    proc = _make_processor(mappings, dialect, packages, full, root_dir, python2_floats)
+    proc = _make_processor(mappings, dialect, packages, full, root_dir, python2_floats, on_warning)
     try:
         doc = parse_file(full, display=name)
     except XacroError:
