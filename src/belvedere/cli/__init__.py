@@ -13,12 +13,13 @@ import sys
 from collections.abc import Sequence
 
 from belvedere import __version__
+from belvedere.cli import check as check_verb
 from belvedere.cli import xacro as xacro_verb
 from belvedere.errors import BelvedereError
 
 __all__ = ["main"]
 
-_VERBS = (xacro_verb,)
+_VERBS = (xacro_verb, check_verb)
 
 
 class _Formatter(logging.Formatter):

@@ -34,7 +34,13 @@ from belvedere.description.urdf._model import (
     XmlData,
 )
 from belvedere.description.urdf._parse import Diagnostic, ParsedRobot, parse_robot
-from belvedere.description.urdf._robot import RobotModel, URDFError, rpy_to_matrix, transform
+from belvedere.description.urdf._robot import (
+    RobotModel,
+    URDFError,
+    load_robot,
+    rpy_to_matrix,
+    transform,
+)
 
 __all__ = [
     "Actuator",
@@ -67,6 +73,7 @@ __all__ = [
     "Vec3",
     "Visual",
     "XmlData",
+    "load_robot",
     "parse_robot",
     "rpy_to_matrix",
     "transform",

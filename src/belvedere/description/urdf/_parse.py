@@ -86,6 +86,8 @@ class ParsedRobot:
     gazebo: list[GazeboExtension] = field(default_factory=list)
     diagnostics: list[Diagnostic] = field(default_factory=list)
     source: Source = field(default_factory=Source)
+    path: str | None = None
+    """The file parsed (a xacro file when the URDF came from one)."""
 
     @property
     def fatal(self) -> bool:

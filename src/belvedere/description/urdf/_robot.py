@@ -26,7 +26,7 @@ from belvedere.description.urdf._parse import Diagnostic, ParsedRobot, parse_rob
 from belvedere.errors import ParseError
 from belvedere.xmldom import Element, parse_file, parse_string
 
-__all__ = ["RobotModel", "URDFError", "rpy_to_matrix", "transform"]
+__all__ = ["RobotModel", "URDFError", "load_robot", "rpy_to_matrix", "transform"]
 
 Matrix4 = npt.NDArray[np.float64]
 
@@ -95,7 +95,7 @@ class RobotModel:
     @classmethod
     def from_string(cls, text: str | bytes, *, path: str = "<string>") -> RobotModel:
         """Parse URDF text."""
-        return cls._build(parse_robot(parse_string(text, path, namespaces=False)), None)
+        return cls.from_parsed(parse_robot(parse_string(text, path, namespaces=False)))
 
     @classmethod
     def from_path(
@@ -107,34 +107,11 @@ class RobotModel:
     ) -> RobotModel:
         """Read a URDF file, or expand a xacro file first (``.xacro``, or a file declaring the
         xacro namespace). ``mappings`` and other options go to xacro."""
-        name = os.fspath(path)
-        if _is_xacro(name):
-            return cls._from_xacro(name, mappings=mappings, **xacro_options)
-        return cls._build(parse_robot(parse_file(name, namespaces=False)), name)
+        return cls.from_parsed(load_robot(path, mappings=mappings, **xacro_options))
 
     @classmethod
-    def _from_xacro(cls, name: str, **options: Any) -> RobotModel:
-        from belvedere.description.xacro import expand_file
-
-        expansion = expand_file(name, on_warning=lambda _: None, **options)
-        text = expansion.to_xml()
-        urdf = parse_string(text, f"{name} (expanded)", namespaces=False)
-        # The printed URDF has the expanded tree's elements in the same order: pair them up
-        # so each part knows the xacro line that produced it.
-        origin = dict(
-            zip(
-                (id(e) for e in _walk(urdf.root)),
-                (e.loc for e in _walk(expansion.document.root)),
-                strict=True,
-            )
-        )
-        parsed = parse_robot(urdf, xacro_location=lambda el: origin.get(id(el)))
-        warnings = [Diagnostic("warning", w.message, w.location) for w in expansion.warnings]
-        parsed.diagnostics[:0] = warnings
-        return cls._build(parsed, name)
-
-    @classmethod
-    def _build(cls, parsed: ParsedRobot, path: str | None) -> RobotModel:
+    def from_parsed(cls, parsed: ParsedRobot) -> RobotModel:
+        """The model of a parse without errors (raises the first error otherwise)."""
         errors = [d for d in parsed.diagnostics if d.severity == "error"]
         if errors:
             first = errors[0]
@@ -148,7 +125,7 @@ class RobotModel:
             tuple(parsed.gazebo),
             parsed.source,
             tuple(parsed.diagnostics),
-            path,
+            parsed.path,
         )
 
     def to_urdf(self) -> str:
@@ -281,6 +258,38 @@ class RobotModel:
     def gazebo_for(self, reference: str | None) -> tuple[GazeboExtension, ...]:
         """``<gazebo>`` blocks for a link or joint (None: robot-wide)."""
         return tuple(g for g in self.gazebo if g.reference == reference)
+
+
+def load_robot(
+    path: str | os.PathLike[str], *, mappings: dict[str, str] | None = None, **xacro_options: Any
+) -> ParsedRobot:
+    """Parse a URDF file, or expand a xacro file and parse the result, keeping every
+    diagnostic (xacro's warnings first) instead of raising on urdfdom's errors."""
+    name = os.fspath(path)
+    if not _is_xacro(name):
+        parsed = parse_robot(parse_file(name, namespaces=False))
+        parsed.path = name
+        return parsed
+    from belvedere.description.xacro import expand_file
+
+    expansion = expand_file(name, mappings=mappings, on_warning=lambda _: None, **xacro_options)
+    text = expansion.to_xml()
+    urdf = parse_string(text, f"{name} (expanded)", namespaces=False)
+    # The printed URDF has the expanded tree's elements in the same order: pair them up so
+    # each part knows the xacro line that produced it.
+    origin = dict(
+        zip(
+            (id(e) for e in _walk(urdf.root)),
+            (e.loc for e in _walk(expansion.document.root)),
+            strict=True,
+        )
+    )
+    parsed = parse_robot(urdf, xacro_location=lambda el: origin.get(id(el)))
+    parsed.diagnostics[:0] = [
+        Diagnostic("warning", w.message, w.location) for w in expansion.warnings
+    ]
+    parsed.path = name
+    return parsed
 
 
 def _is_xacro(path: str) -> bool:
