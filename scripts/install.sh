@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-DEBIAN_PACKAGES=()  # later issues add e.g. liburdfdom-tools, chromium
+DEBIAN_PACKAGES=(liburdfdom-tools)  # check_urdf: the oracle of the URDF tests
 
 if [ ${#DEBIAN_PACKAGES[@]} -gt 0 ] && command -v apt-get >/dev/null 2>&1; then
   missing=()

@@ -26,7 +26,7 @@ from belvedere.description.urdf import (
     Visual,
     load_robot,
 )
-from belvedere.errors import BelvedereError
+from belvedere.errors import BelvedereError, ParseError
 from belvedere.packages import PackageIndex
 
 __all__ = ["CheckReport", "check_file", "format_tree", "lint"]
@@ -126,7 +126,10 @@ def check_file(
     """Check a URDF or xacro file. ``simulated`` (default: when the model has Gazebo or
     transmission elements) enables the warnings that only matter in a simulator."""
     name = os.fspath(path)
-    parsed = load_robot(name, mappings=mappings, packages=packages, **xacro_options)
+    try:
+        parsed = load_robot(name, mappings=mappings, packages=packages, **xacro_options)
+    except ParseError as err:  # not even XML, or xacro failed: one error, where it is
+        return CheckReport(name, None, [Diagnostic("error", err.message, err.location)])
     report = CheckReport(name, None, list(parsed.diagnostics))
     _hint_zero_links(parsed, report)
     if parsed.fatal:
@@ -218,6 +221,17 @@ def lint(
         if j.mimic is not None and j.mimic.joint not in {k.name for k in model.joints}:
             warn(f"joint '{j.name}' mimics unknown joint '{j.mimic.joint}'", j.source)
 
+    parents: dict[str, list[str]] = {}
+    for j in model.joints:
+        parents.setdefault(j.child, []).append(j.name)
+    for child, joint_names in parents.items():
+        if len(joint_names) > 1:
+            warn(
+                f"link '{child}' is the child of {len(joint_names)} joints "
+                f"({', '.join(joint_names)}): a URDF must be a tree; ROS tools pick one parent "
+                "or, on a cycle, crash",
+                model.link(child).source,
+            )
     names = {link.name for link in model.links} | {j.name for j in model.joints}
     for g in model.gazebo:
         if g.reference is not None and g.reference not in names:

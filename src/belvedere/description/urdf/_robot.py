@@ -293,14 +293,15 @@ def load_robot(
 
 
 def _is_xacro(path: str) -> bool:
+    """A ``.xacro`` file, or any other file that uses xacro tags (URDF output never does,
+    though ROS 1 xacro left ``xmlns:xacro`` on it)."""
     if path.endswith(".xacro"):
         return True
     try:
         with open(path, "rb") as f:
-            head = f.read(4096)
+            return b"<xacro:" in f.read()
     except OSError:
         return False
-    return b"xmlns:xacro" in head
 
 
 def _walk(root: Element) -> list[Element]:
