@@ -117,8 +117,8 @@ def test_missing_and_broken_meshes_name_the_referrer(tmp_path: Path) -> None:
         MeshError, match=r"cannot read mesh .*bad\.dae \(referenced at robot\.urdf:12:9\)"
     ):
         load_mesh(bad, requested_at=at)
-    with pytest.raises(MeshError, match="unsupported format '.ply'"):
-        (tmp_path / "x.ply").write_text("ply")
+    (tmp_path / "x.ply").write_text("ply")
+    with pytest.raises(MeshError, match=r"unsupported format '\.ply'"):
         load_mesh(tmp_path / "x.ply")
 
 
