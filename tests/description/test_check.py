@@ -163,3 +163,50 @@ def test_check_takes_xacro_args(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["check", str(MBOT), "unused:=1"]) == 0
     assert main(["check", str(MBOT), "stray"]) == 1
     assert "name:=value" in capsys.readouterr().err
+
+
+VARIANTS = ["mbot_gazebo", "mbot_gazebo_modern"] + [
+    f"mbot_with_{s}_gazebo" for s in ("camera", "kinect", "laser")
+]
+
+
+@pytest.mark.parametrize("variant", VARIANTS)
+def test_example_variants_check_clean_except_expected_warnings(variant: str) -> None:
+    report = check_file(MBOT.with_name(f"{variant}.xacro"))
+    assert report.ok
+    unexpected = [
+        str(w)
+        for w in report.warnings
+        if "deprecated macro call" not in w.message and "diff-drive plugin" not in w.message
+    ]
+    assert unexpected == []
+
+
+def test_sensor_variants_carry_their_sensors() -> None:
+    from belvedere.description.meshes import load_mesh, resolve_mesh_path
+    from belvedere.description.urdf import Mesh, RobotModel
+
+    sensors = {}
+    for kind in ("camera", "kinect", "laser"):
+        model = RobotModel.from_path(MBOT.with_name(f"mbot_with_{kind}_gazebo.xacro"))
+        [sensor] = [s for g in model.gazebo for s in g.sensors]
+        sensors[kind] = sensor
+        if kind == "kinect":
+            geometry = model.link("kinect_link").visuals[0].geometry
+            assert isinstance(geometry, Mesh)
+            mesh = load_mesh(resolve_mesh_path(geometry.filename, relative_to=model.path))
+            assert mesh.bounds.tolist() == pytest.approx(
+                [[-0.032, -0.14, -0.019], [0.032, 0.14, 0.019]]
+            )
+    assert sensors["camera"].attr("type") == "camera"
+    assert sensors["kinect"].attr("type") == "depth"
+    laser = sensors["laser"]
+    assert laser.attr("type") == "ray"
+    scan = laser.child("ray")
+    assert scan is not None
+    horizontal = scan.child("scan")
+    assert horizontal is not None
+    assert horizontal.child("horizontal") is not None
+    plugin = laser.child("plugin")
+    assert plugin is not None
+    assert plugin.child_text("topicName") == "/scan"
