@@ -195,8 +195,8 @@ def test_sensor_variants_carry_their_sensors() -> None:
             geometry = model.link("kinect_link").visuals[0].geometry
             assert isinstance(geometry, Mesh)
             mesh = load_mesh(resolve_mesh_path(geometry.filename, relative_to=model.path))
-            assert mesh.bounds.tolist() == pytest.approx(
-                [[-0.032, -0.14, -0.019], [0.032, 0.14, 0.019]]
+            assert mesh.bounds.ravel().tolist() == pytest.approx(
+                [-0.032, -0.14, -0.019, 0.032, 0.14, 0.019]
             )
     assert sensors["camera"].attr("type") == "camera"
     assert sensors["kinect"].attr("type") == "depth"
