@@ -12,13 +12,15 @@ All errors share the root :class:`BelvedereError`; the CLI turns any of them int
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 __all__ = ["BelvedereError", "ParseError", "SourceLocation"]
 
 
-@dataclass(frozen=True, slots=True)
-class SourceLocation:
-    """A place in a file: 1-based line and column; 0 means unknown."""
+class SourceLocation(NamedTuple):
+    """A place in a file: 1-based line and column; 0 means unknown.
+
+    (A named tuple: parsers make one per element, so it must be cheap.)"""
 
     path: str
     """The file's path as the user gave it (or ``<string>`` for in-memory input)."""

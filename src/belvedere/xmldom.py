@@ -12,6 +12,7 @@ the network.
 
 from __future__ import annotations
 
+import gc
 import sys
 from collections.abc import Iterator
 from pathlib import Path
@@ -285,8 +286,9 @@ class Document(Element):
 class _Builder:
     """Builds our DOM from expat events the way minidom's namespace-aware builder does."""
 
-    def __init__(self, path: str, *, namespaces: bool) -> None:
+    def __init__(self, path: str, *, namespaces: bool, keep_blank: bool = True) -> None:
         self.path = path
+        self.keep_blank = keep_blank
         self.doc = Document(path)
         self.cur: Element = self.doc
         self.in_cdata = False
@@ -298,7 +300,7 @@ class _Builder:
         p.buffer_text = True
         p.ordered_attributes = True
         p.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
-        p.StartElementHandler = self.start
+        p.StartElementHandler = self.start if namespaces else self.start_plain
         p.EndElementHandler = self.end
         p.CharacterDataHandler = self.chars
         p.CommentHandler = self.comment
@@ -331,15 +333,44 @@ class _Builder:
 
     def start(self, name: str, attributes: list[str]) -> None:
         attrs: dict[str, str] = {}
-        for prefix, uri in self.pending_ns:
-            attrs[f"xmlns:{prefix}" if prefix else "xmlns"] = uri
-        self.pending_ns.clear()
+        if self.pending_ns:
+            for prefix, uri in self.pending_ns:
+                attrs[f"xmlns:{prefix}" if prefix else "xmlns"] = uri
+            self.pending_ns.clear()
         qname = self.qname
         for i in range(0, len(attributes), 2):
             attrs[qname(attributes[i])] = attributes[i + 1]
-        el = Element(qname(name), attrs, self.loc())
-        self.cur.append(el)
+        p = self.parser
+        el = Element(
+            qname(name),
+            attrs,
+            SourceLocation(self.path, p.CurrentLineNumber, p.CurrentColumnNumber + 1),
+        )
+        self._add(el)
         self.cur = el
+
+    def start_plain(self, name: str, attributes: list[str]) -> None:
+        """``start`` without namespace processing (names arrive as written)."""
+        p = self.parser
+        el = Element(
+            name,
+            dict(zip(attributes[::2], attributes[1::2], strict=True)) if attributes else {},
+            SourceLocation(self.path, p.CurrentLineNumber, p.CurrentColumnNumber + 1),
+        )
+        self._add(el)
+        self.cur = el
+
+    def _add(self, node: Node) -> None:
+        """Append a new node to the current element (cheaper than ``append``)."""
+        cur = self.cur
+        node._siblings = cur._siblings_of_children()
+        last = cur.last
+        node.prev = last
+        if last is None:
+            cur.first = node
+        else:
+            last.next = node
+        cur.last = node
 
     def end(self, name: str) -> None:
         parent = self.cur.parent
@@ -351,12 +382,12 @@ class _Builder:
             if self.cdata_continue and type(last) is CData:
                 last.data += data
                 return
-            self.cur.append(CData(data))
+            self._add(CData(data))
             self.cdata_continue = True
         elif type(last) is Text:
             last.data += data
-        else:
-            self.cur.append(Text(data))
+        elif self.keep_blank or not data.isspace():
+            self._add(Text(data))
 
     def start_cdata(self) -> None:
         self.in_cdata = True
@@ -368,11 +399,11 @@ class _Builder:
 
     def comment(self, data: str) -> None:
         if not self.in_dtd:
-            self.cur.append(Comment(data))
+            self._add(Comment(data))
 
     def pi(self, target: str, data: str) -> None:
         if not self.in_dtd:
-            self.cur.append(ProcessingInstruction(target, data))
+            self._add(ProcessingInstruction(target, data))
 
     def doctype(self, name: str, sysid: str | None, pubid: str | None, internal: bool) -> None:
         if sysid or pubid:
@@ -390,12 +421,21 @@ class _Builder:
         raise ParseError(msg, self.loc())
 
 
-def parse_string(text: str | bytes, path: str = "<string>", *, namespaces: bool = True) -> Document:
+def parse_string(
+    text: str | bytes,
+    path: str = "<string>",
+    *,
+    namespaces: bool = True,
+    keep_blank: bool = True,
+) -> Document:
     """Parse XML text; ``path`` names it in source locations and errors.
 
     With ``namespaces`` (xacro's way) undeclared prefixes are errors; without, ``a:b`` is just a
-    name (TinyXML's way, which urdfdom uses)."""
-    builder = _Builder(path, namespaces=namespaces)
+    name (TinyXML's way, which urdfdom uses). Without ``keep_blank``, whitespace-only text
+    between elements is dropped (data formats need none of it)."""
+    builder = _Builder(path, namespaces=namespaces, keep_blank=keep_blank)
+    gc_was_enabled = gc.isenabled()
+    gc.disable()  # the tree is one big cycle (parent <-> child): collecting mid-build is waste
     try:
         builder.parser.Parse(text, True)
     except expat.ExpatError as err:
@@ -403,6 +443,9 @@ def parse_string(text: str | bytes, path: str = "<string>", *, namespaces: bool 
         reason = expat.ErrorString(err.code)
         msg = f"malformed XML: {reason}"
         raise ParseError(msg, where) from None
+    finally:
+        if gc_was_enabled:
+            gc.enable()
     if builder.doc.first_element() is None:
         msg = "no root element"
         raise ParseError(msg, SourceLocation(path))
@@ -410,7 +453,11 @@ def parse_string(text: str | bytes, path: str = "<string>", *, namespaces: bool 
 
 
 def parse_file(
-    path: str | Path, display: str | None = None, *, namespaces: bool = True
+    path: str | Path,
+    display: str | None = None,
+    *,
+    namespaces: bool = True,
+    keep_blank: bool = True,
 ) -> Document:
     """Parse an XML file. ``display`` is the name used in locations (default: ``path``)."""
     name = display if display is not None else str(path)
@@ -419,7 +466,7 @@ def parse_file(
     except OSError as err:
         msg = f"cannot read {name}: {err.strerror or err}"
         raise ParseError(msg) from None
-    return parse_string(data, name, namespaces=namespaces)
+    return parse_string(data, name, namespaces=namespaces, keep_blank=keep_blank)
 
 
 # --- writing -------------------------------------------------------------------------------

@@ -127,12 +127,15 @@ def _vec3(text: str, what: str) -> Vec3:
     return (x, y, z)
 
 
-def _first(el: Element, tag: str) -> Element | None:
-    return next((c for c in el.elements() if c.tag == tag), None)
+_NONE: Final[list[Element]] = []
 
 
-def _all(el: Element, tag: str) -> list[Element]:
-    return [c for c in el.elements() if c.tag == tag]
+def _index(el: Element) -> dict[str, list[Element]]:
+    """Children by tag, in order (built once per element)."""
+    out: dict[str, list[Element]] = {}
+    for c in el.elements():
+        out.setdefault(c.tag, []).append(c)
+    return out
 
 
 def _text(el: Element) -> str:
@@ -143,6 +146,17 @@ class _Parser:
     def __init__(self, xacro_location: Callable[[Element], SourceLocation | None] | None) -> None:
         self.xacro_location = xacro_location
         self.out = ParsedRobot()
+        self._kids: dict[int, dict[str, list[Element]]] = {}
+
+    def all(self, el: Element, tag: str) -> list[Element]:
+        kids = self._kids.get(id(el))
+        if kids is None:
+            kids = self._kids[id(el)] = _index(el)
+        return kids.get(tag, _NONE)
+
+    def first(self, el: Element, tag: str) -> Element | None:
+        found = self.all(el, tag)
+        return found[0] if found else None
 
     def source(self, el: Element) -> Source:
         return Source(el.loc, self.xacro_location(el) if self.xacro_location else None)
@@ -173,15 +187,15 @@ class _Parser:
             self.tree(robot)
         except _FatalError:
             pass
-        for el in _all(robot, "transmission"):
+        for el in self.all(robot, "transmission"):
             self.transmission(el)
-        for el in _all(robot, "gazebo"):
+        for el in self.all(robot, "gazebo"):
             self.out.gazebo.append(self.gazebo(el))
         return self.out
 
     def materials(self, robot: Element) -> None:
         names: set[str] = set()
-        for el in _all(robot, "material"):
+        for el in self.all(robot, "material"):
             material = self.material(el, only_name_ok=False)
             if material.name in names:
                 msg = f"material '{material.name}' is not unique"
@@ -196,10 +210,10 @@ class _Parser:
             return Material("", source=self.source(el))
         rgba: tuple[float, float, float, float] | None = None
         texture: str | None = None
-        tex = _first(el, "texture")
+        tex = self.first(el, "texture")
         if tex is not None and "filename" in tex.attrs:
             texture = tex.attrs["filename"]
-        color = _first(el, "color")
+        color = self.first(el, "color")
         if color is not None and "rgba" in color.attrs:
             try:
                 r, g, b, a = _vector(color.attrs["rgba"], f"material [{name}] color rgba", 4)
@@ -214,7 +228,7 @@ class _Parser:
     def links(self, robot: Element) -> None:
         names: set[str] = set()
         known = {m.name for m in self.out.materials}
-        for el in _all(robot, "link"):
+        for el in self.all(robot, "link"):
             link = self.link(el)
             if link.name in names:
                 msg = f"link '{link.name}' is not unique"
@@ -242,14 +256,14 @@ class _Parser:
         collisions: list[Collision] = []
         stage = "inertial"
         try:
-            i = _first(el, "inertial")
+            i = self.first(el, "inertial")
             if i is not None:
                 inertial = self.inertial(i)
             stage = "visual"
-            for v in _all(el, "visual"):
+            for v in self.all(el, "visual"):
                 visuals.append(self.visual(v))
             stage = "collision"
-            for c in _all(el, "collision"):
+            for c in self.all(el, "collision"):
                 collisions.append(self.collision(c))
         except _InvalidError as err:
             rest = {
@@ -268,13 +282,13 @@ class _Parser:
         return Pose(xyz, rpy)
 
     def inertial(self, el: Element) -> Inertial:
-        origin = self.pose(_first(el, "origin"), "inertial")
-        mass_el = _first(el, "mass")
+        origin = self.pose(self.first(el, "origin"), "inertial")
+        mass_el = self.first(el, "mass")
         if mass_el is None or "value" not in mass_el.attrs:
             msg = "inertial must have <mass value=…>"
             raise _InvalidError(msg)
         mass = _number(mass_el.attrs["value"], "inertial mass")
-        inertia = _first(el, "inertia")
+        inertia = self.first(el, "inertia")
         keys = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
         if inertia is None or any(k not in inertia.attrs for k in keys):
             msg = "inertial must have <inertia> with ixx, ixy, ixz, iyy, iyz, izz"
@@ -318,11 +332,11 @@ class _Parser:
         raise _InvalidError(msg)
 
     def visual(self, el: Element) -> Visual:
-        origin = self.pose(_first(el, "origin"), "visual")
-        geometry = self.geometry(_first(el, "geometry"))
+        origin = self.pose(self.first(el, "origin"), "visual")
+        geometry = self.geometry(self.first(el, "geometry"))
         material_name = None
         material = None
-        mat = _first(el, "material")
+        mat = self.first(el, "material")
         if mat is not None:
             if "name" not in mat.attrs:
                 msg = "visual material must have a name attribute"
@@ -334,14 +348,14 @@ class _Parser:
         )
 
     def collision(self, el: Element) -> Collision:
-        origin = self.pose(_first(el, "origin"), "collision")
-        geometry = self.geometry(_first(el, "geometry"))
+        origin = self.pose(self.first(el, "origin"), "collision")
+        geometry = self.geometry(self.first(el, "geometry"))
         return Collision(geometry, origin, el.attrs.get("name"), self.source(el))
 
     # --- joints --------------------------------------------------------------------------------
     def joints(self, robot: Element) -> None:
         names: set[str] = set()
-        for el in _all(robot, "joint"):
+        for el in self.all(robot, "joint"):
             try:
                 joint = self.joint(el)
             except _InvalidError as err:
@@ -358,11 +372,11 @@ class _Parser:
             msg = "unnamed joint found"
             raise _InvalidError(msg)
         try:
-            origin = self.pose(_first(el, "origin"), f"joint [{name}]")
+            origin = self.pose(self.first(el, "origin"), f"joint [{name}]")
         except _InvalidError as err:
             msg = f"malformed origin for joint [{name}]: {err}"
             raise _InvalidError(msg) from None
-        parent_el, child_el = _first(el, "parent"), _first(el, "child")
+        parent_el, child_el = self.first(el, "parent"), self.first(el, "child")
         parent = parent_el.attrs.get("link", "") if parent_el is not None else ""
         child = child_el.attrs.get("link", "") if child_el is not None else ""
         jtype = el.attrs.get("type")
@@ -375,13 +389,13 @@ class _Parser:
         joint_type: JointType = jtype
         axis: Vec3 = (1.0, 0.0, 0.0)
         if joint_type not in ("floating", "fixed"):
-            axis_el = _first(el, "axis")
+            axis_el = self.first(el, "axis")
             if axis_el is not None:
                 axis = (0.0, 0.0, 0.0)
                 if "xyz" in axis_el.attrs:
                     axis = _vec3(axis_el.attrs["xyz"], f"joint [{name}] axis")
         limit = None
-        limit_el = _first(el, "limit")
+        limit_el = self.first(el, "limit")
         if limit_el is not None:
             limit = self.limit(limit_el, name)
         elif joint_type in ("revolute", "prismatic"):
@@ -405,7 +419,7 @@ class _Parser:
     def optional(
         self, el: Element, tag: str, joint: str, parse: Callable[[dict[str, str], str], _T]
     ) -> _T | None:
-        sub = _first(el, tag)
+        sub = self.first(el, tag)
         return None if sub is None else parse(sub.attrs, f"joint [{joint}] {tag}")
 
     @staticmethod
@@ -489,25 +503,27 @@ class _Parser:
     def transmission(self, el: Element) -> None:
         name = el.attrs.get("name", "")
         legacy = "type" in el.attrs
-        type_el = _first(el, "type")
+        type_el = self.first(el, "type")
         ttype = el.attrs.get("type") or (_text(type_el).strip() if type_el is not None else "")
         joints = tuple(
             TransmissionJoint(
                 j.attrs.get("name", ""),
-                tuple(_text(h).strip() for h in _all(j, "hardwareInterface")),
+                tuple(_text(h).strip() for h in self.all(j, "hardwareInterface")),
             )
-            for j in _all(el, "joint")
+            for j in self.all(el, "joint")
         )
         actuators = []
-        for a in _all(el, "actuator"):
-            reduction_el = _first(a, "mechanicalReduction") or _first(el, "mechanicalReduction")
+        for a in self.all(el, "actuator"):
+            reduction_el = self.first(a, "mechanicalReduction") or self.first(
+                el, "mechanicalReduction"
+            )
             reduction = None
             if reduction_el is not None:
                 try:
                     reduction = _number(_text(reduction_el).strip(), "mechanicalReduction")
                 except _InvalidError as err:
                     self.report("warning", f"transmission [{name}]: {err}", reduction_el)
-            interfaces = tuple(_text(h).strip() for h in _all(a, "hardwareInterface"))
+            interfaces = tuple(_text(h).strip() for h in self.all(a, "hardwareInterface"))
             actuators.append(Actuator(a.attrs.get("name", ""), reduction, interfaces))
         if not name:
             self.report("warning", "transmission without a name", el)

@@ -95,7 +95,9 @@ class RobotModel:
     @classmethod
     def from_string(cls, text: str | bytes, *, path: str = "<string>") -> RobotModel:
         """Parse URDF text."""
-        return cls.from_parsed(parse_robot(parse_string(text, path, namespaces=False)))
+        return cls.from_parsed(
+            parse_robot(parse_string(text, path, namespaces=False, keep_blank=False))
+        )
 
     @classmethod
     def from_path(
@@ -267,14 +269,14 @@ def load_robot(
     diagnostic (xacro's warnings first) instead of raising on urdfdom's errors."""
     name = os.fspath(path)
     if not _is_xacro(name):
-        parsed = parse_robot(parse_file(name, namespaces=False))
+        parsed = parse_robot(parse_file(name, namespaces=False, keep_blank=False))
         parsed.path = name
         return parsed
     from belvedere.description.xacro import expand_file
 
     expansion = expand_file(name, mappings=mappings, on_warning=lambda _: None, **xacro_options)
     text = expansion.to_xml()
-    urdf = parse_string(text, f"{name} (expanded)", namespaces=False)
+    urdf = parse_string(text, f"{name} (expanded)", namespaces=False, keep_blank=False)
     # The printed URDF has the expanded tree's elements in the same order: pair them up so
     # each part knows the xacro line that produced it.
     origin = dict(
