@@ -41,7 +41,9 @@ JOINT = """  <joint name="{name}" type="revolute">
   </joint>
   <transmission name="{name}_trans">
     <type>transmission_interface/SimpleTransmission</type>
-    <joint name="{name}"><hardwareInterface>hardware_interface/EffortJointInterface</hardwareInterface></joint>
+    <joint name="{name}">
+      <hardwareInterface>hardware_interface/EffortJointInterface</hardwareInterface>
+    </joint>
     <actuator name="{name}_motor"><mechanicalReduction>1</mechanicalReduction></actuator>
   </transmission>
   <gazebo reference="{child}"><material>Gazebo/Grey</material><mu1>0.5</mu1></gazebo>
@@ -51,9 +53,11 @@ JOINT = """  <joint name="{name}" type="revolute">
 def write_robot(path: Path, links: int) -> Path:
     arms = 20
     per_arm = max(1, (links - 1) // arms)
-    parts = ['<?xml version="1.0"?>\n<robot name="bench">\n',
-             '  <material name="grey"><color rgba="0.5 0.5 0.5 1"/></material>\n',
-             '  <link name="base_link"/>\n']
+    parts = [
+        '<?xml version="1.0"?>\n<robot name="bench">\n',
+        '  <material name="grey"><color rgba="0.5 0.5 0.5 1"/></material>\n',
+        '  <link name="base_link"/>\n',
+    ]
     for a in range(arms):
         parent = "base_link"
         for i in range(per_arm):
@@ -82,23 +86,31 @@ def main() -> int:
     with tempfile.TemporaryDirectory() as tmp:
         urdf = write_robot(Path(tmp) / "bench.urdf", args.links)
         model = RobotModel.from_path(urdf)
-        print(f"{len(model.links)} links, {len(model.joints)} joints, "
-              f"{urdf.stat().st_size / 1e6:.1f} MB")
+        print(
+            f"{len(model.links)} links, {len(model.joints)} joints, "
+            f"{urdf.stat().st_size / 1e6:.1f} MB"
+        )
         ours = best_of(5, lambda: RobotModel.from_path(urdf))
         print(f"belvedere RobotModel.from_path (in process): {ours * 1000:8.1f} ms")
-        cli = best_of(3, lambda: subprocess.run(
-            [sys.executable, "-m", "belvedere", "-q", "check", str(urdf)],
-            capture_output=True, check=True))
+        cli = best_of(
+            3,
+            lambda: subprocess.run(
+                [sys.executable, "-m", "belvedere", "-q", "check", str(urdf)],
+                capture_output=True,
+                check=True,
+            ),
+        )
         print(f"belvedere check (fresh process):            {cli * 1000:8.1f} ms")
         tool = shutil.which("check_urdf")
         if tool is None:
             print("check_urdf not installed (Debian liburdfdom-tools): no reference")
             return 0
-        ref = best_of(5, lambda: subprocess.run([tool, str(urdf)], capture_output=True,
-                                                check=True))
+        ref = best_of(5, lambda: subprocess.run([tool, str(urdf)], capture_output=True, check=True))
         print(f"check_urdf (C++ urdfdom, fresh process):     {ref * 1000:8.1f} ms")
-        print(f"\nratio check_urdf / belvedere parse: {ref / ours:.2f}x; "
-              f"check_urdf / belvedere check: {ref / cli:.2f}x")
+        print(
+            f"\nratio check_urdf / belvedere parse: {ref / ours:.2f}x; "
+            f"check_urdf / belvedere check: {ref / cli:.2f}x"
+        )
     return 0
 
 
