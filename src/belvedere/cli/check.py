@@ -6,10 +6,9 @@ import argparse
 import json
 import sys
 
+from belvedere.cli._args import mappings_only
 from belvedere.description.checks import check_file, format_tree
 from belvedere.description.xacro import Dialect
-from belvedere.description.xacro._command import split_mappings
-from belvedere.errors import BelvedereError
 from belvedere.packages import PackageIndex
 
 __all__ = ["add_parser", "run"]
@@ -46,10 +45,7 @@ def add_parser(
 
 
 def run(args: argparse.Namespace) -> int:
-    extra, mappings = split_mappings(list(args.extra))
-    if extra:
-        msg = f"unexpected arguments: {' '.join(extra)} (xacro args are written name:=value)"
-        raise BelvedereError(msg)
+    mappings = mappings_only(list(args.extra))
     packages = PackageIndex.from_environment(package_path=args.package_path, near=args.input)
     report = check_file(
         args.input,

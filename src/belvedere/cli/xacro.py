@@ -8,12 +8,9 @@ import os
 import sys
 from pathlib import Path
 
+from belvedere.cli._args import mappings_only
 from belvedere.description.xacro import run_command
-from belvedere.description.xacro._command import (
-    add_xacro_arguments,
-    command_from_namespace,
-    split_mappings,
-)
+from belvedere.description.xacro._command import add_xacro_arguments, command_from_namespace
 from belvedere.errors import BelvedereError
 from belvedere.packages import PackageIndex
 
@@ -36,10 +33,7 @@ def add_parser(
 
 
 def run(args: argparse.Namespace) -> int:
-    extra, mappings = split_mappings(list(args.extra))
-    if extra:
-        msg = f"unexpected arguments: {' '.join(extra)} (xacro args are written name:=value)"
-        raise BelvedereError(msg)
+    mappings = mappings_only(list(args.extra))
     cmd = command_from_namespace(args, mappings)
     for notice in cmd.notices:
         logger.info("%s", notice)
