@@ -1,0 +1,171 @@
+"""Message types: rosbags' ROS 1 Noetic store, plus the standard types it lacks.
+
+Names are accepted in both spellings (``geometry_msgs/Twist``, ``geometry_msgs/msg/Twist``);
+services are ``pkg/srv/Name`` with ``_Request``/``_Response`` message types. An unknown name
+is an error that suggests close ones.
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Iterator
+from functools import cache
+from typing import Any, Final
+
+from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+from rosbags.typesys.store import Typestore
+
+from belvedere.errors import BelvedereError
+
+__all__ = ["MessageTypeError", "TypeRegistry", "types"]
+
+# Standard ROS types missing from rosbags' Noetic store, in .msg syntax (types, not code).
+_EXTRA_MESSAGES: Final = {
+    "tf2_msgs/msg/TFMessage": "geometry_msgs/TransformStamped[] transforms",
+    "tf/msg/tfMessage": "geometry_msgs/TransformStamped[] transforms",
+    "control_msgs/msg/JointTolerance": (
+        "string name\nfloat64 position\nfloat64 velocity\nfloat64 acceleration"
+    ),
+    "control_msgs/msg/FollowJointTrajectoryGoal": (
+        "trajectory_msgs/JointTrajectory trajectory\n"
+        "control_msgs/JointTolerance[] path_tolerance\n"
+        "control_msgs/JointTolerance[] goal_tolerance\n"
+        "duration goal_time_tolerance"
+    ),
+    "control_msgs/msg/FollowJointTrajectoryResult": (
+        "int32 SUCCESSFUL=0\nint32 INVALID_GOAL=-1\nint32 INVALID_JOINTS=-2\n"
+        "int32 OLD_HEADER_TIMESTAMP=-3\nint32 PATH_TOLERANCE_VIOLATED=-4\n"
+        "int32 GOAL_TOLERANCE_VIOLATED=-5\nint32 error_code\nstring error_string"
+    ),
+    "control_msgs/msg/FollowJointTrajectoryFeedback": (
+        "std_msgs/Header header\nstring[] joint_names\n"
+        "trajectory_msgs/JointTrajectoryPoint desired\n"
+        "trajectory_msgs/JointTrajectoryPoint actual\n"
+        "trajectory_msgs/JointTrajectoryPoint error"
+    ),
+    "control_msgs/msg/FollowJointTrajectoryActionGoal": (
+        "std_msgs/Header header\nactionlib_msgs/GoalID goal_id\n"
+        "control_msgs/FollowJointTrajectoryGoal goal"
+    ),
+    "control_msgs/msg/FollowJointTrajectoryActionResult": (
+        "std_msgs/Header header\nactionlib_msgs/GoalStatus status\n"
+        "control_msgs/FollowJointTrajectoryResult result"
+    ),
+    "control_msgs/msg/FollowJointTrajectoryActionFeedback": (
+        "std_msgs/Header header\nactionlib_msgs/GoalStatus status\n"
+        "control_msgs/FollowJointTrajectoryFeedback feedback"
+    ),
+}
+_EXTRA_SERVICES: Final = {
+    "std_srvs/srv/Empty": ("", ""),
+    "std_srvs/srv/Trigger": ("", "bool success\nstring message"),
+    "std_srvs/srv/SetBool": ("bool data", "bool success\nstring message"),
+    "nav_msgs/srv/GetMap": ("", "nav_msgs/OccupancyGrid map"),
+    "nav_msgs/srv/GetPlan": (
+        "geometry_msgs/PoseStamped start\ngeometry_msgs/PoseStamped goal\nfloat32 tolerance",
+        "nav_msgs/Path plan",
+    ),
+    "nav_msgs/srv/SetMap": (
+        "nav_msgs/OccupancyGrid map\ngeometry_msgs/PoseWithCovarianceStamped initial_pose",
+        "bool success",
+    ),
+}
+
+
+class MessageTypeError(BelvedereError):
+    """An unknown or malformed message type name."""
+
+
+def canonical(name: str, kind: str = "msg") -> str:
+    """``pkg/Type`` → ``pkg/msg/Type`` (or ``pkg/srv/Type``); full names pass through."""
+    parts = [p for p in name.strip().split("/") if p]
+    if len(parts) == 2:
+        return f"{parts[0]}/{kind}/{parts[1]}"
+    if len(parts) == 3:
+        return "/".join(parts)
+    msg = f"malformed type name {name!r}: expected package/Type, e.g. geometry_msgs/Twist"
+    raise MessageTypeError(msg)
+
+
+def short(name: str) -> str:
+    """``pkg/msg/Type`` → ``pkg/Type`` (the ROS 1 spelling)."""
+    parts = name.split("/")
+    return f"{parts[0]}/{parts[-1]}" if len(parts) == 3 else name
+
+
+class TypeRegistry:
+    """All known message and service types over one rosbags typestore."""
+
+    def __init__(self) -> None:
+        self.store: Typestore = get_typestore(Stores.ROS1_NOETIC)
+        extra: dict[str, Any] = {}
+        for name, text in _EXTRA_MESSAGES.items():
+            extra.update(get_types_from_msg(text, name))
+        for name, (req, res) in _EXTRA_SERVICES.items():
+            extra.update(get_types_from_msg(req, f"{name}_Request"))
+            extra.update(get_types_from_msg(res, f"{name}_Response"))
+        self.store.register(extra)
+        self.services = frozenset(_EXTRA_SERVICES)
+
+    # --- names ---------------------------------------------------------------------------------
+    def message_names(self) -> Iterator[str]:
+        return (n for n in self.store.fielddefs if "/msg/" in n)
+
+    def resolve(self, name: str) -> str:
+        """The canonical name of a message type, or an error suggesting close names."""
+        full = canonical(name)
+        if full in self.store.fielddefs:
+            return full
+        known = sorted(self.message_names())
+        close = difflib.get_close_matches(full, known, n=3, cutoff=0.6)
+        if not close:  # try by the type's own name, whatever the package
+            tail = full.rsplit("/", 1)[-1].lower()
+            close = [k for k in known if k.rsplit("/", 1)[-1].lower() == tail][:3]
+        hint = "did you mean " + ", ".join(short(c) for c in close) + "?" if close else None
+        msg = f"unknown message type {name!r}"
+        raise MessageTypeError(msg, hint=hint)
+
+    def resolve_service(self, name: str) -> str:
+        full = canonical(name, "srv")
+        if full in self.services:
+            return full
+        close = difflib.get_close_matches(full, sorted(self.services), n=3)
+        hint = "did you mean " + ", ".join(short(c) for c in close) + "?" if close else None
+        msg = (
+            f"unknown service type {name!r} (known: {', '.join(sorted(map(short, self.services)))})"
+        )
+        raise MessageTypeError(msg, hint=hint)
+
+    # --- types ---------------------------------------------------------------------------------
+    def cls(self, name: str) -> type[Any]:
+        cls: type[Any] = self.store.types[self.resolve(name)]
+        return cls
+
+    def fields(self, name: str) -> list[tuple[str, tuple[Any, Any]]]:
+        """``[(field, (nodetype, detail)), …]`` in order (rosbags' field definitions)."""
+        fields: list[tuple[str, tuple[Any, Any]]] = self.store.fielddefs[self.resolve(name)][1]
+        return fields
+
+    def type_of(self, msg: Any) -> str:
+        name: str = msg.__msgtype__
+        return name
+
+    # --- wire format ---------------------------------------------------------------------------
+    def serialize(self, msg: Any) -> bytes:
+        """CDR bytes, as ROS 2 sends them."""
+        data = self.store.serialize_cdr(msg, msg.__msgtype__)
+        return bytes(data)
+
+    def deserialize(self, data: bytes | memoryview, name: str) -> Any:
+        return self.store.deserialize_cdr(bytes(data), self.resolve(name))
+
+    def definition(self, name: str) -> str:
+        """The message definition text (``rosmsg show``)."""
+        text: str = self.store.generate_msgdef(self.resolve(name), ros_version=1)[0]
+        return text
+
+
+@cache
+def types() -> TypeRegistry:
+    """The process-wide registry (built on first use: it costs a few milliseconds)."""
+    return TypeRegistry()
