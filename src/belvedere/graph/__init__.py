@@ -1,0 +1,41 @@
+"""The runtime graph: nodes, topics, parameters, services and time, as in ROS 1.
+
+Everything that runs is a node on one graph. One executor runs every callback, timer and
+simulation step in a defined order, in simulated or wall time. Inside a process messages pass
+as objects; a transport (Zenoh) carries them, CDR-encoded, to other processes.
+"""
+
+from belvedere.graph._executor import NS, Executor, Timer
+from belvedere.graph._graph import (
+    Graph,
+    GraphError,
+    Node,
+    Publisher,
+    Rate,
+    ServiceServer,
+    Subscription,
+    Topic,
+    Transport,
+)
+from belvedere.graph._names import RosArgs, parse_ros_args, resolve_name
+from belvedere.graph._params import ParamError, ParamTree
+
+__all__ = [
+    "NS",
+    "Executor",
+    "Graph",
+    "GraphError",
+    "Node",
+    "ParamError",
+    "ParamTree",
+    "Publisher",
+    "Rate",
+    "RosArgs",
+    "ServiceServer",
+    "Subscription",
+    "Timer",
+    "Topic",
+    "Transport",
+    "parse_ros_args",
+    "resolve_name",
+]

@@ -1,0 +1,195 @@
+"""The executor: one thread runs every callback, timer and simulation step, in a defined order.
+
+Time is simulated (advanced by the executor from one timer to the next) or the wall clock.
+In simulated time the order is fixed: timers fire by due time, then by creation; messages are
+delivered after the callback that published them, first published first delivered. The same
+inputs and seed give the same outputs. With ``rtf=None`` simulated time runs as fast as the
+CPU allows; with a number it is paced to that multiple of the wall clock.
+"""
+
+from __future__ import annotations
+
+import heapq
+import queue
+import random
+import threading
+import time
+from collections import deque
+from collections.abc import Callable
+from typing import Final, Protocol
+
+__all__ = ["Executor", "Timer"]
+
+NS: Final = 1_000_000_000
+
+
+class _Deliverable(Protocol):
+    def deliver_one(self) -> bool:
+        """Run one pending callback; True if more are pending."""
+        ...
+
+
+class Timer:
+    """A periodic (or one-shot) callback; cancel with :meth:`cancel`."""
+
+    __slots__ = ("_cancelled", "callback", "due_ns", "oneshot", "period_ns")
+
+    def __init__(
+        self, period_ns: int, callback: Callable[[], object], due_ns: int, oneshot: bool
+    ) -> None:
+        self.period_ns = period_ns
+        self.callback = callback
+        self.due_ns = due_ns
+        self.oneshot = oneshot
+        self._cancelled = False
+
+    def cancel(self) -> None:
+        self._cancelled = True
+
+    @property
+    def cancelled(self) -> bool:
+        return self._cancelled
+
+
+class Executor:
+    """Runs the graph's callbacks on one thread."""
+
+    def __init__(self, *, sim_time: bool = True, start_ns: int = 0, seed: int = 0) -> None:
+        self.sim_time = sim_time
+        self._sim_ns = start_ns
+        self._timers: list[tuple[int, int, Timer]] = []
+        self._seq = 0
+        self._ready: deque[_Deliverable] = deque()
+        self._inbox: queue.SimpleQueue[Callable[[], object]] = queue.SimpleQueue()
+        self._stop = threading.Event()
+        self.random = random.Random(seed)
+        """The graph's seeded randomness (noise models, randomized buttons…)."""
+        self.thread: threading.Thread | None = None
+
+    # --- time ----------------------------------------------------------------------------------
+    def now_ns(self) -> int:
+        return self._sim_ns if self.sim_time else time.time_ns()
+
+    # --- registration ----------------------------------------------------------------------------
+    def add_timer(
+        self, period_s: float, callback: Callable[[], object], *, oneshot: bool = False
+    ) -> Timer:
+        period_ns = round(period_s * NS)
+        if period_ns <= 0 and not oneshot:
+            msg = f"timer period must be positive, got {period_s!r} s"
+            raise ValueError(msg)
+        timer = Timer(period_ns, callback, self.now_ns() + max(period_ns, 0), oneshot)
+        self._push(timer)
+        return timer
+
+    def _push(self, timer: Timer) -> None:
+        self._seq += 1
+        heapq.heappush(self._timers, (timer.due_ns, self._seq, timer))
+
+    def ready(self, item: _Deliverable) -> None:
+        """``item`` has a pending callback (called from the executor thread)."""
+        self._ready.append(item)
+
+    def post(self, fn: Callable[[], object]) -> None:
+        """Run ``fn`` on the executor thread (safe from any thread)."""
+        self._inbox.put(fn)
+
+    def stop(self) -> None:
+        self._stop.set()
+        self._inbox.put(lambda: None)  # wake a waiting loop
+
+    @property
+    def stopped(self) -> bool:
+        return self._stop.is_set()
+
+    # --- running ---------------------------------------------------------------------------------
+    def _drain(self) -> None:
+        inbox = self._inbox
+        while True:
+            try:
+                fn = inbox.get_nowait()
+            except queue.Empty:
+                break
+            fn()
+        ready = self._ready
+        while ready:
+            item = ready.popleft()
+            if item.deliver_one():
+                ready.append(item)
+
+    def _fire_due(self, now_ns: int) -> None:
+        timers = self._timers
+        while timers and timers[0][0] <= now_ns:
+            _, _, timer = heapq.heappop(timers)
+            if timer.cancelled:
+                continue
+            timer.callback()
+            if not timer.oneshot and not timer.cancelled:
+                timer.due_ns += timer.period_ns
+                self._push(timer)
+            self._drain()
+
+    def spin_once(self) -> None:
+        """Deliver what is pending and fire timers that are due now (no time passes)."""
+        self._drain()
+        self._fire_due(self.now_ns())
+
+    def run(
+        self,
+        *,
+        duration: float | None = None,
+        rtf: float | None = None,
+        until: Callable[[], bool] | None = None,
+    ) -> None:
+        """Run until stopped, ``duration`` seconds of graph time pass, or ``until()`` holds.
+
+        In simulated time ``rtf=None`` runs as fast as possible; otherwise time is paced to
+        ``rtf`` times the wall clock. In wall time, timers fire when they are due.
+        """
+        self.thread = threading.current_thread()
+        self._stop.clear()
+        start_ns = self.now_ns()
+        end_ns = None if duration is None else start_ns + round(duration * NS)
+        wall_start = time.monotonic()
+        while not self._stop.is_set():
+            self._drain()
+            if until is not None and until():
+                return
+            next_due = self._timers[0][0] if self._timers else None
+            if end_ns is not None and (next_due is None or next_due > end_ns):
+                next_due = end_ns
+            if self.sim_time:
+                if next_due is None:
+                    self._wait(None)  # nothing scheduled: only outside events can come
+                    continue
+                if rtf is not None:
+                    wall_due = wall_start + (next_due - start_ns) / NS / rtf
+                    if self._wait_until(wall_due):
+                        continue  # something arrived first: handle it, then re-plan
+                self._sim_ns = max(self._sim_ns, next_due)
+            else:
+                if next_due is None:
+                    self._wait(None)
+                    continue
+                if self._wait_until(time.monotonic() + (next_due - time.time_ns()) / NS):
+                    continue
+            if end_ns is not None and self.now_ns() >= end_ns:
+                self._fire_due(end_ns)
+                self._drain()
+                return
+            self._fire_due(self.now_ns())
+
+    def _wait_until(self, wall_deadline: float) -> bool:
+        """Sleep until ``wall_deadline`` (monotonic); True if woken early by the inbox."""
+        delay = wall_deadline - time.monotonic()
+        if delay <= 0:
+            return False
+        return self._wait(delay)
+
+    def _wait(self, timeout: float | None) -> bool:
+        try:
+            fn = self._inbox.get(timeout=timeout)
+        except queue.Empty:
+            return False
+        fn()
+        return True

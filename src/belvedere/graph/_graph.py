@@ -1,0 +1,453 @@
+"""The graph: nodes, topics, parameters, services, all on one executor.
+
+Inside one process messages pass as objects, never serialized. A transport (Zenoh) carries
+them to other processes when someone there wants them.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+import time
+from collections import deque
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any, Protocol
+
+from belvedere.errors import BelvedereError
+from belvedere.graph._executor import NS, Executor, Timer
+from belvedere.graph._names import resolve_name
+from belvedere.graph._params import ParamTree
+from belvedere.msgs import message_from_data, short, types
+
+__all__ = [
+    "Graph",
+    "GraphError",
+    "Node",
+    "Publisher",
+    "Rate",
+    "ServiceServer",
+    "Subscription",
+    "Topic",
+    "Transport",
+]
+
+logger = logging.getLogger("belvedere.graph")
+
+
+class GraphError(BelvedereError):
+    """A misuse of the graph: type mismatch, missing service, time-out…"""
+
+
+class Transport(Protocol):
+    """What the graph needs from an inter-process transport."""
+
+    def advertise(self, topic: Topic, publisher: Publisher) -> None: ...
+    def unadvertise(self, topic: Topic, publisher: Publisher) -> None: ...
+    def subscribe(self, topic: Topic, subscription: Subscription) -> None: ...
+    def unsubscribe(self, topic: Topic, subscription: Subscription) -> None: ...
+    def wants(self, topic: Topic) -> bool: ...
+    def send(self, topic: Topic, msg: Any) -> None: ...
+    def offer_service(self, server: ServiceServer) -> None: ...
+    def call_service(self, name: str, srv_type: str, request: Any, timeout: float) -> Any: ...
+    def node_added(self, node: Node) -> None: ...
+    def close(self) -> None: ...
+
+
+@dataclass(eq=False)
+class Topic:
+    """One topic of the graph: its type and who is on it here."""
+
+    name: str
+    type: str
+    publishers: list[Publisher] = field(default_factory=list)
+    subscriptions: list[Subscription] = field(default_factory=list)
+    latched: Any = None
+    remote: bool = False
+    """A subscriber in another process wants this topic."""
+
+
+class Publisher:
+    """Publishes messages of one type on one topic."""
+
+    def __init__(self, node: Node, topic: Topic, *, latch: bool, queue_size: int) -> None:
+        self.node = node
+        self.topic = topic
+        self.latch = latch
+        self.queue_size = queue_size
+        self.count = 0
+
+    @property
+    def name(self) -> str:
+        return self.topic.name
+
+    def publish(self, msg: Any) -> None:
+        """Send ``msg`` to every subscriber (a message object of the topic's type)."""
+        topic = self.topic
+        msgtype = getattr(msg, "__msgtype__", None)
+        if msgtype != topic.type:
+            got = short(msgtype) if msgtype else type(msg).__name__
+            text = f"publishing {got} on {topic.name}, whose type is {short(topic.type)}"
+            raise GraphError(text)
+        graph = self.node.graph
+        if not graph.on_executor_thread():
+            graph.executor.post(lambda: self.publish(msg))
+            return
+        self.count += 1
+        if self.latch:
+            topic.latched = msg
+        for sub in topic.subscriptions:
+            sub.enqueue(msg)
+        transport = graph.transport
+        if transport is not None and topic.remote:
+            transport.send(topic, msg)
+
+    def publish_data(self, data: Any = None) -> Any:
+        """Publish a message built from YAML-like data (``{'linear': {'x': 0.2}}``)."""
+        msg = message_from_data(self.topic.type, data, clock=self.node.graph.clock_stamp)
+        self.publish(msg)
+        return msg
+
+    def unregister(self) -> None:
+        self.node.graph.remove_publisher(self)
+
+
+class Subscription:
+    """Calls ``callback(msg)`` for each message on a topic, on the executor thread."""
+
+    def __init__(
+        self,
+        node: Node,
+        topic: Topic,
+        callback: Callable[[Any], object],
+        *,
+        queue_size: int,
+    ) -> None:
+        self.node = node
+        self.topic = topic
+        self.callback = callback
+        self.pending: deque[Any] = deque(maxlen=queue_size if queue_size > 0 else None)
+        self._scheduled = False
+        self.received = 0
+
+    @property
+    def name(self) -> str:
+        return self.topic.name
+
+    def enqueue(self, msg: Any) -> None:
+        self.pending.append(msg)
+        if not self._scheduled:
+            self._scheduled = True
+            self.node.graph.executor.ready(self)
+
+    def deliver_one(self) -> bool:
+        pending = self.pending
+        if not pending:
+            self._scheduled = False
+            return False
+        msg = pending.popleft()
+        self.received += 1
+        try:
+            self.callback(msg)
+        except BelvedereError:
+            raise
+        except Exception:  # a user callback bug must not kill the graph
+            logger.exception("callback of %s on %s failed", self.node.name, self.topic.name)
+        if pending:
+            return True
+        self._scheduled = False
+        return False
+
+    def unregister(self) -> None:
+        self.node.graph.remove_subscription(self)
+
+
+class ServiceServer:
+    """Answers requests of one service type with ``handler(request) -> response``."""
+
+    def __init__(self, node: Node, name: str, srv_type: str, handler: Callable[[Any], Any]) -> None:
+        self.node = node
+        self.name = name
+        self.type = srv_type
+        self.handler = handler
+
+    def handle(self, request: Any) -> Any:
+        response = self.handler(request)
+        expected = f"{self.type}_Response"
+        if response is None:
+            response = message_from_data(expected, None)
+        elif isinstance(response, dict):
+            response = message_from_data(expected, response)
+        if getattr(response, "__msgtype__", None) != expected:
+            msg = f"service {self.name} handler returned {response!r}, not a {short(expected)}"
+            raise GraphError(msg)
+        return response
+
+
+class Rate:
+    """Sleep to keep a loop at ``hz`` in graph time (for threads other than the executor)."""
+
+    def __init__(self, graph: Graph, hz: float) -> None:
+        if hz <= 0:
+            msg = f"rate must be positive, got {hz!r} Hz"
+            raise ValueError(msg)
+        self.graph = graph
+        self.period_ns = round(NS / hz)
+        self.last_ns = graph.now_ns()
+
+    def sleep(self) -> None:
+        target = self.last_ns + self.period_ns
+        self.graph.sleep_until_ns(target)
+        self.last_ns = max(target, self.graph.now_ns() - self.period_ns)
+
+
+class Node:
+    """A named participant with publishers, subscriptions, timers, params and services."""
+
+    def __init__(
+        self,
+        graph: Graph,
+        name: str,
+        namespace: str,
+        remappings: Mapping[str, str],
+    ) -> None:
+        self.graph = graph
+        self.name = name
+        self.namespace = namespace
+        self.remappings = dict(remappings)
+        self.publishers: list[Publisher] = []
+        self.subscriptions: list[Subscription] = []
+        self.services: list[ServiceServer] = []
+        self.timers: list[Timer] = []
+        self.logger = logging.getLogger(f"belvedere.node.{name}")
+
+    @property
+    def full_name(self) -> str:
+        return resolve_name(self.name, namespace=self.namespace)
+
+    def resolve(self, name: str) -> str:
+        return resolve_name(
+            name, namespace=self.namespace, node=self.name, remappings=self.remappings
+        )
+
+    # --- topics --------------------------------------------------------------------------------
+    def publisher(
+        self, topic: str, msg_type: str, *, queue_size: int = 10, latch: bool = False
+    ) -> Publisher:
+        t = self.graph.topic(self.resolve(topic), msg_type)
+        pub = Publisher(self, t, latch=latch, queue_size=queue_size)
+        self.publishers.append(pub)
+        t.publishers.append(pub)
+        if self.graph.transport is not None:
+            self.graph.transport.advertise(t, pub)
+        return pub
+
+    def subscribe(
+        self,
+        topic: str,
+        msg_type: str,
+        callback: Callable[[Any], object],
+        *,
+        queue_size: int = 10,
+    ) -> Subscription:
+        t = self.graph.topic(self.resolve(topic), msg_type)
+        sub = Subscription(self, t, callback, queue_size=queue_size)
+        self.subscriptions.append(sub)
+        t.subscriptions.append(sub)
+        if t.latched is not None:
+            sub.enqueue(t.latched)
+        if self.graph.transport is not None:
+            self.graph.transport.subscribe(t, sub)
+        return sub
+
+    # --- time ----------------------------------------------------------------------------------
+    def timer(
+        self, period: float, callback: Callable[[], object], *, oneshot: bool = False
+    ) -> Timer:
+        timer = self.graph.executor.add_timer(period, callback, oneshot=oneshot)
+        self.timers.append(timer)
+        return timer
+
+    def now_ns(self) -> int:
+        return self.graph.now_ns()
+
+    def now(self) -> float:
+        return self.graph.now_ns() / NS
+
+    # --- parameters ----------------------------------------------------------------------------
+    def get_param(self, name: str, default: Any = ...) -> Any:
+        return self.graph.params.get(self.resolve(name), default)
+
+    def set_param(self, name: str, value: Any) -> None:
+        self.graph.params.set(self.resolve(name), value)
+
+    def has_param(self, name: str) -> bool:
+        return self.graph.params.has(self.resolve(name))
+
+    # --- services ------------------------------------------------------------------------------
+    def service(self, name: str, srv_type: str, handler: Callable[[Any], Any]) -> ServiceServer:
+        resolved = self.resolve(name)
+        full_type = types().resolve_service(srv_type)
+        if resolved in self.graph.services:
+            owner = self.graph.services[resolved].node.name
+            msg = f"service {resolved} is already offered by {owner}"
+            raise GraphError(msg)
+        server = ServiceServer(self, resolved, full_type, handler)
+        self.graph.services[resolved] = server
+        self.services.append(server)
+        if self.graph.transport is not None:
+            self.graph.transport.offer_service(server)
+        return server
+
+    def call_service(
+        self, name: str, srv_type: str, request: Any = None, *, timeout: float = 5.0
+    ) -> Any:
+        """Call a service here or in another process; ``request`` may be data or a message."""
+        resolved = self.resolve(name)
+        full_type = types().resolve_service(srv_type)
+        if request is None or isinstance(request, dict | list):
+            request = message_from_data(f"{full_type}_Request", request)
+        local = self.graph.services.get(resolved)
+        if local is not None:
+            if local.type != full_type:
+                msg = f"service {resolved} is {short(local.type)}, not {short(full_type)}"
+                raise GraphError(msg)
+            return local.handle(request)
+        if self.graph.transport is not None:
+            return self.graph.transport.call_service(resolved, full_type, request, timeout)
+        msg = f"service {resolved} is not offered by any node"
+        raise GraphError(msg, hint="is the node that provides it running?")
+
+
+class Graph:
+    """Nodes, topics, the parameter tree and services on one executor."""
+
+    def __init__(
+        self,
+        *,
+        sim_time: bool = True,
+        seed: int = 0,
+        transport: Transport | None = None,
+    ) -> None:
+        self.executor = Executor(sim_time=sim_time, seed=seed)
+        self.params = ParamTree()
+        self.params.set("/use_sim_time", sim_time)
+        self.topics: dict[str, Topic] = {}
+        self.services: dict[str, ServiceServer] = {}
+        self.nodes: dict[str, Node] = {}
+        self.transport = transport
+        self._lock = threading.Lock()
+        self._seq = 0
+
+    # --- time ----------------------------------------------------------------------------------
+    @property
+    def sim_time(self) -> bool:
+        return self.executor.sim_time
+
+    def now_ns(self) -> int:
+        return self.executor.now_ns()
+
+    def clock_stamp(self) -> tuple[int, int]:
+        ns = self.now_ns()
+        return ns // NS, ns % NS
+
+    def sleep_until_ns(self, target_ns: int) -> None:
+        """Block a non-executor thread until graph time reaches ``target_ns``."""
+        while self.now_ns() < target_ns and not self.executor.stopped:
+            if self.sim_time:
+                time.sleep(0.0005)
+            else:
+                time.sleep(max(0.0, (target_ns - self.now_ns()) / NS))
+
+    def on_executor_thread(self) -> bool:
+        thread = self.executor.thread
+        return thread is None or thread is threading.current_thread()
+
+    # --- structure -----------------------------------------------------------------------------
+    def create_node(
+        self,
+        name: str,
+        *,
+        namespace: str = "/",
+        remappings: Mapping[str, str] | None = None,
+        params: Mapping[str, Any] | None = None,
+    ) -> Node:
+        """A node. Remapping keys/values are resolved against its namespace; ``params`` are
+        its private parameters (``~name``)."""
+        ns = "/" + "/".join(p for p in namespace.split("/") if p)
+        resolved_remaps = {
+            resolve_name(k, namespace=ns, node=name): resolve_name(v, namespace=ns, node=name)
+            for k, v in (remappings or {}).items()
+        }
+        node = Node(self, name, ns, resolved_remaps)
+        full = node.full_name
+        if full in self.nodes:
+            msg = f"a node named {full} already exists in this graph"
+            raise GraphError(msg)
+        self.nodes[full] = node
+        for key, value in (params or {}).items():
+            node.set_param(f"~{key}", value)
+        if self.transport is not None:
+            self.transport.node_added(node)
+        return node
+
+    def topic(self, name: str, msg_type: str) -> Topic:
+        full_type = types().resolve(msg_type)
+        with self._lock:
+            topic = self.topics.get(name)
+            if topic is None:
+                topic = self.topics[name] = Topic(name, full_type)
+            elif topic.type != full_type:
+                msg = (
+                    f"topic {name} has type {short(topic.type)}; cannot also use it as "
+                    f"{short(full_type)}"
+                )
+                raise GraphError(msg)
+        return topic
+
+    def remove_publisher(self, pub: Publisher) -> None:
+        if pub in pub.topic.publishers:
+            pub.topic.publishers.remove(pub)
+            pub.node.publishers.remove(pub)
+            if self.transport is not None:
+                self.transport.unadvertise(pub.topic, pub)
+
+    def remove_subscription(self, sub: Subscription) -> None:
+        if sub in sub.topic.subscriptions:
+            sub.topic.subscriptions.remove(sub)
+            sub.node.subscriptions.remove(sub)
+            if self.transport is not None:
+                self.transport.unsubscribe(sub.topic, sub)
+
+    # --- running -------------------------------------------------------------------------------
+    def run(
+        self,
+        *,
+        duration: float | None = None,
+        rtf: float | None = None,
+        until: Callable[[], bool] | None = None,
+    ) -> None:
+        """Run the executor on this thread (see :meth:`Executor.run`)."""
+        self.executor.run(duration=duration, rtf=rtf, until=until)
+
+    def spin_once(self) -> None:
+        self.executor.spin_once()
+
+    def start(self, *, rtf: float | None = 1.0) -> threading.Thread:
+        """Run the executor on a background thread (stop with :meth:`shutdown`)."""
+        ready = threading.Event()
+
+        def main() -> None:
+            self.executor.thread = threading.current_thread()
+            ready.set()
+            self.executor.run(rtf=rtf)
+
+        thread = threading.Thread(target=main, name="belvedere-executor", daemon=True)
+        thread.start()
+        ready.wait()
+        return thread
+
+    def shutdown(self) -> None:
+        self.executor.stop()
+        if self.transport is not None:
+            self.transport.close()
