@@ -19,12 +19,15 @@ from belvedere.graph._graph import (
 )
 from belvedere.graph._names import RosArgs, parse_ros_args, resolve_name
 from belvedere.graph._params import ParamError, ParamTree
+from belvedere.graph._zenoh import DEFAULT_ENDPOINT, GraphInfo, TransportError, ZenohTransport
 
 __all__ = [
+    "DEFAULT_ENDPOINT",
     "NS",
     "Executor",
     "Graph",
     "GraphError",
+    "GraphInfo",
     "Node",
     "ParamError",
     "ParamTree",
@@ -36,6 +39,8 @@ __all__ = [
     "Timer",
     "Topic",
     "Transport",
+    "TransportError",
+    "ZenohTransport",
     "parse_ros_args",
     "resolve_name",
 ]

@@ -51,6 +51,7 @@ class Transport(Protocol):
     def offer_service(self, server: ServiceServer) -> None: ...
     def call_service(self, name: str, srv_type: str, request: Any, timeout: float) -> Any: ...
     def node_added(self, node: Node) -> None: ...
+    def attach(self, graph: Graph) -> None: ...
     def close(self) -> None: ...
 
 
@@ -336,6 +337,8 @@ class Graph:
         self.services: dict[str, ServiceServer] = {}
         self.nodes: dict[str, Node] = {}
         self.transport = transport
+        if transport is not None:
+            transport.attach(self)
         self._lock = threading.Lock()
         self._seq = 0
 

@@ -102,8 +102,11 @@ class TypeRegistry:
         for name, text in _EXTRA_MESSAGES.items():
             extra.update(get_types_from_msg(text, name))
         for name, (req, res) in _EXTRA_SERVICES.items():
-            extra.update(get_types_from_msg(req, f"{name}_Request"))
-            extra.update(get_types_from_msg(res, f"{name}_Response"))
+            for suffix, text in (("_Request", req), ("_Response", res)):
+                # rosbags files every definition under pkg/msg/…; keep services under pkg/srv/
+                pkg, _, base = name.partition("/srv/")
+                (fielddef,) = get_types_from_msg(text, f"{pkg}/msg/{base}{suffix}").values()
+                extra[f"{name}{suffix}"] = fielddef
         self.store.register(extra)
         self.services = frozenset(_EXTRA_SERVICES)
 
@@ -116,6 +119,9 @@ class TypeRegistry:
         full = canonical(name)
         if full in self.store.fielddefs:
             return full
+        if "/srv/" in full and full.rsplit("_", 1)[-1] in ("Request", "Response"):
+            msg = f"unknown service message type {name!r}"
+            raise MessageTypeError(msg)
         known = sorted(self.message_names())
         close = difflib.get_close_matches(full, known, n=3, cutoff=0.6)
         if not close:  # try by the type's own name, whatever the package
