@@ -1,0 +1,59 @@
+"""``belvedere node list|info`` — rosnode, across processes."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from belvedere.cli._tool import add_endpoint_option, open_tool
+from belvedere.errors import BelvedereError
+from belvedere.graph import resolve_name
+from belvedere.msgs import short
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(
+    sub: argparse._SubParsersAction[argparse.ArgumentParser], common: argparse.ArgumentParser
+) -> None:
+    p = sub.add_parser("node", parents=[common], help="list nodes and what they do")
+    verbs = p.add_subparsers(dest="action", metavar="ACTION", required=True)
+    v = verbs.add_parser("list", parents=[common], help="running nodes")
+    add_endpoint_option(v)
+    v = verbs.add_parser("info", parents=[common], help="a node's topics and services")
+    add_endpoint_option(v)
+    v.add_argument("node")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    tool = open_tool(args, "node")
+    try:
+        info = tool.info()
+        own = tool.node.full_name
+        if args.action == "list":
+            for name in sorted(info.nodes - {own}):
+                sys.stdout.write(name + "\n")
+            return 0
+        name = resolve_name(args.node)
+        if name not in info.nodes:
+            msg = f"unknown node {name}"
+            raise BelvedereError(msg, hint="see 'belvedere node list'")
+
+        def section(title: str, table: dict[str, set[tuple[str, str]]]) -> list[str]:
+            rows = [
+                f" * {topic} [{short(typ)}]"
+                for topic, entries in sorted(table.items())
+                for typ, node in sorted(entries)
+                if node == name
+            ]
+            return [title, *(rows or [" None"]), ""]
+
+        out = [f"Node [{name}]"]
+        out += section("Publications: ", info.publishers)
+        out += section("Subscriptions: ", info.subscribers)
+        out += section("Services: ", info.services)
+        sys.stdout.write("\n".join(out))
+        return 0
+    finally:
+        tool.close()

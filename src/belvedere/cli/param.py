@@ -1,0 +1,88 @@
+"""``belvedere param list|get|set|load|dump|delete`` — rosparam, against the running graph."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import yaml
+
+from belvedere.cli._tool import add_endpoint_option, open_tool
+from belvedere.errors import BelvedereError
+from belvedere.graph import resolve_name
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(
+    sub: argparse._SubParsersAction[argparse.ArgumentParser], common: argparse.ArgumentParser
+) -> None:
+    p = sub.add_parser("param", parents=[common], help="read and write the parameter tree")
+    verbs = p.add_subparsers(dest="action", metavar="ACTION", required=True)
+
+    def verb(name: str, help_text: str) -> argparse.ArgumentParser:
+        v = verbs.add_parser(name, parents=[common], help=help_text)
+        add_endpoint_option(v)
+        return v
+
+    verb("list", "parameter names").add_argument("namespace", nargs="?", default="/")
+    verb("get", "a value (a namespace gives a mapping)").add_argument("name")
+    v = verb("set", "set a value (YAML)")
+    v.add_argument("name")
+    v.add_argument("value")
+    v = verb("load", "load a YAML file into a namespace")
+    v.add_argument("file")
+    v.add_argument("namespace", nargs="?", default="/")
+    v = verb("dump", "write parameters as YAML (to FILE or stdout)")
+    v.add_argument("file", nargs="?")
+    v.add_argument("namespace", nargs="?", default="/")
+    verb("delete", "delete a parameter or namespace").add_argument("name")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    tool = open_tool(args, "param")
+    try:
+        ask = tool.transport.param_request
+        action = args.action
+        if action == "list":
+            for name in ask({"op": "list", "name": resolve_name(args.namespace)}):
+                sys.stdout.write(name + "\n")
+        elif action == "get":
+            value = ask({"op": "get", "name": resolve_name(args.name)})
+            text = yaml.safe_dump(value, default_flow_style=False).rstrip()
+            sys.stdout.write(text.removesuffix("\n...") + "\n")
+        elif action == "set":
+            try:
+                value = yaml.safe_load(args.value)
+            except yaml.YAMLError as err:
+                msg = f"value {args.value!r} is not valid YAML: {err}"
+                raise BelvedereError(msg) from None
+            ask({"op": "set", "name": resolve_name(args.name), "value": value})
+        elif action == "load":
+            path = Path(args.file)
+            try:
+                text = path.read_text(encoding="utf-8")
+            except OSError as err:
+                msg = f"cannot read {path}: {err.strerror}"
+                raise BelvedereError(msg) from None
+            ask(
+                {
+                    "op": "load",
+                    "name": resolve_name(args.namespace),
+                    "yaml": text,
+                    "source": str(path),
+                }
+            )
+        elif action == "dump":
+            text = ask({"op": "dump", "name": resolve_name(args.namespace)})
+            if args.file and args.file != "-":
+                Path(args.file).write_text(text, encoding="utf-8")
+            else:
+                sys.stdout.write(text)
+        elif action == "delete":
+            ask({"op": "delete", "name": resolve_name(args.name)})
+        return 0
+    finally:
+        tool.close()

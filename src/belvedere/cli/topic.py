@@ -1,0 +1,270 @@
+"""``belvedere topic list|echo|pub|hz|info|type|bw`` — rostopic, with no roscore."""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import statistics
+import sys
+import threading
+import time
+from collections import deque
+from typing import Any
+
+from belvedere.cli._tool import Tool, add_endpoint_option, open_tool, wait_for
+from belvedere.errors import BelvedereError
+from belvedere.graph import resolve_name
+from belvedere.msgs import message_from_args, message_to_yaml, short, types
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(
+    sub: argparse._SubParsersAction[argparse.ArgumentParser], common: argparse.ArgumentParser
+) -> None:
+    p = sub.add_parser("topic", parents=[common], help="list, echo, publish, measure topics")
+    verbs = p.add_subparsers(dest="action", metavar="ACTION", required=True)
+
+    def verb(name: str, help_text: str) -> argparse.ArgumentParser:
+        v = verbs.add_parser(name, parents=[common], help=help_text)
+        add_endpoint_option(v)
+        return v
+
+    v = verb("list", "topics with publishers or subscribers")
+    v.add_argument("-t", "--types", action="store_true", help="show each topic's type")
+    v = verb("echo", "print messages")
+    v.add_argument("topic")
+    v.add_argument("-n", dest="count", type=int, help="stop after COUNT messages")
+    v.add_argument("--noarr", action="store_true", help="show arrays as their type and length")
+    v.add_argument("--offset", action="store_true", help="show header stamps as offsets from now")
+    v.add_argument("--timeout", type=float, default=None, help="give up after SECONDS")
+    v = verb("pub", "publish a message")
+    v.add_argument("topic")
+    v.add_argument("type")
+    v.add_argument("values", nargs="*", help="YAML: one mapping, or one value per field")
+    v.add_argument("-r", dest="rate", type=float, help="publish at RATE Hz until stopped")
+    v.add_argument("-1", "--once", action="store_true", help="publish once, then exit")
+    v.add_argument("-l", "--latch", action="store_true", help="latch (the default without -r)")
+    v.add_argument("--count", type=int, help="with -r: stop after COUNT messages")
+    v = verb("hz", "message rate")
+    v.add_argument("topic")
+    v.add_argument("-w", dest="window", type=int, default=1000, help="window (messages)")
+    v.add_argument("--duration", type=float, help="stop after SECONDS")
+    v = verb("bw", "bandwidth")
+    v.add_argument("topic")
+    v.add_argument("--duration", type=float, help="stop after SECONDS")
+    v = verb("info", "type, publishers and subscribers")
+    v.add_argument("topic")
+    v = verb("type", "the topic's message type")
+    v.add_argument("topic")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    tool = open_tool(args, "topic")
+    try:
+        action = {
+            "list": _list,
+            "echo": _echo,
+            "pub": _pub,
+            "hz": _hz,
+            "bw": _bw,
+            "info": _info,
+            "type": _type,
+        }[args.action]
+        tool.graph.start(rtf=None)
+        return action(tool, args)
+    finally:
+        tool.close()
+
+
+def _name(topic: str) -> str:
+    return resolve_name(topic)
+
+
+def _topic_type(tool: Tool, topic: str, timeout: float | None) -> str:
+    """The type of a topic someone publishes (waiting up to ``timeout``; None: forever)."""
+    found: list[str] = []
+
+    def look() -> bool:
+        typ = tool.info(timeout=0.3).topic_type(topic)
+        if typ:
+            found.append(typ)
+        return bool(found)
+
+    if timeout is None:
+        if not wait_for(look, 1.0, step=0.2):
+            sys.stderr.write(f"waiting for {topic} to appear (Ctrl-C to stop)…\n")
+            wait_for(look, float("inf"), step=0.2)
+        return found[0]
+    if not wait_for(look, timeout, step=0.2):
+        msg = f"no node publishes or subscribes to {topic} (waited {timeout:g} s)"
+        raise BelvedereError(msg, hint="check the name with 'belvedere topic list'")
+    return found[0]
+
+
+def _list(tool: Tool, args: argparse.Namespace) -> int:
+    info = tool.info()
+    names = sorted(set(info.publishers) | set(info.subscribers))
+    for name in names:
+        if args.types:
+            sys.stdout.write(f"{name} [{short(info.topic_type(name) or '?')}]\n")
+        else:
+            sys.stdout.write(name + "\n")
+    return 0
+
+
+def _echo(tool: Tool, args: argparse.Namespace) -> int:
+    topic = _name(args.topic)
+    msg_type = _topic_type(tool, topic, args.timeout)
+    printed = threading.Semaphore(0)
+    count = [0]
+    limit = args.count
+
+    def show(msg: Any) -> None:
+        if limit is not None and count[0] >= limit:
+            return
+        count[0] += 1
+        text = message_to_yaml(msg, noarr=args.noarr)
+        if args.offset and hasattr(msg, "header"):
+            stamp = msg.header.stamp
+            offset = time.time() - (stamp.sec + stamp.nanosec * 1e-9)
+            text = f"offset: {offset:.6f}\n" + text
+        sys.stdout.write(text + "\n---\n")
+        sys.stdout.flush()
+        printed.release()
+
+    tool.node.subscribe(topic, msg_type, show, queue_size=100)
+    start = time.monotonic()
+    received = 0
+    while limit is None or received < limit:
+        remaining = None if args.timeout is None else args.timeout - (time.monotonic() - start)
+        if remaining is not None and remaining <= 0:
+            if received == 0:
+                msg = f"no message on {topic} within {args.timeout:g} s"
+                raise BelvedereError(msg, hint="is its publisher running?")
+            break
+        if printed.acquire(timeout=min(remaining, 0.5) if remaining is not None else 0.5):
+            received += 1
+    return 0
+
+
+def _pub(tool: Tool, args: argparse.Namespace) -> int:
+    topic = _name(args.topic)
+    msg_type = types().resolve(args.type)
+    seq = [0]
+
+    def build() -> Any:
+        msg = message_from_args(msg_type, args.values, clock=tool.graph.clock_stamp, seq=seq[0])
+        seq[0] += 1
+        return msg
+
+    first = build()  # bad YAML fails here, before anything is advertised
+    latch = args.latch or args.rate is None
+    pub = tool.node.publisher(topic, msg_type, latch=latch)
+    # Give subscribers in other processes a moment to see us (rostopic waits too).
+    wait_for(lambda: pub.topic.remote, 1.0)
+    if args.rate is None:
+        pub.publish(first)
+        if args.once:
+            wait_for(lambda: False, 1.0)  # let the message leave before closing
+            return 0
+        sys.stderr.write(f"publishing and latching {short(msg_type)} on {topic} (Ctrl-C to stop)\n")
+        while True:
+            time.sleep(3600)
+    if args.rate <= 0:
+        msg = f"-r RATE must be positive, got {args.rate!r}"
+        raise BelvedereError(msg)
+    period = 1.0 / args.rate
+    sent = 0
+    next_at = time.monotonic()
+    msg = first
+    while args.count is None or sent < args.count:
+        pub.publish(msg)
+        sent += 1
+        msg = build()
+        next_at += period
+        time.sleep(max(0.0, next_at - time.monotonic()))
+    wait_for(lambda: False, 0.3)
+    return 0
+
+
+def _hz(tool: Tool, args: argparse.Namespace) -> int:
+    topic = _name(args.topic)
+    msg_type = _topic_type(tool, topic, args.duration)
+    stamps: deque[float] = deque(maxlen=args.window)
+    lock = threading.Lock()
+
+    def on_msg(_: Any) -> None:
+        with lock:
+            stamps.append(time.monotonic())
+
+    tool.node.subscribe(topic, msg_type, on_msg, queue_size=1000)
+    start = time.monotonic()
+    while args.duration is None or time.monotonic() - start < args.duration:
+        time.sleep(1.0)
+        with lock:
+            times = list(stamps)
+        if len(times) < 2:
+            sys.stdout.write("no new messages\n")
+            continue
+        gaps = [b - a for a, b in itertools.pairwise(times)]
+        mean = statistics.fmean(gaps)
+        sys.stdout.write(
+            f"average rate: {1.0 / mean:.3f}\n\tmin: {min(gaps):.3f}s max: {max(gaps):.3f}s "
+            f"std dev: {statistics.pstdev(gaps):.5f}s window: {len(times)}\n"
+        )
+        sys.stdout.flush()
+    return 0
+
+
+def _bw(tool: Tool, args: argparse.Namespace) -> int:
+    topic = _name(args.topic)
+    msg_type = _topic_type(tool, topic, args.duration)
+    sizes: deque[tuple[float, int]] = deque(maxlen=100)
+
+    def on_msg(msg: Any) -> None:
+        sizes.append((time.monotonic(), len(types().serialize(msg))))
+
+    tool.node.subscribe(topic, msg_type, on_msg, queue_size=1000)
+    start = time.monotonic()
+    while args.duration is None or time.monotonic() - start < args.duration:
+        time.sleep(1.0)
+        window = list(sizes)
+        if len(window) < 2:
+            sys.stdout.write("no new messages\n")
+            continue
+        span = window[-1][0] - window[0][0] or 1e-9
+        total = sum(s for _, s in window)
+        sys.stdout.write(
+            f"average: {total / span:.2f}B/s\n\tmean: {total / len(window):.2f}B "
+            f"min: {min(s for _, s in window)}B max: {max(s for _, s in window)}B "
+            f"window: {len(window)}\n"
+        )
+        sys.stdout.flush()
+    return 0
+
+
+def _info(tool: Tool, args: argparse.Namespace) -> int:
+    topic = _name(args.topic)
+    info = tool.info()
+    typ = info.topic_type(topic)
+    if typ is None:
+        msg = f"unknown topic {topic}: no node publishes or subscribes to it"
+        raise BelvedereError(msg)
+    out = [f"Type: {short(typ)}", "", "Publishers: "]
+    out += [f" * {node}" for _, node in sorted(info.publishers.get(topic, ()))] or [" None"]
+    out += ["", "Subscribers: "]
+    out += [f" * {node}" for _, node in sorted(info.subscribers.get(topic, ()))] or [" None"]
+    sys.stdout.write("\n".join(out) + "\n")
+    return 0
+
+
+def _type(tool: Tool, args: argparse.Namespace) -> int:
+    topic = _name(args.topic)
+    typ = tool.info().topic_type(topic)
+    if typ is None:
+        msg = f"unknown topic {topic}: no node publishes or subscribes to it"
+        raise BelvedereError(msg)
+    sys.stdout.write(short(typ) + "\n")
+    return 0
