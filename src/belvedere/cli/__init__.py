@@ -17,13 +17,14 @@ from belvedere.cli import check as check_verb
 from belvedere.cli import node as node_verb
 from belvedere.cli import param as param_verb
 from belvedere.cli import service as service_verb
+from belvedere.cli import tf as tf_verb
 from belvedere.cli import topic as topic_verb
 from belvedere.cli import xacro as xacro_verb
 from belvedere.errors import BelvedereError
 
 __all__ = ["main"]
 
-_VERBS = (xacro_verb, check_verb, topic_verb, param_verb, service_verb, node_verb)
+_VERBS = (xacro_verb, check_verb, topic_verb, param_verb, service_verb, node_verb, tf_verb)
 
 
 class _Formatter(logging.Formatter):

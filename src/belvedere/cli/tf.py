@@ -1,0 +1,76 @@
+"""``belvedere tf echo SOURCE TARGET`` and ``belvedere tf tree``."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+
+from belvedere.cli._tool import add_endpoint_option, open_tool, wait_for
+from belvedere.errors import BelvedereError
+from belvedere.tf import TFBuffer, TFError, TransformListener, rpy_from_quat_xyzw
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(
+    sub: argparse._SubParsersAction[argparse.ArgumentParser], common: argparse.ArgumentParser
+) -> None:
+    p = sub.add_parser("tf", parents=[common], help="transforms: echo one, or show the tree")
+    verbs = p.add_subparsers(dest="action", metavar="ACTION", required=True)
+    v = verbs.add_parser("echo", parents=[common], help="print SOURCE's pose in TARGET (tf_echo)")
+    add_endpoint_option(v)
+    v.add_argument("source", help="the frame to express… (tf_echo's first argument)")
+    v.add_argument("target", help="…in this frame")
+    v.add_argument("-n", dest="count", type=int, help="stop after COUNT prints (one a second)")
+    v.add_argument("--timeout", type=float, default=5.0, help="give up after SECONDS")
+    v = verbs.add_parser("tree", parents=[common], help="the frame tree with rates (view_frames)")
+    add_endpoint_option(v)
+    v.add_argument("--wait", type=float, default=2.0, help="listen for SECONDS first")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    tool = open_tool(args, "tf")
+    try:
+        buffer = TFBuffer()
+        TransformListener(tool.node, buffer)
+        tool.graph.start(rtf=None)
+        if args.action == "tree":
+            time.sleep(args.wait)
+            tree = buffer.tree(now_ns=time.time_ns())
+            if not tree:
+                msg = f"no transforms on /tf or /tf_static within {args.wait:g} s"
+                raise BelvedereError(msg)
+            sys.stdout.write(tree + "\n")
+            return 0
+        # tf_echo SOURCE TARGET prints the transform from SOURCE to TARGET: TARGET's pose
+        # expressed in SOURCE.
+        if not wait_for(lambda: buffer.can_transform(args.source, args.target), args.timeout):
+            try:
+                buffer.lookup_transform(args.source, args.target)
+            except TFError as err:
+                within = f"within {args.timeout:g} s"
+                msg = f"no transform {args.source} -> {args.target} {within}: {err.message}"
+                raise BelvedereError(msg) from None
+        printed = 0
+        while args.count is None or printed < args.count:
+            t = buffer.lookup_transform(args.source, args.target)
+            x, y, z = t.translation
+            qx, qy, qz, qw = t.quat_xyzw
+            r, p, yaw = rpy_from_quat_xyzw(t.quat_xyzw)
+            sys.stdout.write(
+                f"- Translation: [{x:.3f}, {y:.3f}, {z:.3f}]\n"
+                f"- Rotation: in Quaternion [{qx:.3f}, {qy:.3f}, {qz:.3f}, {qw:.3f}]\n"
+                f"            in RPY (radian) [{r:.3f}, {p:.3f}, {yaw:.3f}]\n"
+                f"            in RPY (degree) [{math.degrees(r):.3f}, {math.degrees(p):.3f}, "
+                f"{math.degrees(yaw):.3f}]\n"
+            )
+            sys.stdout.flush()
+            printed += 1
+            if args.count is None or printed < args.count:
+                time.sleep(1.0)
+        return 0
+    finally:
+        tool.close()
