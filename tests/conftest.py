@@ -8,6 +8,7 @@ import subprocess
 import sys
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -88,3 +89,55 @@ def melodic_oracle() -> Oracle:
     if not (MELODIC_ORACLE / "xacro" / "__init__.py").is_file():
         pytest.skip("xacro 1.13.3 (ROS Melodic's) is not installed under .oracles/")
     return Oracle(MELODIC_ORACLE)
+
+
+@pytest.fixture
+def endpoint(monkeypatch: pytest.MonkeyPatch) -> str:
+    """A free loopback endpoint of our own (tools and subprocesses see it too)."""
+    import socket
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    value = f"tcp/127.0.0.1:{port}"
+    monkeypatch.setenv("BELVEDERE_ENDPOINT", value)
+    return value
+
+
+PEER_SCRIPT = """
+import sys, time
+from belvedere.graph import Graph, ZenohTransport
+g = Graph(sim_time=False, transport=ZenohTransport(endpoint=sys.argv[1]))
+g.params.set("/robot/speed", 0.5)
+n = g.create_node("peer")
+n.service("trigger", "std_srvs/Trigger", lambda req: {"success": True, "message": "done"})
+n.publisher("/map_name", "std_msgs/String", latch=True).publish_data({"data": "office"})
+echo = n.publisher("/cmd_echo", "geometry_msgs/Twist")
+n.subscribe("/cmd_vel", "geometry_msgs/Twist", echo.publish)
+chatter = n.publisher("/chatter", "std_msgs/String")
+n.timer(0.02, lambda: chatter.publish_data({"data": "tick"}))
+g.start(rtf=None)
+print("READY", flush=True)
+sys.stdin.read()
+g.shutdown()
+"""
+
+
+@pytest.fixture
+def peer(endpoint: str, tmp_path: Path) -> Any:
+    """Another process on the graph: a service, a latched topic, a ticking topic, an echo of
+    /cmd_vel on /cmd_echo, and the parameter /robot/speed."""
+    script = tmp_path / "peer.py"
+    script.write_text(PEER_SCRIPT)
+    proc = subprocess.Popen(
+        [sys.executable, str(script), endpoint],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        text=True,
+    )
+    assert proc.stdout is not None
+    assert proc.stdout.readline().strip() == "READY"
+    yield proc
+    assert proc.stdin is not None
+    proc.stdin.close()
+    proc.wait(timeout=10)

@@ -104,18 +104,20 @@ class Executor:
 
     # --- running ---------------------------------------------------------------------------------
     def _drain(self) -> None:
+        # Deliver after each outside event, so a burst from another process does not pile up
+        # beyond the subscribers' queue sizes before anyone runs.
         inbox = self._inbox
+        ready = self._ready
         while True:
+            while ready:
+                item = ready.popleft()
+                if item.deliver_one():
+                    ready.append(item)
             try:
                 fn = inbox.get_nowait()
             except queue.Empty:
                 break
             fn()
-        ready = self._ready
-        while ready:
-            item = ready.popleft()
-            if item.deliver_one():
-                ready.append(item)
 
     def _fire_due(self, now_ns: int) -> None:
         timers = self._timers

@@ -1,0 +1,103 @@
+"""The graph tools in separate processes, as a user runs them in two terminals."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+BELVEDERE = [sys.executable, "-m", "belvedere"]
+SEED = "{linear: {x: 0.2, y: 0, z: 0}, angular: {x: 0, y: 0, z: 0.5}}"
+
+
+def run(*args: str, timeout: float = 20.0) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [*BELVEDERE, *args], capture_output=True, text=True, timeout=timeout, check=False
+    )
+
+
+def test_echo_and_pub_find_each_other_without_a_central_process(endpoint: str) -> None:
+    echo = subprocess.Popen(
+        [*BELVEDERE, "topic", "echo", "/chatter", "-n", "2"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    time.sleep(1.0)
+    pub = run("topic", "pub", "/chatter", "std_msgs/String", "data: hi", "-r", "5", "--count", "6")
+    out, err = echo.communicate(timeout=20)
+    assert pub.returncode == 0, pub.stderr
+    assert echo.returncode == 0, err
+    assert out == 'data: "hi"\n---\ndata: "hi"\n---\n'
+
+
+def test_the_seeds_command_against_a_running_graph(peer: Any) -> None:
+    echo = subprocess.Popen(
+        [*BELVEDERE, "topic", "echo", "/cmd_echo", "-n", "1", "--timeout", "15"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    time.sleep(1.0)
+    pub = subprocess.Popen(
+        [*BELVEDERE, "topic", "pub", "-r", "10", "/cmd_vel", "geometry_msgs/Twist", SEED],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        out, err = echo.communicate(timeout=20)
+    finally:
+        pub.terminate()
+        pub.wait(timeout=10)
+    assert echo.returncode == 0, err
+    assert out.startswith("linear: \n  x: 0.2\n")
+    assert "angular: \n  x: 0.0\n  y: 0.0\n  z: 0.5\n---\n" in out
+
+
+def test_introspection_params_and_services(peer: Any, tmp_path: Path) -> None:
+    listing = run("topic", "list", "-t")
+    assert "/chatter [std_msgs/String]" in listing.stdout
+    assert run("topic", "type", "/chatter").stdout == "std_msgs/String\n"
+    info = run("topic", "info", "/chatter").stdout
+    assert "Type: std_msgs/String" in info
+    assert " * /peer" in info
+    assert "/peer" in run("node", "list").stdout.split()
+    node_info = run("node", "info", "/peer").stdout
+    assert " * /chatter [std_msgs/String]" in node_info
+    assert " * /trigger [std_srvs/Trigger]" in node_info
+    assert run("param", "get", "/robot/speed").stdout == "0.5\n"
+    assert run("param", "set", "/robot/mode", "{a: 1}").returncode == 0
+    assert run("param", "get", "/robot/mode/a").stdout == "1\n"
+    assert "/robot/mode/a" in run("param", "list").stdout.split()
+    params = tmp_path / "p.yaml"
+    params.write_text("gains: {kp: 2.0}\n")
+    assert run("param", "load", str(params), "/ctrl").returncode == 0
+    assert run("param", "get", "/ctrl/gains/kp").stdout == "2.0\n"
+    dump = tmp_path / "dump.yaml"
+    assert run("param", "dump", str(dump)).returncode == 0
+    assert "kp: 2.0" in dump.read_text()
+    assert run("param", "delete", "/ctrl").returncode == 0
+    missing = run("param", "get", "/ctrl/gains/kp")
+    assert missing.returncode == 1
+    assert "is not set" in missing.stderr
+    assert run("service", "list").stdout.split() == ["/trigger"]
+    called = run("service", "call", "/trigger")
+    assert called.stdout == 'success: True\nmessage: "done"\n'
+
+
+def test_absent_things_are_said_plainly(endpoint: str) -> None:
+    echo = run("topic", "echo", "/nobody", "--timeout", "1")
+    assert echo.returncode == 1
+    assert "no node publishes or subscribes to /nobody (waited 1 s)" in echo.stderr
+    call = run("service", "call", "/nothing")
+    assert call.returncode == 1
+    assert "service /nothing is not offered by any node" in call.stderr
+    param = run("param", "get", "/x")
+    assert param.returncode == 1
+    assert "no running graph holds parameters" in param.stderr
+    bad = run("topic", "pub", "/t", "geometry_msgs/Twist", "{linear: {w: 1}}", "-1")
+    assert bad.returncode == 1
+    assert "field 'linear.w' does not exist in geometry_msgs/Vector3" in bad.stderr

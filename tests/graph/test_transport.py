@@ -1,0 +1,82 @@
+"""Two processes on loopback exchange every kind of traffic."""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import pytest
+
+from belvedere.graph import Graph, GraphError, ZenohTransport
+from belvedere.graph._zenoh import open_session
+
+
+def _wait(condition: Any, timeout: float = 5.0) -> bool:
+    deadline = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.02)
+    return True
+
+
+def test_traffic_between_processes(peer: Any, endpoint: str) -> None:
+    transport = ZenohTransport(endpoint=endpoint, serve_params=False)
+    assert transport.role == "connect"  # the peer listens; we connect
+    g = Graph(sim_time=False, transport=transport)
+    n = g.create_node("tester")
+    ticks: list[str] = []
+    latched: list[str] = []
+    echoed: list[float] = []
+    n.subscribe("/chatter", "std_msgs/String", lambda m: ticks.append(m.data))
+    n.subscribe("/map_name", "std_msgs/String", lambda m: latched.append(m.data))
+    n.subscribe("/cmd_echo", "geometry_msgs/Twist", lambda m: echoed.append(m.linear.x))
+    cmd = n.publisher("/cmd_vel", "geometry_msgs/Twist")
+    g.start(rtf=None)
+    try:
+        assert _wait(lambda: len(ticks) >= 3)
+        assert _wait(lambda: latched == ["office"])  # latched: we subscribed after it was sent
+        assert _wait(lambda: cmd.topic.remote)
+        for i in range(20):
+            cmd.publish_data({"linear": {"x": float(i)}})
+        assert _wait(lambda: len(echoed) == 20), echoed
+        assert echoed == [float(i) for i in range(20)]  # BLOCK: nothing lost, in order
+        response = n.call_service("/trigger", "std_srvs/Trigger", timeout=3.0)
+        assert (response.success, response.message) == (True, "done")
+        assert transport.param_request({"op": "get", "name": "/robot/speed"}) == 0.5
+        transport.param_request({"op": "set", "name": "/robot/mode", "value": {"a": [1, 2]}})
+        assert transport.param_request({"op": "get", "name": "/robot"}) == {
+            "speed": 0.5,
+            "mode": {"a": [1, 2]},
+        }
+        with pytest.raises(GraphError, match="parameter '/nope' is not set"):
+            transport.param_request({"op": "get", "name": "/nope"})
+        info = transport.info()
+        assert {"/peer", "/tester"} <= info.nodes
+        assert info.topic_type("/chatter") == "std_msgs/msg/String"
+        assert ("std_srvs/srv/Trigger", "/peer") in info.services["/trigger"]
+        with pytest.raises(GraphError, match="service /absent is not offered by any node"):
+            n.call_service("/absent", "std_srvs/Trigger", timeout=0.5)
+    finally:
+        g.shutdown()
+
+
+def test_nothing_is_serialized_without_remote_subscribers(endpoint: str) -> None:
+    g = Graph(sim_time=True, transport=ZenohTransport(endpoint=endpoint))
+    pub = g.create_node("n").publisher("/lonely", "std_msgs/String")
+    assert not pub.topic.remote
+    g.shutdown()
+
+
+def test_default_is_localhost_without_scouting(endpoint: str) -> None:
+    session, role = open_session(endpoint)
+    try:
+        assert role == "listen"
+        locators = (
+            [str(loc) for loc in session.info.locators()]
+            if hasattr(session.info, "locators")
+            else []
+        )
+        assert all("127.0.0.1" in loc for loc in locators)
+    finally:
+        session.close()  # type: ignore[no-untyped-call]
