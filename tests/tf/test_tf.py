@@ -1,0 +1,171 @@
+"""TF: transform math, the buffer, and the standard TF nodes."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from belvedere.description.urdf import RobotModel, rpy_to_matrix
+from belvedere.errors import BelvedereError
+from belvedere.graph import Graph
+from belvedere.tf import (
+    JointStatePublisher,
+    RobotStatePublisher,
+    TFBuffer,
+    TFError,
+    Transform,
+    TransformListener,
+    parse_static_transform_args,
+    quat_xyzw_from_rpy,
+    quat_xyzw_to_matrix,
+    rpy_from_quat_xyzw,
+    static_transform_publisher,
+    wxyz_from_xyzw,
+    xyzw_from_wxyz,
+)
+from tests.conftest import DATA, EXAMPLES
+
+angles = st.floats(-math.pi, math.pi)
+coords = st.floats(-100, 100)
+transforms = st.builds(
+    lambda x, y, z, r, p, yw: Transform((x, y, z), quat_xyzw_from_rpy(r, p, yw)),
+    coords,
+    coords,
+    coords,
+    angles,
+    angles,
+    angles,
+)
+
+
+@given(angles, angles, angles)
+def test_rpy_quaternion_matches_urdf_convention(r: float, p: float, y: float) -> None:
+    assert quat_xyzw_to_matrix(quat_xyzw_from_rpy(r, p, y)) == pytest.approx(
+        rpy_to_matrix((r, p, y)), abs=1e-9
+    )
+
+
+def test_quaternion_orders_are_explicit() -> None:
+    q = quat_xyzw_from_rpy(0, 0, math.pi / 2)
+    assert wxyz_from_xyzw(q)[0] == pytest.approx(math.cos(math.pi / 4))
+    assert xyzw_from_wxyz(wxyz_from_xyzw(q)) == q
+    assert rpy_from_quat_xyzw(q) == pytest.approx((0, 0, math.pi / 2))
+
+
+@settings(max_examples=100)
+@given(transforms, transforms, transforms)
+def test_group_axioms(a: Transform, b: Transform, c: Transform) -> None:
+    assert ((a @ b) @ c).matrix() == pytest.approx((a @ (b @ c)).matrix(), abs=1e-6)
+    assert (a @ a.inverse()).matrix() == pytest.approx(np.eye(4), abs=1e-6)
+    assert (a @ b).matrix() == pytest.approx(a.matrix() @ b.matrix(), abs=1e-6)
+    assert Transform.from_matrix(a.matrix()).matrix() == pytest.approx(a.matrix(), abs=1e-6)
+
+
+def test_buffer_lookup_interpolation_and_errors() -> None:
+    buf = TFBuffer()
+    buf.set_transform("map", "odom", Transform((1, 0, 0)), 0, static=True)
+    buf.set_transform("odom", "base", Transform((0, 0, 0)), 1_000_000_000)
+    buf.set_transform("odom", "base", Transform((2, 0, 0)), 2_000_000_000)
+    buf.set_transform("base", "laser", Transform((0, 0, 0.5)), 0, static=True)
+    t = buf.lookup_transform("map", "laser", 1_500_000_000)
+    assert t.translation == pytest.approx((2, 0, 0.5))
+    assert buf.lookup_transform("map", "laser").translation == pytest.approx((3, 0, 0.5))
+    assert buf.lookup_transform("laser", "map").translation == pytest.approx((-3, 0, -0.5))
+    with pytest.raises(TFError, match="extrapolate into the future: data for odom -> base covers"):
+        buf.lookup_transform("map", "base", 3_000_000_000)
+    with pytest.raises(TFError, match="frame 'nowhere' does not exist"):
+        buf.lookup_transform("map", "nowhere")
+    buf.set_transform("world", "other", Transform(), 0, static=True)
+    with pytest.raises(
+        TFError,
+        match="not connected: 'other' is in the tree of 'world', 'map' in the tree of 'map'",
+    ):
+        buf.lookup_transform("map", "other")
+    assert "base [" in buf.tree()
+
+
+def test_robot_state_publisher_matches_forward_kinematics() -> None:
+    model = RobotModel.from_path(DATA / "urdf" / "check" / "valid_full.urdf")
+    g = Graph()
+    g.params.set("/robot_description", model.to_urdf())
+    RobotStatePublisher(g.create_node("robot_state_publisher"))
+    jsp = JointStatePublisher(g.create_node("joint_state_publisher"))
+    listener = TransformListener(g.create_node("listener"))
+    q = {"shoulder": 0.4, "wrist": -1.2, "finger_a_joint": 0.3}
+    for name, value in q.items():
+        jsp.set_position(name, value)
+    g.run(duration=0.5)
+    fk = model.forward_kinematics(q)
+    for link in ("arm", "hand", "finger_a", "finger_b", "slider"):
+        t = listener.buffer.lookup_transform("base", link)
+        assert t.matrix() == pytest.approx(fk[link], abs=1e-9), link
+    # mimic: finger_b follows finger_a with multiplier -1
+    assert jsp.current()["finger_b_joint"] == pytest.approx(-0.3)
+
+
+def test_joint_state_publisher_defaults_and_zeros() -> None:
+    model = RobotModel.from_string(
+        '<robot name="r"><link name="a"/><link name="b"/><link name="c"/>'
+        '<joint name="j1" type="revolute"><parent link="a"/><child link="b"/>'
+        '<limit lower="0.5" upper="1.5" effort="1" velocity="1"/></joint>'
+        '<joint name="j2" type="continuous"><parent link="b"/><child link="c"/></joint></robot>'
+    )
+    g = Graph()
+    node = g.create_node("jsp", params={"zeros": {"j2": 0.7}})
+    jsp = JointStatePublisher(node, model)
+    assert jsp.current() == {"j1": 1.0, "j2": 0.7}  # 0 is outside j1's limits: its middle
+
+
+def test_tf_prefix_and_mbot_example() -> None:
+    model = RobotModel.from_path(
+        EXAMPLES / "mbot_description" / "urdf" / "xacro" / "gazebo" / "mbot_gazebo.xacro"
+    )
+    g = Graph()
+    node = g.create_node("robot_state_publisher", params={"tf_prefix": "robot1"})
+    RobotStatePublisher(node, model)
+    JointStatePublisher(g.create_node("joint_state_publisher"), model)
+    listener = TransformListener(g.create_node("listener"))
+    g.run(duration=0.2)
+    t = listener.buffer.lookup_transform("robot1/base_footprint", "robot1/base_link")
+    assert t.translation == pytest.approx((0, 0, 0.11))
+    with pytest.raises(BelvedereError, match="robot_description is not set"):
+        RobotStatePublisher(g.create_node("rsp2"))
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["1", "2", "3", str(math.pi / 2), "0", "0", "map", "odom"],
+        ["1", "2", "3", str(math.pi / 2), "0", "0", "map", "odom", "100"],
+        [
+            "1",
+            "2",
+            "3",
+            "0",
+            "0",
+            str(math.sin(math.pi / 4)),
+            str(math.cos(math.pi / 4)),
+            "map",
+            "odom",
+        ],
+    ],
+)
+def test_static_transform_argument_forms(args: list[str]) -> None:
+    parent, child, t = parse_static_transform_args(args)
+    assert (parent, child) == ("map", "odom")
+    assert t.translation == (1, 2, 3)
+    assert rpy_from_quat_xyzw(t.quat_xyzw) == pytest.approx((0, 0, math.pi / 2))  # yaw first
+
+
+def test_static_transform_publisher_and_bad_args() -> None:
+    g = Graph()
+    static_transform_publisher(g.create_node("stp"), ["0", "0", "1", "0", "0", "0", "base", "cam"])
+    listener = TransformListener(g.create_node("listener"))
+    g.spin_once()
+    assert listener.buffer.lookup_transform("base", "cam").translation == (0, 0, 1)
+    with pytest.raises(BelvedereError, match="wrong number of arguments"):
+        parse_static_transform_args(["1", "2"])
