@@ -19,6 +19,7 @@ import json
 import logging
 import os
 import threading
+from collections import deque
 from collections.abc import Callable
 from functools import partial
 from typing import Any, Final, cast
@@ -128,6 +129,7 @@ class ZenohTransport:
         self.serve_params = serve_params
         self.graph: Graph | None = None
         self._zid = str(self.session.zid())
+        self._store = types().store
         self._publishers: dict[str, Any] = {}
         self._matching: dict[str, Any] = {}
         self._subscribers: dict[str, Any] = {}
@@ -207,7 +209,7 @@ class ZenohTransport:
     def send(self, topic: Topic, msg: Any) -> None:
         zpub = self._publishers.get(topic.name)
         if zpub is not None:
-            zpub.put(types().serialize(msg), attachment=topic.type.encode())
+            zpub.put(bytes(self._store.serialize_cdr(msg, topic.type)))
 
     def subscribe(self, topic: Topic, subscription: Subscription) -> None:
         self._token("sub", topic.name, topic.type, subscription.node.full_name)
@@ -221,15 +223,32 @@ class ZenohTransport:
                 for sub in list(topic.subscriptions):
                     sub.enqueue(msg)
 
+            # Samples arrive on Zenoh's thread: queue their bytes and wake the executor once
+            # per burst, not once per message.
+            arrived: deque[bytes] = deque()
+            scheduled = [False]
+
+            def flush() -> None:
+                scheduled[0] = False
+                while arrived:
+                    data = arrived.popleft()
+                    try:
+                        msg = types().deserialize(data, topic.type)
+                    except Exception as err:  # noqa: BLE001 (a peer sent something else)
+                        logger.warning(
+                            "dropped a message on %s that is not a %s: %s",
+                            topic.name,
+                            topic.type,
+                            err,
+                        )
+                        continue
+                    deliver(msg)
+
             def on_sample(sample: Any) -> None:
-                try:
-                    msg = types().deserialize(sample.payload.to_bytes(), topic.type)
-                except Exception as err:  # noqa: BLE001 (a peer sent something else)
-                    logger.warning(
-                        "dropped a message on %s that is not a %s: %s", topic.name, topic.type, err
-                    )
-                    return
-                graph.executor.post(lambda: deliver(msg))
+                arrived.append(sample.payload.to_bytes())
+                if not scheduled[0]:
+                    scheduled[0] = True
+                    graph.executor.post(flush)
 
             self._subscribers[topic.name] = self.session.declare_subscriber(
                 _topic_key(topic.name), on_sample, allowed_origin=zenoh.Locality.REMOTE

@@ -163,7 +163,11 @@ class TypeRegistry:
         return bytes(data)
 
     def deserialize(self, data: bytes | memoryview, name: str) -> Any:
-        return self.store.deserialize_cdr(bytes(data), self.resolve(name))
+        if name not in self.store.fielddefs:  # canonical names (the usual case) skip this
+            name = self.resolve(name)
+        return self.store.deserialize_cdr(
+            bytes(data) if isinstance(data, memoryview) else data, name
+        )
 
     def definition(self, name: str) -> str:
         """The message definition text (``rosmsg show``)."""
