@@ -102,12 +102,16 @@ g.shutdown()
 
 def _spawn(code: str, *args: str) -> subprocess.Popen[str]:
     proc = subprocess.Popen(
-        [sys.executable, "-c", code, *args], stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True
+        [sys.executable, "-c", code, *args],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        text=True,
     )
     assert proc.stdout is not None
     line = proc.stdout.readline().strip()
     if line != "READY":
-        raise RuntimeError(f"receiver failed to start: {line!r}")
+        msg = f"receiver failed to start: {line!r}"
+        raise RuntimeError(msg)
     return proc
 
 
@@ -143,7 +147,8 @@ def between_processes_bare(n: int) -> tuple[int, float]:
     c.insert_json5("mode", '"client"')
     c.insert_json5("connect/endpoints", json.dumps([endpoint]))
     session = zenoh.open(c)
-    zpub = session.declare_publisher("bv/t/cmd_vel", congestion_control=zenoh.CongestionControl.BLOCK)
+    block = zenoh.CongestionControl.BLOCK
+    zpub = session.declare_publisher("bv/t/cmd_vel", congestion_control=block)
     while not zpub.matching_status.matching:  # type: ignore[attr-defined]
         time.sleep(0.01)
     msg = message_from_data("geometry_msgs/Twist", {"linear": {"x": 0.2}})
@@ -161,7 +166,9 @@ def round_trip(samples: int) -> list[float]:
     g = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint, role="connect"))
     node = g.create_node("pinger")
     arrived: list[float] = []
-    node.subscribe("/pong", "geometry_msgs/Twist", lambda m: arrived.append(time.perf_counter()), queue_size=0)
+    node.subscribe(
+        "/pong", "geometry_msgs/Twist", lambda m: arrived.append(time.perf_counter()), queue_size=0
+    )
     ping = node.publisher("/ping", "geometry_msgs/Twist")
     g.start(rtf=None)
     while not ping.topic.remote:

@@ -101,3 +101,18 @@ def test_absent_things_are_said_plainly(endpoint: str) -> None:
     bad = run("topic", "pub", "/t", "geometry_msgs/Twist", "{linear: {w: 1}}", "-1")
     assert bad.returncode == 1
     assert "field 'linear.w' does not exist in geometry_msgs/Vector3" in bad.stderr
+
+
+def test_example_talker_reaches_other_processes(endpoint: str) -> None:
+    talker = subprocess.Popen(
+        [sys.executable, str(Path(__file__).parents[2] / "examples" / "graph" / "talker.py")],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    try:
+        echo = run("topic", "echo", "/chatter", "-n", "1", "--timeout", "10")
+    finally:
+        talker.terminate()
+        talker.wait(timeout=10)
+    assert echo.returncode == 0, echo.stderr
+    assert echo.stdout.startswith('data: "hello world ')

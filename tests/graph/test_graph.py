@@ -182,3 +182,14 @@ def test_callback_errors_do_not_stop_the_graph(caplog: pytest.LogCaptureFixture)
     g.spin_once()
     assert len(got) == 1
     assert "callback of n on /t failed" in caplog.text
+
+
+def test_clock_is_published_in_simulated_time() -> None:
+    g = Graph(sim_time=True, clock_hz=100)
+    stamps: list[int] = []
+    g.create_node("n").subscribe(
+        "/clock", "rosgraph_msgs/Clock", lambda m: stamps.append(m.clock.nanosec)
+    )
+    g.run(duration=0.05)
+    assert stamps == [10_000_000, 20_000_000, 30_000_000, 40_000_000, 50_000_000]
+    assert Graph(sim_time=False).topics.get("/clock") is None

@@ -103,16 +103,20 @@ class Executor:
         return self._stop.is_set()
 
     # --- running ---------------------------------------------------------------------------------
+    def run_ready(self) -> None:
+        """Run every pending delivery (executor thread only)."""
+        ready = self._ready
+        while ready:
+            item = ready.popleft()
+            if item.deliver_one():
+                ready.append(item)
+
     def _drain(self) -> None:
         # Deliver after each outside event, so a burst from another process does not pile up
         # beyond the subscribers' queue sizes before anyone runs.
         inbox = self._inbox
-        ready = self._ready
         while True:
-            while ready:
-                item = ready.popleft()
-                if item.deliver_one():
-                    ready.append(item)
+            self.run_ready()
             try:
                 fn = inbox.get_nowait()
             except queue.Empty:

@@ -329,7 +329,9 @@ class Graph:
         sim_time: bool = True,
         seed: int = 0,
         transport: Transport | None = None,
+        clock_hz: float | None = 100.0,
     ) -> None:
+        """``clock_hz``: in simulated time, how often ``/clock`` announces it (None: never)."""
         self.executor = Executor(sim_time=sim_time, seed=seed)
         self.params = ParamTree()
         self.params.set("/use_sim_time", sim_time)
@@ -341,6 +343,17 @@ class Graph:
             transport.attach(self)
         self._lock = threading.Lock()
         self._seq = 0
+        if sim_time and clock_hz:
+            clock = self.create_node("belvedere_clock")
+            pub = clock.publisher("/clock", "rosgraph_msgs/Clock", queue_size=1)
+            clock_type = types().cls("rosgraph_msgs/Clock")
+            time_type = types().cls("builtin_interfaces/Time")
+
+            def tick() -> None:
+                ns = self.now_ns()
+                pub.publish(clock_type(time_type(ns // NS, ns % NS)))
+
+            clock.timer(1.0 / clock_hz, tick)
 
     # --- time ----------------------------------------------------------------------------------
     @property

@@ -243,6 +243,7 @@ class ZenohTransport:
                         )
                         continue
                     deliver(msg)
+                    graph.executor.run_ready()  # each message's callbacks run before the next
 
             def on_sample(sample: Any) -> None:
                 arrived.append(sample.payload.to_bytes())

@@ -1,0 +1,14 @@
+"""A listener: prints what arrives on /chatter (from this process or any other)."""
+
+import logging
+
+from belvedere.graph import Graph, ZenohTransport
+
+logging.basicConfig(level=logging.INFO, format="%(message)s")
+graph = Graph(sim_time=False, transport=ZenohTransport())
+node = graph.create_node("listener")
+node.subscribe("chatter", "std_msgs/String", lambda msg: node.logger.info("I heard: %s", msg.data))
+try:
+    graph.run()
+except KeyboardInterrupt:
+    graph.shutdown()
