@@ -116,6 +116,8 @@ echo = n.publisher("/cmd_echo", "geometry_msgs/Twist")
 n.subscribe("/cmd_vel", "geometry_msgs/Twist", echo.publish)
 chatter = n.publisher("/chatter", "std_msgs/String")
 n.timer(0.02, lambda: chatter.publish_data({"data": "tick"}))
+from belvedere.tf import static_transform_publisher
+static_transform_publisher(n, ["0.1", "0", "0.2", "1.5707963", "0", "0", "base_link", "camera"])
 g.start(rtf=None)
 print("READY", flush=True)
 sys.stdin.read()
@@ -126,7 +128,8 @@ g.shutdown()
 @pytest.fixture
 def peer(endpoint: str, tmp_path: Path) -> Any:
     """Another process on the graph: a service, a latched topic, a ticking topic, an echo of
-    /cmd_vel on /cmd_echo, and the parameter /robot/speed."""
+    /cmd_vel on /cmd_echo, the parameter /robot/speed, and a static transform
+    base_link -> camera."""
     script = tmp_path / "peer.py"
     script.write_text(PEER_SCRIPT)
     proc = subprocess.Popen(

@@ -116,3 +116,15 @@ def test_example_talker_reaches_other_processes(endpoint: str) -> None:
         talker.wait(timeout=10)
     assert echo.returncode == 0, echo.stderr
     assert echo.stdout.startswith('data: "hello world ')
+
+
+def test_tf_echo_and_tree(peer: Any) -> None:
+    echo = run("tf", "echo", "base_link", "camera", "-n", "1")
+    assert echo.returncode == 0, echo.stderr
+    assert echo.stdout.startswith("- Translation: [0.100, 0.000, 0.200]\n")
+    assert "in RPY (degree) [0.000, 0.000, 90.000]" in echo.stdout
+    tree = run("tf", "tree", "--wait", "1")
+    assert tree.stdout == "base_link\n  camera [static]\n"
+    missing = run("tf", "echo", "base_link", "nowhere", "--timeout", "1")
+    assert missing.returncode == 1
+    assert "frame 'nowhere' does not exist" in missing.stderr
