@@ -5,11 +5,12 @@ from __future__ import annotations
 import argparse
 import os
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from belvedere.graph import Graph, GraphInfo, Node, ZenohTransport
 
-__all__ = ["Tool", "add_endpoint_option", "open_tool", "wait_for"]
+__all__ = ["Tool", "action_parsers", "add_endpoint_option", "open_tool", "wait_for"]
 
 
 def add_endpoint_option(p: argparse.ArgumentParser) -> None:
@@ -18,6 +19,21 @@ def add_endpoint_option(p: argparse.ArgumentParser) -> None:
         metavar="ENDPOINT",
         help="Zenoh endpoint of the graph (default: BELVEDERE_ENDPOINT or tcp/127.0.0.1:7450)",
     )
+
+
+def action_parsers(
+    parser: argparse.ArgumentParser, common: argparse.ArgumentParser
+) -> Callable[[str, str], argparse.ArgumentParser]:
+    """A maker of ``belvedere VERB ACTION`` sub-parsers, each with the common options and
+    ``--endpoint``."""
+    actions = parser.add_subparsers(dest="action", metavar="ACTION", required=True)
+
+    def action(name: str, help_text: str) -> argparse.ArgumentParser:
+        sub = actions.add_parser(name, parents=[common], help=help_text)
+        add_endpoint_option(sub)
+        return sub
+
+    return action
 
 
 @dataclass

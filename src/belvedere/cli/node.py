@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from belvedere.cli._tool import add_endpoint_option, open_tool
+from belvedere.cli._tool import action_parsers, open_tool
 from belvedere.errors import BelvedereError
 from belvedere.graph import resolve_name
 from belvedere.msgs import short
@@ -17,12 +17,9 @@ def add_parser(
     sub: argparse._SubParsersAction[argparse.ArgumentParser], common: argparse.ArgumentParser
 ) -> None:
     p = sub.add_parser("node", parents=[common], help="list nodes and what they do")
-    verbs = p.add_subparsers(dest="action", metavar="ACTION", required=True)
-    v = verbs.add_parser("list", parents=[common], help="running nodes")
-    add_endpoint_option(v)
-    v = verbs.add_parser("info", parents=[common], help="a node's topics and services")
-    add_endpoint_option(v)
-    v.add_argument("node")
+    verb = action_parsers(p, common)
+    verb("list", "running nodes")
+    verb("info", "a node's topics and services").add_argument("node")
     p.set_defaults(run=run)
 
 

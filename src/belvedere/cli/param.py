@@ -8,7 +8,7 @@ from pathlib import Path
 
 import yaml
 
-from belvedere.cli._tool import add_endpoint_option, open_tool
+from belvedere.cli._tool import action_parsers, open_tool
 from belvedere.errors import BelvedereError
 from belvedere.graph import resolve_name
 
@@ -19,12 +19,7 @@ def add_parser(
     sub: argparse._SubParsersAction[argparse.ArgumentParser], common: argparse.ArgumentParser
 ) -> None:
     p = sub.add_parser("param", parents=[common], help="read and write the parameter tree")
-    verbs = p.add_subparsers(dest="action", metavar="ACTION", required=True)
-
-    def verb(name: str, help_text: str) -> argparse.ArgumentParser:
-        v = verbs.add_parser(name, parents=[common], help=help_text)
-        add_endpoint_option(v)
-        return v
+    verb = action_parsers(p, common)
 
     verb("list", "parameter names").add_argument("namespace", nargs="?", default="/")
     verb("get", "a value (a namespace gives a mapping)").add_argument("name")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from belvedere.cli._tool import add_endpoint_option, open_tool
+from belvedere.cli._tool import action_parsers, open_tool
 from belvedere.errors import BelvedereError
 from belvedere.graph import resolve_name
 from belvedere.msgs import message_from_args, message_to_yaml, short
@@ -17,14 +17,10 @@ def add_parser(
     sub: argparse._SubParsersAction[argparse.ArgumentParser], common: argparse.ArgumentParser
 ) -> None:
     p = sub.add_parser("service", parents=[common], help="list and call services")
-    verbs = p.add_subparsers(dest="action", metavar="ACTION", required=True)
-    v = verbs.add_parser("list", parents=[common], help="offered services")
-    add_endpoint_option(v)
-    v = verbs.add_parser("type", parents=[common], help="a service's type")
-    add_endpoint_option(v)
-    v.add_argument("service")
-    v = verbs.add_parser("call", parents=[common], help="call a service")
-    add_endpoint_option(v)
+    verb = action_parsers(p, common)
+    verb("list", "offered services")
+    verb("type", "a service's type").add_argument("service")
+    v = verb("call", "call a service")
     v.add_argument("service")
     v.add_argument("values", nargs="*", help="request as YAML (one mapping or per field)")
     v.add_argument("--timeout", type=float, default=5.0)

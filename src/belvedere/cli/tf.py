@@ -7,7 +7,7 @@ import math
 import sys
 import time
 
-from belvedere.cli._tool import add_endpoint_option, open_tool, wait_for
+from belvedere.cli._tool import action_parsers, open_tool, wait_for
 from belvedere.errors import BelvedereError
 from belvedere.tf import TFBuffer, TFError, TransformListener, rpy_from_quat_xyzw
 
@@ -18,15 +18,13 @@ def add_parser(
     sub: argparse._SubParsersAction[argparse.ArgumentParser], common: argparse.ArgumentParser
 ) -> None:
     p = sub.add_parser("tf", parents=[common], help="transforms: echo one, or show the tree")
-    verbs = p.add_subparsers(dest="action", metavar="ACTION", required=True)
-    v = verbs.add_parser("echo", parents=[common], help="print SOURCE's pose in TARGET (tf_echo)")
-    add_endpoint_option(v)
+    verb = action_parsers(p, common)
+    v = verb("echo", "print TARGET's pose in SOURCE (tf_echo)")
     v.add_argument("source", help="the frame to express… (tf_echo's first argument)")
     v.add_argument("target", help="…in this frame")
     v.add_argument("-n", dest="count", type=int, help="stop after COUNT prints (one a second)")
     v.add_argument("--timeout", type=float, default=5.0, help="give up after SECONDS")
-    v = verbs.add_parser("tree", parents=[common], help="the frame tree with rates (view_frames)")
-    add_endpoint_option(v)
+    v = verb("tree", "the frame tree with rates (view_frames)")
     v.add_argument("--wait", type=float, default=2.0, help="listen for SECONDS first")
     p.set_defaults(run=run)
 

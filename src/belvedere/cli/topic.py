@@ -11,7 +11,7 @@ import time
 from collections import deque
 from typing import Any
 
-from belvedere.cli._tool import Tool, add_endpoint_option, open_tool, wait_for
+from belvedere.cli._tool import Tool, action_parsers, open_tool, wait_for
 from belvedere.errors import BelvedereError
 from belvedere.graph import resolve_name
 from belvedere.msgs import message_from_args, message_to_yaml, short, types
@@ -23,12 +23,7 @@ def add_parser(
     sub: argparse._SubParsersAction[argparse.ArgumentParser], common: argparse.ArgumentParser
 ) -> None:
     p = sub.add_parser("topic", parents=[common], help="list, echo, publish, measure topics")
-    verbs = p.add_subparsers(dest="action", metavar="ACTION", required=True)
-
-    def verb(name: str, help_text: str) -> argparse.ArgumentParser:
-        v = verbs.add_parser(name, parents=[common], help=help_text)
-        add_endpoint_option(v)
-        return v
+    verb = action_parsers(p, common)
 
     v = verb("list", "topics with publishers or subscribers")
     v.add_argument("-t", "--types", action="store_true", help="show each topic's type")
