@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-DEBIAN_PACKAGES=(liburdfdom-tools)  # check_urdf: the oracle of the URDF tests
+DEBIAN_PACKAGES=(liburdfdom-tools chromium)  # check_urdf (URDF oracle), the viewer's browser tests
 
 if [ ${#DEBIAN_PACKAGES[@]} -gt 0 ] && command -v apt-get >/dev/null 2>&1; then
   missing=()

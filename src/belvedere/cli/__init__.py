@@ -14,6 +14,7 @@ from collections.abc import Sequence
 
 from belvedere import __version__
 from belvedere.cli import check as check_verb
+from belvedere.cli import display as display_verb
 from belvedere.cli import node as node_verb
 from belvedere.cli import param as param_verb
 from belvedere.cli import service as service_verb
@@ -24,7 +25,16 @@ from belvedere.errors import BelvedereError
 
 __all__ = ["main"]
 
-_VERBS = (xacro_verb, check_verb, topic_verb, param_verb, service_verb, node_verb, tf_verb)
+_VERBS = (
+    xacro_verb,
+    check_verb,
+    display_verb,
+    topic_verb,
+    param_verb,
+    service_verb,
+    node_verb,
+    tf_verb,
+)
 
 
 class _Formatter(logging.Formatter):

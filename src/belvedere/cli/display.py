@@ -1,0 +1,75 @@
+"""``belvedere display MODEL [name:=value …]``: the robot in the browser with joint sliders
+(rviz + robot_state_publisher + joint_state_publisher_gui)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+import webbrowser
+
+from belvedere.cli._args import mappings_only
+from belvedere.cli._tool import add_endpoint_option
+from belvedere.description.urdf import RobotModel
+from belvedere.graph import Graph, ZenohTransport
+from belvedere.packages import PackageIndex
+from belvedere.tf import JointStatePublisher, RobotStatePublisher
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(
+    sub: argparse._SubParsersAction[argparse.ArgumentParser], common: argparse.ArgumentParser
+) -> None:
+    p = sub.add_parser("display", parents=[common], help="show a robot model in the browser")
+    p.add_argument("input", metavar="MODEL", help="URDF or xacro file")
+    p.add_argument("--rviz", metavar="CONFIG", help="an rviz .rviz config to start from")
+    p.add_argument("--port", type=int, default=8080)
+    p.add_argument(
+        "--host", default="127.0.0.1", help="address to serve on (default: this machine only)"
+    )
+    p.add_argument("--open", action="store_true", help="open a browser on the viewer")
+    p.add_argument("--duration", type=float, help="exit after SECONDS (for scripts)")
+    add_endpoint_option(p)
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from belvedere.viewer import Viewer, read_rviz
+
+    mappings = mappings_only(list(args.extra))
+    packages = PackageIndex.from_environment(package_path=args.package_path, near=args.input)
+    started = time.monotonic()
+    model = RobotModel.from_path(args.input, mappings=mappings, packages=packages)
+    for warning in model.warnings:
+        sys.stderr.write(f"{warning}\n")
+    graph = Graph(sim_time=False, transport=ZenohTransport(endpoint=args.endpoint))
+    graph.params.set("/robot_description", model.to_urdf())
+    RobotStatePublisher(graph.create_node("robot_state_publisher"), model)
+    jsp = JointStatePublisher(graph.create_node("joint_state_publisher"), model)
+    rviz = read_rviz(args.rviz) if args.rviz else None
+    viewer = Viewer(
+        graph,
+        model=model,
+        host=args.host,
+        port=args.port,
+        rviz=rviz,
+        joint_publisher=jsp,
+        packages=packages,
+    )
+    graph.start(rtf=None)
+    sys.stdout.write(f"{viewer.url}\n")
+    sys.stdout.flush()
+    sys.stderr.write(f"viewer ready in {time.monotonic() - started:.2f} s (Ctrl-C to stop)\n")
+    if args.open:
+        webbrowser.open(viewer.url)
+    try:
+        deadline = None if args.duration is None else time.monotonic() + args.duration
+        while deadline is None or time.monotonic() < deadline:
+            time.sleep(0.2)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        viewer.close()
+        graph.shutdown()
+    return 0

@@ -1,0 +1,20 @@
+"""The browser viewer (rviz and joint_state_publisher_gui in any browser), built on viser."""
+
+from belvedere.viewer._displays import DISPLAYS, Display
+from belvedere.viewer._robot import MeshAccessError, RobotDrawing, allowed_mesh_path
+from belvedere.viewer._rviz import RvizConfig, RvizDisplay, read_rviz
+from belvedere.viewer._viewer import SimControls, Viewer, floor_point
+
+__all__ = [
+    "DISPLAYS",
+    "Display",
+    "MeshAccessError",
+    "RobotDrawing",
+    "RvizConfig",
+    "RvizDisplay",
+    "SimControls",
+    "Viewer",
+    "allowed_mesh_path",
+    "floor_point",
+    "read_rviz",
+]
