@@ -62,6 +62,7 @@ class Display:
         self.dirty = False
         self.lock = threading.Lock()
         self.handles: dict[str, Any] = {}
+        self.frames: dict[str, Any] = {}
         self.enabled = True
         self.error: str | None = None
         self.subscription = node.subscribe(topic, self.msg_type, self.on_message, queue_size=1)
@@ -88,18 +89,22 @@ class Display:
         raise NotImplementedError
 
     def place(self, key: str, handle: Any, pose: Transform) -> None:
-        handle.position = pose.translation
-        handle.wxyz = wxyz_from_xyzw(pose.quat_xyzw)
-        old = self.handles.get(key)
-        if old is not None and old is not handle:
-            old.remove()
+        """Keep ``handle`` (made under ``<base>/<key>/geom``) and put its frame at ``pose``.
+
+        The pose goes on a parent frame node, updated like the robot's link frames."""
+        frame = self.frames.get(key)
+        if frame is None:
+            frame = self.frames[key] = self.scene.add_frame(f"{self.base}/{key}", show_axes=False)
+        frame.position = pose.translation
+        frame.wxyz = wxyz_from_xyzw(pose.quat_xyzw)
         self.handles[key] = handle
 
     def remove(self) -> None:
         self.subscription.unregister()
-        for h in self.handles.values():
+        for h in (*self.handles.values(), *self.frames.values()):
             h.remove()
         self.handles.clear()
+        self.frames.clear()
 
     @property
     def base(self) -> str:
@@ -123,7 +128,10 @@ class LaserScanDisplay(Display):
         if len(pts) == 0:
             pts = np.zeros((1, 3))
         h = self.scene.add_point_cloud(
-            f"{self.base}/points", pts.astype(np.float32), (255, 40, 40), point_size=0.03
+            f"{self.base}/points/geom",
+            pts.astype(np.float32),
+            (255, 40, 40),
+            point_size=0.03,
         )
         self.place("points", h, pose)
 
@@ -146,7 +154,10 @@ class PointCloud2Display(Display):
         if len(pts) == 0:
             pts = np.zeros((1, 3), dtype=np.float32)
         h = self.scene.add_point_cloud(
-            f"{self.base}/points", pts.astype(np.float32), (40, 200, 255), point_size=0.02
+            f"{self.base}/points/geom",
+            pts.astype(np.float32),
+            (40, 200, 255),
+            point_size=0.02,
         )
         self.place("points", h, pose)
 
@@ -162,21 +173,32 @@ class OccupancyGridDisplay(Display):
         if pose is None or info.width == 0 or info.height == 0:
             return
         grid = np.asarray(msg.data, dtype=np.int16).reshape(info.height, info.width)
-        image = np.empty((info.height, info.width, 3), dtype=np.uint8)
+        # Cells as square points (positions are exact; large maps are thinned to ~250k cells).
+        stride = max(1, int(np.ceil(np.sqrt(grid.size / 250_000))))
+        cells = grid[::stride, ::stride]
+        colors = np.empty((*cells.shape, 3), dtype=np.uint8)
         if self.scheme == "costmap":
-            t = np.clip(grid, 0, 100) / 100.0
-            image[..., 0] = (255 * t).astype(np.uint8)
-            image[..., 1] = (255 * (1 - t) * 0.6).astype(np.uint8)
-            image[..., 2] = (255 * (1 - t)).astype(np.uint8)
+            t = np.clip(cells, 0, 100) / 100.0
+            colors[..., 0] = (255 * t).astype(np.uint8)
+            colors[..., 1] = (255 * (1 - t) * 0.6).astype(np.uint8)
+            colors[..., 2] = (255 * (1 - t)).astype(np.uint8)
         else:
-            value = (255 - np.clip(grid, 0, 100) * 255 // 100).astype(np.uint8)
-            image[...] = value[..., None]
-        image[grid < 0] = (128, 128, 128)
-        image = image[::-1]  # row 0 is the bottom of the map; images start at the top
-        w, h = info.width * info.resolution, info.height * info.resolution
-        center = _pose(info.origin) @ Transform((w / 2, h / 2, -0.001))
-        handle = self.scene.add_image(f"{self.base}/grid", image, render_width=w, render_height=h)
-        self.place("grid", handle, pose @ center)
+            colors[...] = (255 - np.clip(cells, 0, 100) * 255 // 100).astype(np.uint8)[..., None]
+        colors[cells < 0] = (128, 128, 128)
+        res = info.resolution * stride
+        rows, cols = np.mgrid[0 : cells.shape[0], 0 : cells.shape[1]]
+        pts = np.stack(
+            [(cols + 0.5) * res, (rows + 0.5) * res, np.full(rows.shape, -0.002)], axis=-1
+        )
+        handle = self.scene.add_point_cloud(
+            f"{self.base}/grid/geom",
+            pts.reshape(-1, 3).astype(np.float32),
+            colors.reshape(-1, 3),
+            point_size=res,
+            point_shape="square",
+            point_shading="flat",
+        )
+        self.place("grid", handle, pose @ _pose(info.origin))
 
 
 class CostmapDisplay(OccupancyGridDisplay):
@@ -194,7 +216,10 @@ class PoseStampedDisplay(Display):
             return
         p, x = _pose_parts(msg.pose)
         h = self.scene.add_line_segments(
-            f"{self.base}/arrow", _arrow_segments(p, x, 0.5), (255, 0, 0), thickness=0.02
+            f"{self.base}/arrow/geom",
+            _arrow_segments(p, x, 0.5),
+            (255, 0, 0),
+            thickness=0.02,
         )
         self.place("arrow", h, pose)
 
@@ -208,7 +233,9 @@ class PoseArrayDisplay(Display):
         if pose is None or not msg.poses:
             return
         segs = np.concatenate([_arrow_segments(*_pose_parts(p), 0.25) for p in msg.poses])
-        h = self.scene.add_line_segments(f"{self.base}/arrows", segs, (255, 80, 80), thickness=0.01)
+        h = self.scene.add_line_segments(
+            f"{self.base}/arrows/geom", segs, (255, 80, 80), thickness=0.01
+        )
         self.place("arrows", h, pose)
 
 
@@ -224,7 +251,9 @@ class PathDisplay(Display):
             [[p.pose.position.x, p.pose.position.y, p.pose.position.z] for p in msg.poses]
         )
         segs = np.stack([pts[:-1], pts[1:]], axis=1).astype(np.float32)
-        h = self.scene.add_line_segments(f"{self.base}/path", segs, (0, 200, 0), thickness=0.02)
+        h = self.scene.add_line_segments(
+            f"{self.base}/path/geom", segs, (0, 200, 0), thickness=0.02
+        )
         self.place("path", h, pose)
 
 
@@ -244,7 +273,9 @@ class OdometryDisplay(Display):
         if not self.trail or np.linalg.norm(self.trail[-1][0] - p) > 0.1:
             self.trail.append(_arrow_segments(p, x, 0.3))
         segs = np.concatenate(list(self.trail)).astype(np.float32)
-        h = self.scene.add_line_segments(f"{self.base}/arrows", segs, (255, 30, 30), thickness=0.01)
+        h = self.scene.add_line_segments(
+            f"{self.base}/arrows/geom", segs, (255, 30, 30), thickness=0.01
+        )
         self.place("arrows", h, pose)
 
 
@@ -260,14 +291,16 @@ class MarkerDisplay(Display):
         if m.action in (2, 3):  # DELETE, DELETEALL
             for k in [k for k in self.handles if m.action == 3 or k == key]:
                 self.handles.pop(k).remove()
+                self.frames.pop(k).remove()
             return
         pose = self.frame_pose(m.header.frame_id, fixed)
         if pose is None:
             return
         local = _pose(m.pose)
+        where = pose @ local
         color = (round(m.color.r * 255), round(m.color.g * 255), round(m.color.b * 255))
         opacity = m.color.a if m.color.a < 1 else None
-        name = f"{self.base}/{key}"
+        name = f"{self.base}/{key}/geom"
         s = (m.scale.x, m.scale.y, m.scale.z)
         if m.type == 1:
             h = self.scene.add_box(name, color=color, dimensions=s, opacity=opacity)
@@ -299,7 +332,7 @@ class MarkerDisplay(Display):
             )
         else:
             return
-        self.place(key, h, pose @ local)
+        self.place(key, h, where)
 
 
 class MarkerArrayDisplay(MarkerDisplay):

@@ -38,6 +38,12 @@ class SimControls(Protocol):
     def set_rtf(self, rtf: float | None) -> None: ...
 
 
+CAMERA_POSITION = (1.2, -1.6, 1.2)
+CAMERA_LOOK_AT = (0.0, 0.0, 0.1)
+CAMERA_FOV = math.radians(50.0)
+"""The initial view: a robot-sized scene seen from the front right, above."""
+
+
 def _set(handle: Any, value: Any) -> None:
     """Set a GUI handle's value (viser allows it; its type stubs say read-only)."""
     handle.value = value
@@ -102,6 +108,13 @@ class Viewer:
         self._last_click: tuple[float, float] | None = None
         self._stop = threading.Event()
         self.scene.add_grid("/grid", width=20.0, height=20.0, cell_size=0.5, section_size=1.0)
+        camera = self.server.initial_camera
+        camera.position, camera.look_at, camera.up = (
+            CAMERA_POSITION,
+            CAMERA_LOOK_AT,
+            (0.0, 0.0, 1.0),
+        )
+        camera.fov = CAMERA_FOV
         self._build_gui(joint_publisher, sim)
         if rviz:
             for d in rviz.displays:

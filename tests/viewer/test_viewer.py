@@ -1,0 +1,75 @@
+"""Viewer parts that need no browser: mesh-path guard, rviz configs, floor clicks, CLI errors."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from belvedere.cli import main
+from belvedere.packages import PackageIndex
+from belvedere.viewer import MeshAccessError, allowed_mesh_path, floor_point, read_rviz
+from tests.conftest import EXAMPLES
+
+PKG = EXAMPLES / "mbot_description"
+
+
+@pytest.mark.parametrize(
+    "filename",
+    [
+        "package://mbot_description/../../../etc/passwd",
+        "/etc/passwd",
+        "file:///etc/hostname",
+        "../../../../etc/passwd",
+    ],
+)
+def test_meshes_outside_package_roots_are_refused(filename: str) -> None:
+    packages = PackageIndex([EXAMPLES])
+    model = PKG / "urdf" / "xacro" / "gazebo" / "mbot_gazebo.xacro"
+    with pytest.raises(MeshAccessError, match="outside the package roots; refused"):
+        allowed_mesh_path(filename, model_path=str(model), packages=packages, at=None)
+
+
+def test_meshes_inside_package_roots_resolve() -> None:
+    packages = PackageIndex([EXAMPLES])
+    path = allowed_mesh_path(
+        "package://mbot_description/meshes/kinect.dae", model_path=None, packages=packages, at=None
+    )
+    assert path == (PKG / "meshes" / "kinect.dae").resolve()
+
+
+def test_rviz_config(tmp_path: Path) -> None:
+    config = read_rviz(PKG / "config" / "mbot.rviz")
+    assert config.fixed_frame == "base_footprint"
+    assert [d.kind for d in config.displays] == ["Grid", "RobotModel", "TF"]
+    custom = tmp_path / "nav.rviz"
+    custom.write_text(
+        "Visualization Manager:\n  Global Options: {Fixed Frame: map}\n  Displays:\n"
+        "    - {Class: rviz/LaserScan, Enabled: true, Name: Scan, Topic: /scan}\n"
+        "    - {Class: rviz/Map, Enabled: true, Name: Map, Topic: /map}\n"
+        "    - {Class: rviz/Odometry, Enabled: false, Name: Odom, Topic: /odom}\n"
+        "    - {Class: rviz_plugins/Fancy, Enabled: true, Name: X}\n"
+    )
+    config = read_rviz(custom)
+    assert config.fixed_frame == "map"
+    assert [(d.kind, d.topic) for d in config.displays] == [
+        ("LaserScan", "/scan"),
+        ("OccupancyGrid", "/map"),
+    ]
+    assert config.unknown == ["rviz_plugins/Fancy"]
+
+
+def test_floor_point() -> None:
+    assert floor_point((0.0, 0.0, 2.0), (0.5, 0.0, -1.0)) == (1.0, 0.0)
+    assert floor_point((0.0, 0.0, 2.0), (0.0, 0.0, 1.0)) is None
+    assert floor_point((0.0, 0.0, 2.0), (1.0, 0.0, 0.0)) is None
+
+
+def test_display_of_a_broken_model_is_an_error(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    bad = tmp_path / "bad.urdf"
+    bad.write_text('<robot name="r"><link name="a"/><link name="b"/></robot>')
+    assert main(["display", str(bad), "--port", "0"]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith(f"{bad}:1:1: error: two root links found")
