@@ -20,7 +20,6 @@ from belvedere.description.urdf import (
     Diagnostic,
     Inertial,
     Mesh,
-    ParsedRobot,
     RobotModel,
     Source,
     Visual,
@@ -131,7 +130,7 @@ def check_file(
     except ParseError as err:  # not even XML, or xacro failed: one error, where it is
         return CheckReport(name, None, [Diagnostic("error", err.message, err.location)])
     report = CheckReport(name, None, list(parsed.diagnostics))
-    _hint_zero_links(parsed, report)
+    _hint_zero_links(report)
     if parsed.fatal:
         return report
     model = RobotModel.from_parsed(parsed)
@@ -144,7 +143,7 @@ def check_file(
     return report
 
 
-def _hint_zero_links(parsed: ParsedRobot, report: CheckReport) -> None:
+def _hint_zero_links(report: CheckReport) -> None:
     for i, d in enumerate(report.diagnostics):
         if d.severity == "error" and d.message.startswith("no link elements"):
             report.diagnostics[i] = Diagnostic(

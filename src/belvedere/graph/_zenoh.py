@@ -203,9 +203,6 @@ class ZenohTransport:
     def unadvertise(self, topic: Topic, publisher: Publisher) -> None:
         self._drop_token("pub", topic.name, topic.type, publisher.node.full_name)
 
-    def wants(self, topic: Topic) -> bool:
-        return topic.remote
-
     def send(self, topic: Topic, msg: Any) -> None:
         zpub = self._publishers.get(topic.name)
         if zpub is not None:

@@ -147,15 +147,6 @@ class TypeRegistry:
         cls: type[Any] = self.store.types[self.resolve(name)]
         return cls
 
-    def fields(self, name: str) -> list[tuple[str, tuple[Any, Any]]]:
-        """``[(field, (nodetype, detail)), …]`` in order (rosbags' field definitions)."""
-        fields: list[tuple[str, tuple[Any, Any]]] = self.store.fielddefs[self.resolve(name)][1]
-        return fields
-
-    def type_of(self, msg: Any) -> str:
-        name: str = msg.__msgtype__
-        return name
-
     # --- wire format ---------------------------------------------------------------------------
     def serialize(self, msg: Any) -> bytes:
         """CDR bytes, as ROS 2 sends them."""
@@ -168,11 +159,6 @@ class TypeRegistry:
         return self.store.deserialize_cdr(
             bytes(data) if isinstance(data, memoryview) else data, name
         )
-
-    def definition(self, name: str) -> str:
-        """The message definition text (``rosmsg show``)."""
-        text: str = self.store.generate_msgdef(self.resolve(name), ros_version=1)[0]
-        return text
 
 
 @cache

@@ -55,19 +55,6 @@ class TransformListener:
         )
 
 
-def _joint_transform(joint: Joint, q: float) -> Transform:
-    origin = Transform(joint.origin.xyz, quat_xyzw_from_rpy(*joint.origin.rpy))
-    if joint.type in ("revolute", "continuous"):
-        ax = joint.axis
-        n = math.sqrt(sum(a * a for a in ax)) or 1.0
-        s = math.sin(q / 2) / n
-        motion = Transform((0.0, 0.0, 0.0), (ax[0] * s, ax[1] * s, ax[2] * s, math.cos(q / 2)))
-        return origin @ motion
-    if joint.type == "prismatic":
-        return origin @ Transform((joint.axis[0] * q, joint.axis[1] * q, joint.axis[2] * q))
-    return origin
-
-
 class RobotStatePublisher:
     """``joint_states`` + the robot model → ``/tf`` (movable joints) and ``/tf_static``
     (fixed joints, latched, once). Parameters: ``~publish_frequency`` (50 Hz), ``~tf_prefix``;
@@ -100,6 +87,9 @@ class RobotStatePublisher:
             raise BelvedereError(msg)
         node.timer(1.0 / freq, self.publish)
 
+    def _transform(self, joint: Joint, q: float) -> Transform:
+        return Transform.from_matrix(self.model.joint_transform(joint, q))
+
     def frame(self, link: str) -> str:
         return self.prefix + link
 
@@ -107,7 +97,7 @@ class RobotStatePublisher:
         stamp = self.node.now_ns()
         fixed = [
             transform_message(
-                self.frame(j.parent), self.frame(j.child), _joint_transform(j, 0.0), stamp
+                self.frame(j.parent), self.frame(j.child), self._transform(j, 0.0), stamp
             )
             for j in self.model.joints
             if j.type == "fixed"
@@ -125,7 +115,7 @@ class RobotStatePublisher:
             transform_message(
                 self.frame(j.parent),
                 self.frame(j.child),
-                _joint_transform(j, self.positions[j.name]),
+                self._transform(j, self.positions[j.name]),
                 stamp,
             )
             for j in self.movable

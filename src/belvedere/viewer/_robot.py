@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from belvedere.description.meshes import MeshError, load_mesh, resolve_mesh_path
+from belvedere.description.meshes import load_mesh, resolve_mesh_path
 from belvedere.description.urdf import (
     Box,
     Cylinder,
@@ -185,7 +185,7 @@ class RobotDrawing:
                 geometry.filename, model_path=self.model.path, packages=self.packages, at=at
             )
             mesh = load_mesh(path, scale=geometry.scale, requested_at=at)
-        except (MeshError, BelvedereError) as err:
+        except BelvedereError as err:  # MeshError, MeshAccessError, a missing package
             logger.warning("%s", err.describe())
             return None
         if mesh.face_colors is not None:

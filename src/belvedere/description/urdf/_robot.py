@@ -222,10 +222,9 @@ class RobotModel:
 
     # --- kinematics ----------------------------------------------------------------------------
     def joint_transform(self, joint: Joint, q: float = 0.0) -> Matrix4:
-        """parent link → child link at joint position ``q`` (mimic joints: pass the leader's)."""
+        """parent link → child link at the joint's own position ``q`` (for a mimic joint,
+        its own value: ``multiplier * leader + offset``, as joint_states carry it)."""
         t = transform(joint.origin)
-        if joint.mimic is not None:
-            q = joint.mimic.multiplier * q + joint.mimic.offset
         if joint.type in ("revolute", "continuous"):
             motion = np.eye(4)
             motion[:3, :3] = _axis_angle(joint.axis, q)
@@ -251,7 +250,10 @@ class RobotModel:
             for j in self.child_joints(parent):
                 if j.child in poses:
                     continue  # a cycle or a second parent: keep the first pose found
-                value = q.get(j.mimic.joint, 0.0) if j.mimic else q.get(j.name, 0.0)
+                if j.mimic is not None:
+                    value = j.mimic.multiplier * q.get(j.mimic.joint, 0.0) + j.mimic.offset
+                else:
+                    value = q.get(j.name, 0.0)
                 poses[j.child] = poses[parent] @ self.joint_transform(j, value)
                 stack.append(j.child)
         return poses
