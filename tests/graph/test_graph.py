@@ -7,6 +7,7 @@ from typing import Any
 
 import pytest
 
+from belvedere.errors import ParseError
 from belvedere.graph import Graph, GraphError, ParamError, ParamTree, parse_ros_args, resolve_name
 from belvedere.graph._names import GraphNameError
 from belvedere.msgs import message_from_data, types
@@ -141,7 +142,7 @@ def test_parameter_tree() -> None:
     with pytest.raises(ParamError, match="parameter '/robot/controller/gains/kp' is not set"):
         p.get("/robot/controller/gains/kp")
     assert "rate: 50" in p.dump_yaml("/robot")
-    with pytest.raises(ParamError, match=r"robot\.yaml:3:1: invalid YAML"):
+    with pytest.raises(ParseError, match=r"robot\.yaml:3:1: error: invalid YAML"):
         p.load_yaml("a: 1\nb: [unclosed\n", source="robot.yaml")
 
 

@@ -5,6 +5,7 @@ simulation step in a defined order, in simulated or wall time. Inside a process 
 as objects; a transport (Zenoh) carries them, CDR-encoded, to other processes.
 """
 
+from belvedere.graph._action import ActionClient, ActionServer, GoalHandle, GoalStatus
 from belvedere.graph._executor import NS, Executor, Timer
 from belvedere.graph._graph import (
     Graph,
@@ -24,7 +25,11 @@ from belvedere.graph._zenoh import DEFAULT_ENDPOINT, GraphInfo, TransportError, 
 __all__ = [
     "DEFAULT_ENDPOINT",
     "NS",
+    "ActionClient",
+    "ActionServer",
     "Executor",
+    "GoalHandle",
+    "GoalStatus",
     "Graph",
     "GraphError",
     "GraphInfo",

@@ -65,6 +65,11 @@ class Executor:
         self.random = random.Random(seed)
         """The graph's seeded randomness (noise models, randomized buttons…)."""
         self.thread: threading.Thread | None = None
+        self.rtf: float | None = None
+        self.paused = False
+        self._step_to: int | None = None
+        self._pace_wall = time.monotonic()
+        self._pace_sim = start_ns
 
     # --- time ----------------------------------------------------------------------------------
     def now_ns(self) -> int:
@@ -150,13 +155,15 @@ class Executor:
         """Run until stopped, ``duration`` seconds of graph time pass, or ``until()`` holds.
 
         In simulated time ``rtf=None`` runs as fast as possible; otherwise time is paced to
-        ``rtf`` times the wall clock. In wall time, timers fire when they are due.
+        ``rtf`` times the wall clock (changeable while running with :meth:`set_rtf`; time
+        stands still while paused (:meth:`pause`), except for :meth:`step`). In wall time, timers
+        fire when they are due.
         """
         self.thread = threading.current_thread()
         self._stop.clear()
-        start_ns = self.now_ns()
-        end_ns = None if duration is None else start_ns + round(duration * NS)
-        wall_start = time.monotonic()
+        self.rtf = rtf
+        self._rebase()
+        end_ns = None if duration is None else self.now_ns() + round(duration * NS)
         while not self._stop.is_set():
             self._drain()
             if until is not None and until():
@@ -165,14 +172,25 @@ class Executor:
             if end_ns is not None and (next_due is None or next_due > end_ns):
                 next_due = end_ns
             if self.sim_time:
+                paced = self.rtf is not None
+                if self.paused:
+                    if self._step_to is None:
+                        self._wait(None)  # paused: only outside events (or a step) come
+                        continue
+                    if next_due is None or next_due > self._step_to:
+                        next_due = self._step_to
+                    paced = False
                 if next_due is None:
                     self._wait(None)  # nothing scheduled: only outside events can come
                     continue
-                if rtf is not None:
-                    wall_due = wall_start + (next_due - start_ns) / NS / rtf
+                if paced and self.rtf is not None:
+                    wall_due = self._pace_wall + (next_due - self._pace_sim) / NS / self.rtf
                     if self._wait_until(wall_due):
                         continue  # something arrived first: handle it, then re-plan
                 self._sim_ns = max(self._sim_ns, next_due)
+                if self._step_to is not None and self._sim_ns >= self._step_to:
+                    self._step_to = None
+                    self._rebase()
             else:
                 if next_due is None:
                     self._wait(None)
@@ -184,6 +202,39 @@ class Executor:
                 self._drain()
                 return
             self._fire_due(self.now_ns())
+
+    # --- pacing (safe from any thread) -----------------------------------------------------------
+    def set_rtf(self, rtf: float | None) -> None:
+        """Pace simulated time to ``rtf`` times the wall clock (None: as fast as possible)."""
+
+        def apply() -> None:
+            self.rtf = rtf
+            self._rebase()
+
+        self.post(apply)
+
+    def pause(self, paused: bool) -> None:
+        """Stop (or restart) simulated time; messages are still delivered while paused."""
+
+        def apply() -> None:
+            self.paused = paused
+            self._step_to = None
+            self._rebase()
+
+        self.post(apply)
+
+    def step(self, seconds: float) -> None:
+        """While paused, advance simulated time by ``seconds`` (as fast as possible)."""
+
+        def apply() -> None:
+            if self.paused:
+                self._step_to = self._sim_ns + round(seconds * NS)
+
+        self.post(apply)
+
+    def _rebase(self) -> None:
+        self._pace_wall = time.monotonic()
+        self._pace_sim = self._sim_ns
 
     def _wait_until(self, wall_deadline: float) -> bool:
         """Sleep until ``wall_deadline`` (monotonic); True if woken early by the inbox."""

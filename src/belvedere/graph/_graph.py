@@ -81,6 +81,13 @@ class Publisher:
     def name(self) -> str:
         return self.topic.name
 
+    @property
+    def wanted(self) -> bool:
+        """Would a message be delivered anywhere (or kept, when latched)? Publishers of costly
+        messages check this first, so nobody listening costs nothing."""
+        topic = self.topic
+        return self.latch or bool(topic.subscriptions) or topic.remote
+
     def publish(self, msg: Any) -> None:
         """Send ``msg`` to every subscriber (a message object of the topic's type)."""
         topic = self.topic

@@ -13,6 +13,7 @@ from typing import Any
 import yaml
 
 from belvedere.errors import BelvedereError
+from belvedere.yamlfile import load_yaml
 
 __all__ = ["ParamError", "ParamTree"]
 
@@ -101,13 +102,7 @@ class ParamTree:
 
     def load_yaml(self, text: str, namespace: str = "/", *, source: str = "<yaml>") -> None:
         """``rosparam load``: set everything in a YAML mapping under ``namespace``."""
-        try:
-            data = yaml.safe_load(text)
-        except yaml.YAMLError as err:
-            mark = getattr(err, "problem_mark", None)
-            where = f":{mark.line + 1}:{mark.column + 1}" if mark is not None else ""
-            msg = f"{source}{where}: invalid YAML: {getattr(err, 'problem', err)}"
-            raise ParamError(msg) from None
+        data = load_yaml(text, path=source).data
         if data is None:
             return
         if not isinstance(data, dict):

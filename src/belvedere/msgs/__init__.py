@@ -1,6 +1,8 @@
 """ROS message types (rosbags' ROS 1 Noetic store and the standard types it lacks), and
-conversion from/to the YAML that ``rostopic pub`` takes and ``rostopic echo`` prints."""
+conversion from/to the YAML that ``rostopic pub`` takes and ``rostopic echo`` prints;
+``build`` has fast constructors for the messages simulations publish at high rates."""
 
+from belvedere.msgs import _build as build
 from belvedere.msgs._convert import (
     MessageValueError,
     default_message,
@@ -15,6 +17,7 @@ __all__ = [
     "MessageTypeError",
     "MessageValueError",
     "TypeRegistry",
+    "build",
     "canonical",
     "default_message",
     "message_from_args",

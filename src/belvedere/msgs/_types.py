@@ -57,6 +57,10 @@ _EXTRA_MESSAGES: Final = {
     ),
 }
 _EXTRA_SERVICES: Final = {
+    "arbotix_msgs/srv/Relax": ("", ""),
+    "arbotix_msgs/srv/Enable": ("bool enable", "bool state"),
+    "arbotix_msgs/srv/SetSpeed": ("float64 speed", ""),
+    "arbotix_msgs/srv/SetupChannel": ("string topic_name\nuint8 pin\nuint8 value\nuint8 rate", ""),
     "std_srvs/srv/Empty": ("", ""),
     "std_srvs/srv/Trigger": ("", "bool success\nstring message"),
     "std_srvs/srv/SetBool": ("bool data", "bool success\nstring message"),

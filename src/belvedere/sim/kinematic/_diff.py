@@ -1,0 +1,126 @@
+"""``diff_controller`` in fake mode: a differential base that moves exactly as commanded.
+
+As the original: ``cmd_vel`` sets the forward speed ``dx`` and turn rate ``dr`` at once (no
+acceleration limit; other Twist components are ignored); every ``1/rate`` seconds the pose is
+integrated with explicit Euler over the elapsed time — position first, then heading, which is
+never wrapped — and published as ``odom`` and the ``odom → base_frame_id`` transform. The
+original's ``timeout`` never stops a fake base; ``cmd_vel_timeout`` (ours) does.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from typing import Any
+
+from belvedere.graph import NS, Node
+from belvedere.msgs import build
+from belvedere.sim.kinematic._config import DiffControllerConfig
+
+__all__ = ["DiffController"]
+
+logger = logging.getLogger("belvedere.arbotix")
+
+
+class DiffController:
+    """The fake differential base of one ArbotiX driver node."""
+
+    joint_names = ("base_l_wheel_joint", "base_r_wheel_joint")
+    """The original's placeholder joints on ``joint_states`` (always 0)."""
+
+    def __init__(self, node: Node, config: DiffControllerConfig, *, frame_prefix: str = "") -> None:
+        self.node = node
+        self.config = config
+        self.name = config.name
+        self.base_frame = frame_prefix + config.base_frame_id
+        self.odom_frame = frame_prefix + config.odom_frame_id
+        self.x = 0.0
+        self.y = 0.0
+        self.th = 0.0
+        self.dx = 0.0
+        self.dr = 0.0
+        now = node.now_ns()
+        self.then_ns = now
+        self.last_cmd_ns = now
+        self._rejected = 0
+        node.subscribe("cmd_vel", "geometry_msgs/Twist", self.on_cmd_vel, queue_size=10)
+        self.odom_pub = node.publisher("odom", "nav_msgs/Odometry", queue_size=5)
+        self.tf_pub = node.publisher("/tf", "tf2_msgs/TFMessage", queue_size=100)
+        node.timer(1.0 / config.rate, self.update)
+        logger.info(
+            "Started DiffController (%s). Geometry: %sm wide, %s ticks/m.",
+            self.name,
+            config.base_width,
+            config.ticks_meter,
+        )
+
+    @property
+    def joint_positions(self) -> tuple[float, ...]:
+        return (0.0, 0.0)
+
+    @property
+    def joint_velocities(self) -> tuple[float, ...]:
+        return (0.0, 0.0)
+
+    def on_cmd_vel(self, msg: Any) -> None:
+        dx = float(msg.linear.x)
+        dr = float(msg.angular.z)
+        if not (math.isfinite(dx) and math.isfinite(dr)):
+            self._rejected += 1
+            if self._rejected == 1:  # one line per burst, not a flood
+                logger.warning(
+                    "%s: ignored cmd_vel with linear.x=%r angular.z=%r (not finite); "
+                    "the base keeps its last command",
+                    self.node.resolve("cmd_vel"),
+                    dx,
+                    dr,
+                )
+            return
+        if self._rejected > 1:
+            logger.warning("%s: %d non-finite commands ignored", self.name, self._rejected)
+        self._rejected = 0
+        self.last_cmd_ns = self.node.now_ns()
+        self.dx = dx
+        self.dr = dr
+
+    def update(self) -> None:
+        now = self.node.now_ns()
+        timeout = self.config.cmd_vel_timeout
+        if timeout > 0 and now - self.last_cmd_ns > timeout * NS:
+            self.dx = self.dr = 0.0
+        elapsed = (now - self.then_ns) / NS
+        self.then_ns = now
+        self.x += math.cos(self.th) * self.dx * elapsed
+        self.y += math.sin(self.th) * self.dx * elapsed
+        self.th += self.dr * elapsed
+        quat = (0.0, 0.0, math.sin(self.th / 2), math.cos(self.th / 2))
+        position = (self.x, self.y, 0.0)
+        if self.tf_pub.wanted:
+            self.tf_pub.publish(
+                build.tf_message(
+                    [build.transform_stamped(self.odom_frame, self.base_frame, position, quat, now)]
+                )
+            )
+        if self.odom_pub.wanted:
+            self.odom_pub.publish(
+                build.odometry(
+                    stamp_ns=now,
+                    frame_id=self.odom_frame,
+                    child_frame_id=self.base_frame,
+                    position=position,
+                    quat_xyzw=quat,
+                    linear=(self.dx, 0.0, 0.0),
+                    angular=(0.0, 0.0, self.dr),
+                )
+            )
+
+    def diagnostics(self) -> dict[str, Any]:
+        return {
+            "name": self.name,
+            "level": 0,
+            "message": "OK",
+            "values": [
+                {"key": "dX", "value": repr(self.dx)},
+                {"key": "dR", "value": repr(self.dr)},
+            ],
+        }

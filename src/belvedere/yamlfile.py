@@ -1,0 +1,106 @@
+"""YAML files that remember where each value came from.
+
+Configuration (rosparam files, controller YAML) is plain YAML, but a bad value must be
+reported at its line. :func:`load_yaml` keeps PyYAML's node tree beside the data so any value
+can be located later; a syntax error is a :class:`~belvedere.errors.ParseError` at its line.
+``!degrees``/``!radians`` tags are understood, as ``rosparam`` does.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from belvedere.errors import ParseError, SourceLocation
+
+__all__ = ["YamlDocument", "load_yaml", "load_yaml_file"]
+
+
+class _Loader(yaml.SafeLoader):
+    """SafeLoader plus rosparam's angle tags."""
+
+
+def _angle(factor: float) -> Any:
+    def construct(loader: yaml.SafeLoader, node: yaml.Node) -> float:
+        assert isinstance(node, yaml.ScalarNode)
+        text = str(loader.construct_scalar(node))
+        try:
+            return float(text) * factor
+        except ValueError:
+            msg = f"{node.tag} needs a number, got {text!r}"
+            raise yaml.constructor.ConstructorError(None, None, msg, node.start_mark) from None
+
+    return construct
+
+
+_Loader.add_constructor("!degrees", _angle(math.pi / 180.0))
+_Loader.add_constructor("!radians", _angle(1.0))
+
+
+@dataclass(frozen=True)
+class YamlDocument:
+    """Parsed YAML ``data`` and the means to say where any part of it was written."""
+
+    data: Any
+    path: str
+    root: yaml.Node | None
+
+    def location(self, *keys: str | int) -> SourceLocation:
+        """Where the value at ``keys`` starts; the nearest enclosing value if it is absent."""
+        node = self.root
+        best = self._mark(node)
+        for key in keys:
+            child: yaml.Node | None = None
+            if isinstance(node, yaml.MappingNode):
+                for key_node, value_node in node.value:
+                    if isinstance(key_node, yaml.ScalarNode) and key_node.value == str(key):
+                        child = value_node
+                        break
+            elif (
+                isinstance(node, yaml.SequenceNode)
+                and isinstance(key, int)
+                and 0 <= key < len(node.value)
+            ):
+                child = node.value[key]
+            if child is None:
+                break
+            node = child
+            best = self._mark(node)
+        return best
+
+    def _mark(self, node: yaml.Node | None) -> SourceLocation:
+        if node is None:
+            return SourceLocation(self.path)
+        mark = node.start_mark
+        return SourceLocation(self.path, mark.line + 1, mark.column + 1)
+
+
+def load_yaml(text: str, *, path: str = "<yaml>") -> YamlDocument:
+    """Parse one YAML document; errors name ``path:line:col``."""
+    loader = _Loader(text)
+    try:
+        root = loader.get_single_node()
+        data = loader.construct_document(root) if root is not None else None
+    except yaml.YAMLError as err:
+        mark = getattr(err, "problem_mark", None) or getattr(err, "context_mark", None)
+        where = SourceLocation(path, mark.line + 1, mark.column + 1) if mark else None
+        problem = getattr(err, "problem", None) or str(err)
+        msg = f"invalid YAML: {problem}"
+        raise ParseError(msg, where) from None
+    finally:
+        loader.dispose()
+    return YamlDocument(data, path, root)
+
+
+def load_yaml_file(path: str | Path) -> YamlDocument:
+    """Read and parse a YAML file (a missing or unreadable file is a clear error)."""
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as err:
+        msg = f"cannot read YAML file {str(path)!r}: {getattr(err, 'strerror', None) or err}"
+        raise ParseError(msg) from None
+    return load_yaml(text, path=str(path))
