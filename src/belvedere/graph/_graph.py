@@ -356,6 +356,8 @@ class Graph:
             time_type = types().cls("builtin_interfaces/Time")
 
             def tick() -> None:
+                if not pub.wanted:
+                    return
                 ns = self.now_ns()
                 pub.publish(clock_type(time_type(ns // NS, ns % NS)))
 

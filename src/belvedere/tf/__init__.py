@@ -17,7 +17,6 @@ from belvedere.tf._nodes import (
     TransformListener,
     parse_static_transform_args,
     static_transform_publisher,
-    transform_message,
 )
 
 __all__ = [
@@ -32,7 +31,6 @@ __all__ = [
     "quat_xyzw_to_matrix",
     "rpy_from_quat_xyzw",
     "static_transform_publisher",
-    "transform_message",
     "wxyz_from_xyzw",
     "xyzw_from_wxyz",
 ]

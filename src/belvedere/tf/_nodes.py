@@ -4,13 +4,13 @@ static_transform_publisher, with the parameters and behaviour of their ROS 1 ori
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from typing import Any
 
 from belvedere.description.urdf import Joint, RobotModel
 from belvedere.errors import BelvedereError
-from belvedere.graph import NS, Node
-from belvedere.msgs import message_from_data
+from belvedere.graph import Node
+from belvedere.msgs import build
 from belvedere.tf._buffer import TFBuffer
 from belvedere.tf._math import Transform, quat_xyzw_from_rpy
 
@@ -20,25 +20,7 @@ __all__ = [
     "TransformListener",
     "parse_static_transform_args",
     "static_transform_publisher",
-    "transform_message",
 ]
-
-
-def transform_message(parent: str, child: str, t: Transform, stamp_ns: int) -> dict[str, Any]:
-    """Data for one ``geometry_msgs/TransformStamped``."""
-    x, y, z, w = t.quat_xyzw
-    return {
-        "header": {"stamp": [stamp_ns // NS, stamp_ns % NS], "frame_id": parent},
-        "child_frame_id": child,
-        "transform": {
-            "translation": dict(zip("xyz", t.translation, strict=True)),
-            "rotation": {"x": x, "y": y, "z": z, "w": w},
-        },
-    }
-
-
-def _tf_message(transforms: list[dict[str, Any]]) -> Any:
-    return message_from_data("tf2_msgs/TFMessage", {"transforms": transforms})
 
 
 class TransformListener:
@@ -72,6 +54,7 @@ class RobotStatePublisher:
         prefix = str(node.get_param("~tf_prefix", "")).strip("/")
         self.prefix = f"{prefix}/" if prefix else ""
         self.positions: dict[str, float] = {}
+        self._cache: dict[str, tuple[float, Transform]] = {}
         self.tf_pub = node.publisher("/tf", "tf2_msgs/TFMessage", queue_size=100)
         self.static_pub = node.publisher("/tf_static", "tf2_msgs/TFMessage", latch=True)
         self.movable = [
@@ -96,41 +79,58 @@ class RobotStatePublisher:
     def _publish_static(self) -> None:
         stamp = self.node.now_ns()
         fixed = [
-            transform_message(
-                self.frame(j.parent), self.frame(j.child), self._transform(j, 0.0), stamp
-            )
+            self._stamped(j, self._transform(j, 0.0), stamp)
             for j in self.model.joints
             if j.type == "fixed"
         ]
         if fixed:
-            self.static_pub.publish(_tf_message(fixed))
+            self.static_pub.publish(build.tf_message(fixed))
+
+    def _stamped(self, joint: Joint, t: Transform, stamp: int) -> Any:
+        return build.transform_stamped(
+            self.frame(joint.parent), self.frame(joint.child), t.translation, t.quat_xyzw, stamp
+        )
 
     def _on_joint_states(self, msg: Any) -> None:
         for name, value in zip(msg.name, msg.position, strict=False):
             self.positions[name] = float(value)
 
+    def _cached_transform(self, joint: Joint, q: float) -> Transform:
+        # Joints mostly sit still between publications: recompute only when one moves.
+        cached = self._cache.get(joint.name)
+        if cached is not None and cached[0] == q:
+            return cached[1]
+        t = self._transform(joint, q)
+        self._cache[joint.name] = (q, t)
+        return t
+
     def publish(self) -> None:
+        if not self.tf_pub.wanted:
+            return
         stamp = self.node.now_ns()
+        positions = self.positions
         transforms = [
-            transform_message(
-                self.frame(j.parent),
-                self.frame(j.child),
-                self._transform(j, self.positions[j.name]),
-                stamp,
-            )
+            self._stamped(j, self._cached_transform(j, positions[j.name]), stamp)
             for j in self.movable
-            if j.name in self.positions
+            if j.name in positions
         ]
         if transforms:
-            self.tf_pub.publish(_tf_message(transforms))
+            self.tf_pub.publish(build.tf_message(transforms))
 
 
 class JointStatePublisher:
     """Publishes ``joint_states`` for the movable joints: ``~rate`` (10 Hz), ``~zeros``
     (initial positions), ``~source_list`` (topics whose joint states override), mimic joints
-    following their leaders. A joint whose limits exclude 0 starts at their middle."""
+    following their leaders. A joint whose limits exclude 0 starts at their middle.
+    ``exclude`` (ours) leaves out joints another node reports, e.g. a driver's servos."""
 
-    def __init__(self, node: Node, model: RobotModel | None = None) -> None:
+    def __init__(
+        self,
+        node: Node,
+        model: RobotModel | None = None,
+        *,
+        exclude: Collection[str] = (),
+    ) -> None:
         self.node = node
         if model is None:
             text = node.get_param("robot_description", None)
@@ -142,9 +142,15 @@ class JointStatePublisher:
         self.free = [
             j
             for j in model.joints
-            if j.type in ("revolute", "continuous", "prismatic") and j.mimic is None
+            if j.type in ("revolute", "continuous", "prismatic")
+            and j.mimic is None
+            and j.name not in exclude
         ]
-        self.mimics = [j for j in model.joints if j.mimic is not None and j.type != "fixed"]
+        self.mimics = [
+            j
+            for j in model.joints
+            if j.mimic is not None and j.type != "fixed" and j.mimic.joint not in exclude
+        ]
         zeros = node.get_param("~zeros", {}) or {}
         self.positions: dict[str, float] = {}
         for j in self.free:
@@ -182,20 +188,13 @@ class JointStatePublisher:
         return out
 
     def publish(self) -> None:
+        if not self.pub.wanted:
+            return
         values = self.current()
         names = [j.name for j in self.model.joints if j.name in values]
-        stamp = self.node.now_ns()
+        zeros = [0.0] * len(names)
         self.pub.publish(
-            message_from_data(
-                "sensor_msgs/JointState",
-                {
-                    "header": {"stamp": [stamp // NS, stamp % NS]},
-                    "name": names,
-                    "position": [values[n] for n in names],
-                    "velocity": [0.0] * len(names),
-                    "effort": [0.0] * len(names),
-                },
-            )
+            build.joint_state(self.node.now_ns(), names, [values[n] for n in names], zeros, zeros)
         )
 
 
@@ -241,4 +240,7 @@ def static_transform_publisher(node: Node, args: Sequence[str]) -> None:
     """Publish one static transform on ``/tf_static`` (latched)."""
     parent, child, transform = parse_static_transform_args(args)
     pub = node.publisher("/tf_static", "tf2_msgs/TFMessage", latch=True)
-    pub.publish(_tf_message([transform_message(parent, child, transform, node.now_ns())]))
+    stamped = build.transform_stamped(
+        parent, child, transform.translation, transform.quat_xyzw, node.now_ns()
+    )
+    pub.publish(build.tf_message([stamped]))

@@ -17,6 +17,7 @@ from belvedere.sim.kinematic._diff import DiffController
 from belvedere.sim.kinematic._driver import ArbotixDriver
 from belvedere.sim.kinematic._follow import FollowController
 from belvedere.sim.kinematic._servos import Servo
+from belvedere.sim.kinematic._simulation import KinematicSimulation, default_config
 
 __all__ = [
     "ArbotixConfig",
@@ -26,7 +27,9 @@ __all__ = [
     "DiffControllerConfig",
     "FollowController",
     "FollowControllerConfig",
+    "KinematicSimulation",
     "Servo",
     "ServoConfig",
+    "default_config",
     "param_locator",
 ]

@@ -114,6 +114,11 @@ class DiffController:
                 )
             )
 
+    def reset(self) -> None:
+        """Back to the origin, stopped (the viewer's Reset)."""
+        self.x = self.y = self.th = self.dx = self.dr = 0.0
+        self.then_ns = self.last_cmd_ns = self.node.now_ns()
+
     def diagnostics(self) -> dict[str, Any]:
         return {
             "name": self.name,

@@ -72,6 +72,13 @@ class ArbotixDriver:
         """The first differential base, if any."""
         return next((c for c in self.controllers if isinstance(c, DiffController)), None)
 
+    def reset(self) -> None:
+        """Every controller and servo back to its start (stopped, at zero)."""
+        for controller in self.controllers:
+            controller.reset()
+        for servo in self.servos.values():
+            servo.reset()
+
     def publish_joint_states(self) -> None:
         if not self.joint_pub.wanted:
             return

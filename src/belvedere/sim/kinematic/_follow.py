@@ -208,6 +208,11 @@ class FollowController:
             handle.succeed({"error_code": 0}, "")
             logger.info("%s: Done.", self.name)
 
+    def reset(self) -> None:
+        """Stop the running trajectory (its goal is preempted)."""
+        if self.run is not None:
+            self._end(self.run, preempted=True)
+
     def diagnostics(self) -> dict[str, Any]:
         state = "Active" if self.active() else "Not Active"
         return {

@@ -89,6 +89,10 @@ class Servo:
             self.velocity = (self.position - previous) / dt if dt > 0 else 0.0
             self.last_ns = now
 
+    def reset(self) -> None:
+        self.position = self.velocity = self.desired = self.last_cmd = 0.0
+        self.dirty = False
+
     def relax(self) -> dict[str, Any]:
         self.dirty = False
         self.active = False

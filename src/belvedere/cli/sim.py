@@ -1,0 +1,153 @@
+"""``belvedere sim MODEL --engine kinematic``: drive a robot with ``/cmd_vel`` and watch it in
+the browser (ArbotiX fake mode + robot_state_publisher + joint_state_publisher + rviz).
+
+Scripted runs: ``--headless --rtf max --duration 10 --pub '…' --echo /odom``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+import webbrowser
+from typing import TYPE_CHECKING
+
+from belvedere.cli._args import mappings_only
+from belvedere.cli._script import ScriptOptions, add_script_options, install_script
+from belvedere.cli._tool import add_endpoint_option
+from belvedere.description.urdf import RobotModel
+from belvedere.errors import BelvedereError
+from belvedere.graph import Graph, ZenohTransport
+from belvedere.packages import PackageIndex
+from belvedere.sim.kinematic import ArbotixConfig, KinematicSimulation
+from belvedere.yamlfile import load_yaml_file
+
+if TYPE_CHECKING:
+    from belvedere.viewer import Viewer
+
+__all__ = ["add_parser", "run"]
+
+ENGINES = ("kinematic", "physics")
+
+
+def add_parser(
+    sub: argparse._SubParsersAction[argparse.ArgumentParser], common: argparse.ArgumentParser
+) -> None:
+    p = sub.add_parser(
+        "sim",
+        parents=[common],
+        help="simulate a robot driven by /cmd_vel",
+        description="Simulate a robot model. The kinematic engine is ArbotiX's fake mode: the "
+        "base moves exactly as /cmd_vel says (and keeps moving until a zero Twist arrives, as "
+        "the original does; see --cmd-vel-timeout).",
+    )
+    p.add_argument("input", metavar="MODEL", help="URDF or xacro file (then name:=value args)")
+    p.add_argument("--engine", choices=ENGINES, default="kinematic", help="default: kinematic")
+    p.add_argument(
+        "--config", metavar="YAML", help="ArbotiX driver parameters (e.g. fake_mbot_arbotix.yaml)"
+    )
+    p.add_argument(
+        "--namespace", default="/", metavar="NS", help="run the robot's nodes and topics under NS"
+    )
+    p.add_argument(
+        "--cmd-vel-timeout",
+        type=float,
+        metavar="SECONDS",
+        help="stop the base after SECONDS without a command (default: never, as ArbotiX)",
+    )
+    p.add_argument("--seed", type=int, default=0, help="seed of the simulation's randomness")
+    p.add_argument("--headless", action="store_true", help="no viewer")
+    p.add_argument("--rviz", metavar="CONFIG", help="an rviz .rviz config for the viewer")
+    p.add_argument("--port", type=int, default=8080, help="viewer port")
+    p.add_argument(
+        "--host", default="127.0.0.1", help="viewer address (default: this machine only)"
+    )
+    p.add_argument("--open", action="store_true", help="open a browser on the viewer")
+    add_script_options(p)
+    add_endpoint_option(p)
+    p.set_defaults(run=run)
+
+
+def load_config(path: str) -> tuple[ArbotixConfig, dict[str, object]]:
+    """The driver's config and its raw parameters, from a YAML file."""
+    doc = load_yaml_file(path)
+    if doc.data is not None and not isinstance(doc.data, dict):
+        msg = f"{path}: ArbotiX parameters must be a mapping (rate:, controllers:, joints: …)"
+        raise BelvedereError(msg)
+    return ArbotixConfig.from_yaml(doc), dict(doc.data or {})
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.engine == "physics":
+        msg = "the physics engine is not available yet; use --engine kinematic"
+        raise BelvedereError(msg)
+    mappings = mappings_only(list(args.extra))
+    script = ScriptOptions.from_args(args)
+    config, params = load_config(args.config) if args.config else (None, {})
+    packages = PackageIndex.from_environment(package_path=args.package_path, near=args.input)
+    model = RobotModel.from_path(args.input, mappings=mappings, packages=packages)
+    for warning in model.warnings:
+        sys.stderr.write(f"{warning}\n")
+    graph = Graph(sim_time=True, seed=args.seed, transport=ZenohTransport(endpoint=args.endpoint))
+    viewer: Viewer | None = None
+    try:
+        sim = KinematicSimulation(
+            graph,
+            model,
+            config,
+            params=params,
+            namespace=args.namespace,
+            cmd_vel_timeout=args.cmd_vel_timeout,
+        )
+        if config is None:
+            base = sim.driver.base
+            sys.stderr.write(
+                "no --config: a diff_controller drives "
+                f"{base.base_frame if base else '?'} (odom frame {sim.odom_frame})\n"
+            )
+        install_script(graph, script)
+        if not args.headless:
+            viewer = _open_viewer(args, graph, model, sim, packages)
+        _run(graph, args)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        sys.stdout.flush()
+        if viewer is not None:
+            viewer.close()
+        graph.shutdown()
+    return 0
+
+
+def _open_viewer(
+    args: argparse.Namespace,
+    graph: Graph,
+    model: RobotModel,
+    sim: KinematicSimulation,
+    packages: PackageIndex,
+) -> Viewer:
+    from belvedere.viewer import Viewer, read_rviz
+
+    viewer = Viewer(
+        graph,
+        model=model,
+        host=args.host,
+        port=args.port,
+        fixed_frame=None if args.rviz else sim.odom_frame,
+        rviz=read_rviz(args.rviz) if args.rviz else None,
+        sim=sim,
+        packages=packages,
+    )
+    sys.stderr.write(f"viewer: {viewer.url} (Ctrl-C to stop)\n")
+    if args.open:
+        webbrowser.open(viewer.url)
+    return viewer
+
+
+def _run(graph: Graph, args: argparse.Namespace) -> None:
+    started = time.monotonic()
+    graph.run(duration=args.duration, rtf=args.rtf)
+    if args.duration is not None:
+        wall = time.monotonic() - started
+        rate = args.duration / wall if wall > 0 else float("inf")
+        sys.stderr.write(f"simulated {args.duration:g} s in {wall:.3f} s ({rate:.0f}x real time)\n")
