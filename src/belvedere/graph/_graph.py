@@ -62,7 +62,8 @@ class Topic:
     type: str
     publishers: list[Publisher] = field(default_factory=list)
     subscriptions: list[Subscription] = field(default_factory=list)
-    latched: Any = None
+    latched: dict[Publisher, Any] = field(default_factory=dict)
+    """The last message of each latching publisher (ROS 1 latches per publisher)."""
     remote: bool = False
     """A subscriber in another process wants this topic."""
 
@@ -102,7 +103,7 @@ class Publisher:
             return
         self.count += 1
         if self.latch:
-            topic.latched = msg
+            topic.latched[self] = msg
         for sub in topic.subscriptions:
             sub.enqueue(msg)
         transport = graph.transport
@@ -261,8 +262,8 @@ class Node:
         sub = Subscription(self, t, callback, queue_size=queue_size)
         self.subscriptions.append(sub)
         t.subscriptions.append(sub)
-        if t.latched is not None:
-            sub.enqueue(t.latched)
+        for msg in list(t.latched.values()):
+            sub.enqueue(msg)
         if self.graph.transport is not None:
             self.graph.transport.subscribe(t, sub)
         return sub
@@ -432,6 +433,7 @@ class Graph:
     def remove_publisher(self, pub: Publisher) -> None:
         if pub in pub.topic.publishers:
             pub.topic.publishers.remove(pub)
+            pub.topic.latched.pop(pub, None)
             pub.node.publishers.remove(pub)
             if self.transport is not None:
                 self.transport.unadvertise(pub.topic, pub)

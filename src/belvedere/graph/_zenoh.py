@@ -7,9 +7,9 @@ other machines is explicit (``listen_on`` another address). Messages are seriali
 a subscriber in another process wants them. Publications use BLOCK congestion control, so
 commands are never silently dropped.
 
-Key expressions: ``bv/t/<topic>`` data; ``bv/l/<topic>`` the last latched message;
-``bv/s/<service>`` service calls; ``bv/p`` parameters; liveliness tokens under ``bv/g/…``
-say which node publishes, subscribes or serves what, with which type.
+Key expressions: ``bv/t/<topic>`` data; ``bv/l/<topic>`` each latching publisher's last
+message; ``bv/s/<service>`` service calls; ``bv/p`` parameters; liveliness tokens under
+``bv/g/…`` say which node publishes, subscribes or serves what, with which type.
 """
 
 from __future__ import annotations
@@ -189,10 +189,10 @@ class ZenohTransport:
         if publisher.latch and topic.name not in self._latch_queryables:
 
             def latched(query: Any) -> None:
-                if topic.latched is not None:
+                for msg in list(topic.latched.values()):
                     query.reply(
                         "bv/l" + topic.name,
-                        types().serialize(topic.latched),
+                        types().serialize(msg),
                         attachment=topic.type.encode(),
                     )
 
@@ -258,7 +258,12 @@ class ZenohTransport:
         graph = self.graph
         assert graph is not None
         try:
-            replies = self.session.get("bv/l" + topic.name, timeout=2.0)
+            # Every latching publisher replies under the same key: keep them all.
+            replies = self.session.get(
+                "bv/l" + topic.name,
+                timeout=2.0,
+                consolidation=zenoh.ConsolidationMode.NONE,
+            )
             for reply in replies:
                 if reply.ok is None:
                     continue
