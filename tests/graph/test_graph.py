@@ -194,3 +194,31 @@ def test_clock_is_published_in_simulated_time() -> None:
     g.run(duration=0.05)
     assert stamps == [10_000_000, 20_000_000, 30_000_000, 40_000_000, 50_000_000]
     assert Graph(sim_time=False).topics.get("/clock") is None
+
+
+def test_pause_step_and_rtf_while_running() -> None:
+    import time
+
+    g = Graph()
+    ticks: list[int] = []
+    g.create_node("ticker").timer(0.1, lambda: ticks.append(g.now_ns()))
+    g.executor.pause(True)
+    g.start(rtf=None)
+    try:
+        time.sleep(0.05)
+        assert g.now_ns() == 0  # paused before it began: no time passes
+        g.executor.step(0.5)
+        deadline = time.monotonic() + 5
+        while g.now_ns() < 500_000_000 and time.monotonic() < deadline:
+            time.sleep(0.005)
+        time.sleep(0.05)
+        assert g.now_ns() == 500_000_000  # exactly one step, then paused again
+        assert len(ticks) == 5
+        g.executor.set_rtf(1000.0)
+        g.executor.pause(False)
+        while g.now_ns() < 2_000_000_000 and time.monotonic() < deadline:
+            time.sleep(0.005)
+        assert g.now_ns() >= 2_000_000_000
+        assert ticks == sorted(ticks)
+    finally:
+        g.shutdown()

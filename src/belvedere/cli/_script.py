@@ -79,9 +79,12 @@ class ScriptOptions:
                 raise BelvedereError(
                     msg, hint="e.g. --pub '/cmd_vel geometry_msgs/Twist {linear: {x: 0.2}}'"
                 )
-            topic, type_name = resolve_name(words[0]), types().resolve(words[1])
-            values = words[2:]
-            msg_obj = message_from_args(type_name, values)
+            try:
+                topic, type_name = resolve_name(words[0]), types().resolve(words[1])
+                msg_obj = message_from_args(type_name, words[2:])
+            except BelvedereError as err:
+                msg = f"--pub {spec!r}: {err.message}"
+                raise BelvedereError(msg, hint=err.hint) from None
             pubs.append((topic, type_name, msg_obj))
         return cls(tuple(pubs), tuple(resolve_name(t) for t in args.echo))
 

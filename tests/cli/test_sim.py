@@ -1,0 +1,139 @@
+"""``belvedere sim --engine kinematic``: scripted runs and their errors."""
+
+from __future__ import annotations
+
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+import yaml
+
+from belvedere.cli import main
+from tests.conftest import EXAMPLES
+
+MBOT = str(EXAMPLES / "mbot_description/urdf/xacro/gazebo/mbot_gazebo.xacro")
+MBOT_YAML = str(EXAMPLES / "mbot_description/config/fake_mbot_arbotix.yaml")
+TURTLEBOT = str(EXAMPLES / "rbx1_description/urdf/turtlebot.urdf.xacro")
+RBX1_YAML = str(EXAMPLES / "rbx1_bringup/config/fake_turtlebot_arbotix.yaml")
+CIRCLE = "/cmd_vel geometry_msgs/Twist {linear: {x: 0.2}, angular: {z: 0.5}}"
+
+
+def _documents(text: str) -> list[dict[str, object]]:
+    return [yaml.safe_load(d) for d in text.split("\n---\n") if d.strip()]
+
+
+def test_scripted_run_prints_odometry(endpoint: str, capsys: pytest.CaptureFixture[str]) -> None:
+    args = ["sim", MBOT, "--engine", "kinematic", "--config", MBOT_YAML, "--headless"]
+    args += ["--rtf", "max", "--duration", "10", "--pub", CIRCLE, "--echo", "/odom"]
+    assert main(args) == 0
+    out, err = capsys.readouterr()
+    odom = _documents(out)
+    assert len(odom) == 100
+    last = odom[-1]
+    assert last["header"] == {"seq": 0, "stamp": {"secs": 10, "nsecs": 0}, "frame_id": "odom"}
+    assert last["child_frame_id"] == "base_footprint"
+    position = last["pose"]["pose"]["position"]  # type: ignore[index]
+    x, y = position["x"], position["y"]
+    assert abs(((x**2 + (y - 0.4) ** 2) ** 0.5) - 0.4) < 0.0101
+    assert "simulated 10 s in" in err
+    # Deterministic: a second run prints the same bytes.
+    assert main(args) == 0
+    assert capsys.readouterr().out == out
+
+
+def test_rbx1_fake_turtlebot_in_one_command(
+    endpoint: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    args = ["sim", TURTLEBOT, "--config", RBX1_YAML, "--headless", "--rtf", "max"]
+    args += ["--duration", "1", "--pub", "/cmd_vel geometry_msgs/Twist {linear: {x: 0.1}}"]
+    args += ["--echo", "/odom", "--echo", "/joint_states"]
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    blocks = [b for b in out.split("\n---\n") if b.strip()]
+    odom = [yaml.safe_load(b) for b in blocks if b.startswith("# /odom")]
+    states = [yaml.safe_load(b) for b in blocks if b.startswith("# /joint_states")]
+    assert len(odom) == 10
+    assert odom[-1]["pose"]["pose"]["position"]["x"] == pytest.approx(0.1)
+    # joint_states from the driver (20 Hz, placeholders) and joint_state_publisher (10 Hz).
+    names = {tuple(s["name"]) for s in states}
+    assert names == {
+        ("base_l_wheel_joint", "base_r_wheel_joint"),
+        ("left_wheel_joint", "right_wheel_joint"),
+    }
+    assert len(states) == 20 + 10
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--pub", "/cmd_vel geometry_msgs/Twist {linear: [}"], "is not valid YAML at column 11"),
+        (["--pub", "/cmd_vel"], "--pub expects 'TOPIC TYPE YAML'"),
+        (
+            ["--pub", "/cmd_vel geometry_msgs/Twst {}"],
+            "--pub '/cmd_vel geometry_msgs/Twst {}': unknown",
+        ),
+        (["--echo", "/nothing"], "--echo /nothing: no node in this run"),
+        (["--engine", "physics"], "physics engine is not available yet"),
+        (["--duration", "-1"], "--duration expects a positive number"),
+        (["no_such:=arg", "extra"], "unexpected arguments: extra"),
+    ],
+)
+def test_bad_arguments_are_one_clear_error(
+    endpoint: str, capsys: pytest.CaptureFixture[str], extra: list[str], message: str
+) -> None:
+    assert main(["sim", MBOT, "--headless", "--rtf", "max", "--duration", "1", *extra]) == 1
+    err = capsys.readouterr().err
+    assert message in err
+    assert "Traceback" not in err
+
+
+def test_bad_config_names_the_line(
+    endpoint: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    bad = tmp_path / "fake.yaml"
+    bad.write_text("controllers:\n  base_controller:\n    type: diff_controller\n")
+    assert main(["sim", MBOT, "--config", str(bad), "--headless", "--duration", "1"]) == 1
+    err = capsys.readouterr().err
+    assert f"{bad}:3:5: error: controllers/base_controller: required parameter" in err
+
+
+def test_rtf_must_be_positive_or_max(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["sim", MBOT, "--rtf", "0"]) == 2
+    assert "--rtf expects a positive number or 'max'" in capsys.readouterr().err
+
+
+def test_paced_run_with_the_viewer_and_tools(endpoint: str) -> None:
+    """A real process: the viewer serves, another process drives the robot over Zenoh."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    sim = subprocess.Popen(
+        [sys.executable, "-m", "belvedere", "sim", MBOT, "--port", str(port), "--duration", "30"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        assert sim.stderr is not None
+        deadline = time.monotonic() + 30
+        line = ""
+        while "viewer: http://127.0.0.1:" not in line and time.monotonic() < deadline:
+            line = sim.stderr.readline()
+        assert f"viewer: http://127.0.0.1:{port}" in line
+        pub = ["topic", "pub", "-1", "/cmd_vel", "geometry_msgs/Twist", "{linear: {x: 1.0}}"]
+        assert main(pub) == 0
+        tool = subprocess.run(
+            [sys.executable, "-m", "belvedere", "topic", "echo", "-n", "1", "/odom"],
+            capture_output=True,
+            text=True,
+            timeout=30,
+            check=True,
+        )
+        (odom,) = _documents(tool.stdout)
+        assert odom["twist"]["twist"]["linear"]["x"] == 1.0  # type: ignore[index]
+    finally:
+        sim.terminate()
+        sim.wait(timeout=10)

@@ -1,0 +1,51 @@
+"""YAML that remembers where its values were written."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from belvedere.errors import ParseError
+from belvedere.yamlfile import load_yaml, load_yaml_file
+
+
+def test_locations_of_values_and_fallbacks() -> None:
+    doc = load_yaml("a:\n  b: 1\n  c: [1, 2]\nd: !degrees 90\n", path="x.yaml")
+    assert doc.data == {"a": {"b": 1, "c": [1, 2]}, "d": pytest.approx(math.pi / 2)}
+    assert str(doc.location("a", "c", 1)) == "x.yaml:3:10"
+    assert str(doc.location("a", "missing")) == "x.yaml:2:3"  # the enclosing mapping
+    assert str(doc.location()) == "x.yaml:1:1"
+    assert load_yaml("").data is None
+
+
+@pytest.mark.parametrize(
+    ("text", "where"),
+    [
+        ("a: [1,\nb: 2\n", "bad.yaml:3:1"),
+        ("a: 1\n  b: 2\n", "bad.yaml:2:4"),
+        ("a: !radians x\n", "bad.yaml:1:4"),
+        ("a: 1\na: *nothing\n", "bad.yaml:2:4"),
+    ],
+)
+def test_errors_name_file_line_and_column(text: str, where: str) -> None:
+    with pytest.raises(ParseError, match=f"^{where}: error: invalid YAML"):
+        load_yaml(text, path="bad.yaml")
+
+
+def test_missing_file(tmp_path: Path) -> None:
+    with pytest.raises(ParseError, match="cannot read YAML file"):
+        load_yaml_file(tmp_path / "none.yaml")
+
+
+@given(st.dictionaries(st.from_regex(r"k_[a-z]{1,8}", fullmatch=True), st.integers(), min_size=1))
+def test_every_key_is_located_on_its_own_line(data: dict[str, int]) -> None:
+    # (keys start with k_ so YAML 1.1 does not read 'no' or 'on' as booleans)
+    text = "".join(f"{k}: {v}\n" for k, v in data.items())
+    doc = load_yaml(text)
+    assert doc.data == data
+    for line, key in enumerate(data, start=1):
+        assert doc.location(key).line == line
