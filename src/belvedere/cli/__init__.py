@@ -19,6 +19,7 @@ from belvedere.cli import node as node_verb
 from belvedere.cli import param as param_verb
 from belvedere.cli import service as service_verb
 from belvedere.cli import sim as sim_verb
+from belvedere.cli import teleop as teleop_verb
 from belvedere.cli import tf as tf_verb
 from belvedere.cli import topic as topic_verb
 from belvedere.cli import xacro as xacro_verb
@@ -31,6 +32,7 @@ _VERBS = (
     check_verb,
     display_verb,
     sim_verb,
+    teleop_verb,
     topic_verb,
     param_verb,
     service_verb,
