@@ -1,0 +1,71 @@
+"""The kinematic simulation in a real browser: the robot drives across the floor when /cmd_vel
+says so, and the viewer's Reset button brings it back."""
+
+from __future__ import annotations
+
+import shutil
+import time
+from typing import Any
+
+import pytest
+
+from belvedere.description.urdf import RobotModel
+from belvedere.graph import Graph
+from belvedere.sim.kinematic import KinematicSimulation
+from belvedere.viewer import Viewer
+from tests.viewer.test_browser import (
+    CHROMIUM_ARGS,
+    MBOT,
+    VIEWPORT,
+    _free_port,
+    _pixel,
+    _wait,
+    project,
+)
+
+pytestmark = pytest.mark.browser
+
+
+def _is_base_yellow(rgb: tuple[int, int, int]) -> bool:
+    r, _, b = rgb
+    return r > 200 and r - b > 100
+
+
+def test_robot_drives_in_the_viewer_and_resets() -> None:
+    if shutil.which("chromium") is None:
+        pytest.skip("Debian's chromium is not installed")
+    playwright = pytest.importorskip("playwright.sync_api")
+    model = RobotModel.from_path(MBOT)
+    graph = Graph()
+    sim = KinematicSimulation(graph, model)
+    viewer = Viewer(graph, model=model, port=_free_port(), fixed_frame=sim.odom_frame, sim=sim)
+    cmd = graph.create_node("driver").publisher("/cmd_vel", "geometry_msgs/Twist")
+    graph.start(rtf=1.0)
+    base = sim.driver.base
+    assert base is not None
+    try:
+        with playwright.sync_playwright() as p:
+            browser = p.chromium.launch(
+                executable_path=shutil.which("chromium"), headless=True, args=CHROMIUM_ARGS
+            )
+            page: Any = browser.new_page(viewport={"width": VIEWPORT[0], "height": VIEWPORT[1]})
+            page.goto(viewer.url)
+            page.wait_for_selector("canvas", timeout=30000)
+            time.sleep(2.0)  # software WebGL: let the first frames reach the canvas
+            top = 0.19  # the top of the base above base_footprint
+            assert _wait(lambda: _is_base_yellow(_pixel(page, project((0.0, 0.0, top)))))
+            # Backwards: away from the GUI panel on the right of the page.
+            cmd.publish_data({"linear": {"x": -0.5}})
+            assert _wait(lambda: base.x < -0.6)
+            cmd.publish_data({})  # a zero Twist stops a fake ArbotiX base
+            time.sleep(0.3)
+            x = base.x
+            assert _wait(lambda: _is_base_yellow(_pixel(page, project((x, 0.0, top)))))
+            assert not _is_base_yellow(_pixel(page, project((0.0, 0.0, top))))
+            page.get_by_role("button", name="Reset").click()
+            assert _wait(lambda: base.x == 0.0)
+            assert _wait(lambda: _is_base_yellow(_pixel(page, project((0.0, 0.0, top)))))
+            browser.close()
+    finally:
+        viewer.close()
+        graph.shutdown()
