@@ -4,7 +4,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-DEBIAN_PACKAGES=(liburdfdom-tools chromium)  # check_urdf (URDF oracle), the viewer's browser tests
+# check_urdf (URDF oracle), the viewer's browser tests, software OpenGL through EGL (Mesa
+# llvmpipe) for MuJoCo's offscreen camera rendering
+DEBIAN_PACKAGES=(liburdfdom-tools chromium libegl1 libegl-mesa0 libgl1-mesa-dri)
 
 if [ ${#DEBIAN_PACKAGES[@]} -gt 0 ] && command -v apt-get >/dev/null 2>&1; then
   missing=()

@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from belvedere.description.gazebo_materials import gazebo_material_rgba
 from belvedere.description.meshes import load_mesh, resolve_mesh_path
 from belvedere.description.urdf import (
     Box,
@@ -27,20 +28,6 @@ from belvedere.tf import quat_xyzw_from_rpy, wxyz_from_xyzw
 __all__ = ["MeshAccessError", "RobotDrawing", "allowed_mesh_path"]
 
 logger = logging.getLogger("belvedere.viewer")
-
-GAZEBO_COLORS = {
-    "Gazebo/Blue": (0.0, 0.0, 0.8),
-    "Gazebo/Red": (0.8, 0.0, 0.0),
-    "Gazebo/Green": (0.0, 0.8, 0.0),
-    "Gazebo/Yellow": (1.0, 1.0, 0.0),
-    "Gazebo/Orange": (1.0, 0.5, 0.0),
-    "Gazebo/Black": (0.1, 0.1, 0.1),
-    "Gazebo/White": (1.0, 1.0, 1.0),
-    "Gazebo/Grey": (0.7, 0.7, 0.7),
-    "Gazebo/Gray": (0.7, 0.7, 0.7),
-    "Gazebo/DarkGrey": (0.35, 0.35, 0.35),
-    "Gazebo/Wood": (0.6, 0.4, 0.2),
-}
 
 
 class MeshAccessError(ParseError):
@@ -147,7 +134,7 @@ class RobotDrawing:
         if material is not None and material.rgba is not None:
             return material.rgba
         if gazebo is not None:
-            return GAZEBO_COLORS.get(gazebo)
+            return gazebo_material_rgba(gazebo)
         return None
 
     def _shape(

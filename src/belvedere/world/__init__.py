@@ -1,0 +1,43 @@
+"""Worlds: ``WorldModel`` read from Gazebo ``.world`` files and ``model://`` models.
+
+Models are found as Gazebo finds them (``GAZEBO_MODEL_PATH``, ``~/.gazebo/models``, ROS
+packages' exported model paths), never downloaded; a missing one is an error naming it, the
+line that asked for it and every directory searched.
+"""
+
+from belvedere.world._model import (
+    Light,
+    Physics,
+    Plane,
+    Polyline,
+    Shape,
+    Surface,
+    WorldGeometry,
+    WorldJoint,
+    WorldLink,
+    WorldModel,
+    WorldModelEntry,
+)
+from belvedere.world._paths import BUILTIN_MODELS, ModelPaths, model_sdf_file
+from belvedere.world._sdf import SDFError, read_model_file, read_world, read_world_string
+
+__all__ = [
+    "BUILTIN_MODELS",
+    "Light",
+    "ModelPaths",
+    "Physics",
+    "Plane",
+    "Polyline",
+    "SDFError",
+    "Shape",
+    "Surface",
+    "WorldGeometry",
+    "WorldJoint",
+    "WorldLink",
+    "WorldModel",
+    "WorldModelEntry",
+    "model_sdf_file",
+    "read_model_file",
+    "read_world",
+    "read_world_string",
+]

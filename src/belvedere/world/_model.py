@@ -1,0 +1,153 @@
+"""``WorldModel``: what a Gazebo world holds, as typed, immutable data with source lines.
+
+Poses are resolved when the world is read: every model's pose is in the world frame, every
+link's pose in its model's frame, every shape's pose in its link's frame.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from belvedere.description.urdf import Box, Cylinder, Inertial, Mesh, Pose, Sphere, Vec3
+from belvedere.errors import SourceLocation
+
+__all__ = [
+    "Light",
+    "Physics",
+    "Plane",
+    "Polyline",
+    "Shape",
+    "Surface",
+    "WorldGeometry",
+    "WorldJoint",
+    "WorldLink",
+    "WorldModel",
+    "WorldModelEntry",
+]
+
+RGBA = tuple[float, float, float, float]
+
+
+@dataclass(frozen=True, slots=True)
+class Plane:
+    normal: Vec3 = (0.0, 0.0, 1.0)
+    size: tuple[float, float] = (100.0, 100.0)
+
+
+@dataclass(frozen=True, slots=True)
+class Polyline:
+    """A prism: the polygon ``points`` (x, y) extruded up by ``height`` (building editor)."""
+
+    points: tuple[tuple[float, float], ...]
+    height: float
+
+
+WorldGeometry = Box | Cylinder | Sphere | Mesh | Plane | Polyline
+"""Meshes carry an absolute file path once the world is read."""
+
+
+@dataclass(frozen=True, slots=True)
+class Surface:
+    """Contact properties (ODE's ``<surface>``)."""
+
+    mu: float = 1.0
+    mu2: float = 1.0
+    kp: float | None = None
+    kd: float | None = None
+    min_depth: float | None = None
+    max_vel: float | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Shape:
+    """A collision or visual of a link."""
+
+    name: str
+    geometry: WorldGeometry
+    pose: Pose = Pose()
+    surface: Surface | None = None
+    rgba: RGBA | None = None
+    source: SourceLocation | None = field(default=None, compare=False)
+
+
+@dataclass(frozen=True, slots=True)
+class WorldLink:
+    name: str
+    pose: Pose = Pose()
+    """In the model's frame."""
+    inertial: Inertial | None = None
+    collisions: tuple[Shape, ...] = ()
+    visuals: tuple[Shape, ...] = ()
+    gravity: bool = True
+    kinematic: bool = False
+    source: SourceLocation | None = field(default=None, compare=False)
+
+
+@dataclass(frozen=True, slots=True)
+class WorldJoint:
+    name: str
+    type: str
+    parent: str
+    """A link of the model, or ``world``."""
+    child: str
+    pose: Pose = Pose()
+    """In the child link's frame."""
+    axis: Vec3 = (0.0, 0.0, 1.0)
+    """In the child link's frame."""
+    lower: float | None = None
+    upper: float | None = None
+    damping: float = 0.0
+    friction: float = 0.0
+    source: SourceLocation | None = field(default=None, compare=False)
+
+
+@dataclass(frozen=True, slots=True)
+class WorldModelEntry:
+    """One ``<model>`` of the world (included ones resolved and flattened)."""
+
+    name: str
+    pose: Pose = Pose()
+    """In the world frame."""
+    static: bool = False
+    links: tuple[WorldLink, ...] = ()
+    joints: tuple[WorldJoint, ...] = ()
+    uri: str | None = None
+    """``model://…`` when it came from an ``<include>``."""
+    source: SourceLocation | None = field(default=None, compare=False)
+
+    def link(self, name: str) -> WorldLink | None:
+        return next((link for link in self.links if link.name == name), None)
+
+
+@dataclass(frozen=True, slots=True)
+class Physics:
+    max_step_size: float = 0.001
+    real_time_update_rate: float = 1000.0
+    real_time_factor: float = 1.0
+    gravity: Vec3 = (0.0, 0.0, -9.8)
+
+
+@dataclass(frozen=True, slots=True)
+class Light:
+    name: str
+    type: str = "directional"
+    pose: Pose = Pose()
+    diffuse: RGBA = (0.8, 0.8, 0.8, 1.0)
+    direction: Vec3 = (-0.5, 0.1, -0.9)
+    cast_shadows: bool = True
+
+
+@dataclass(frozen=True, slots=True)
+class WorldModel:
+    """A world: physics settings, models and lights."""
+
+    name: str = "default"
+    physics: Physics = Physics()
+    models: tuple[WorldModelEntry, ...] = ()
+    lights: tuple[Light, ...] = ()
+    path: str | None = None
+    sdf_version: str = "1.6"
+    warnings: tuple[str, ...] = field(default=(), compare=False)
+
+    def model(self, name: str) -> WorldModelEntry | None:
+        return next((m for m in self.models if m.name == name), None)
