@@ -12,12 +12,15 @@ from functools import cache
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from belvedere.msgs._types import types
 
 __all__ = ["header", "joint_state", "odometry", "stamp", "tf_message", "transform_stamped"]
 
 _NS = 1_000_000_000
+
+Floats = Sequence[float] | npt.NDArray[np.float64]
 
 
 @cache
@@ -37,8 +40,8 @@ def header(stamp_ns: int, frame_id: str = "", seq: int = 0) -> Any:
 def transform_stamped(
     parent: str,
     child: str,
-    translation: Sequence[float],
-    quat_xyzw: Sequence[float],
+    translation: Floats,
+    quat_xyzw: Floats,
     stamp_ns: int,
 ) -> Any:
     vector = _cls("geometry_msgs/Vector3")
@@ -59,12 +62,12 @@ def odometry(
     stamp_ns: int,
     frame_id: str,
     child_frame_id: str,
-    position: Sequence[float],
-    quat_xyzw: Sequence[float],
-    linear: Sequence[float] = (0.0, 0.0, 0.0),
-    angular: Sequence[float] = (0.0, 0.0, 0.0),
-    pose_covariance: Sequence[float] | None = None,
-    twist_covariance: Sequence[float] | None = None,
+    position: Floats,
+    quat_xyzw: Floats,
+    linear: Floats = (0.0, 0.0, 0.0),
+    angular: Floats = (0.0, 0.0, 0.0),
+    pose_covariance: Floats | None = None,
+    twist_covariance: Floats | None = None,
 ) -> Any:
     """A ``nav_msgs/Odometry`` (covariances default to zeros)."""
     vector = _cls("geometry_msgs/Vector3")
@@ -81,7 +84,7 @@ def odometry(
     )
 
 
-def _covariance(values: Sequence[float] | None) -> Any:
+def _covariance(values: Floats | None) -> Any:
     if values is None:
         return np.zeros(36, dtype=np.float64)
     return np.asarray(values, dtype=np.float64).reshape(36)
@@ -90,9 +93,9 @@ def _covariance(values: Sequence[float] | None) -> Any:
 def joint_state(
     stamp_ns: int,
     names: Sequence[str],
-    positions: Sequence[float],
-    velocities: Sequence[float] = (),
-    efforts: Sequence[float] = (),
+    positions: Floats,
+    velocities: Floats = (),
+    efforts: Floats = (),
 ) -> Any:
     """A ``sensor_msgs/JointState`` (empty velocity/effort arrays when not given)."""
     return _cls("sensor_msgs/JointState")(

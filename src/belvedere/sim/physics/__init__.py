@@ -1,0 +1,18 @@
+"""The physics engine: MuJoCo, with the model built by us from the robot and world models,
+and Gazebo's ROS plugins (diff drive, sensors, ros_control) read from ``<gazebo>`` tags."""
+
+from belvedere.sim.physics._builder import ModelError, RobotBuild, add_robot, add_world, new_spec
+from belvedere.sim.physics._engine import Engine
+from belvedere.sim.physics._simulation import PLUGINS, PhysicsSimulation, SpawnedRobot
+
+__all__ = [
+    "PLUGINS",
+    "Engine",
+    "ModelError",
+    "PhysicsSimulation",
+    "RobotBuild",
+    "SpawnedRobot",
+    "add_robot",
+    "add_world",
+    "new_spec",
+]

@@ -1,0 +1,579 @@
+"""Building the MuJoCo model with ``MjSpec`` from a :class:`RobotModel` and a
+:class:`WorldModel` — not through MuJoCo's URDF importer, which welds the base, drops
+``<gazebo>`` tags and cannot read ``.dae`` meshes.
+
+As Gazebo does, links joined by fixed joints are lumped into one body (masses, centres and
+inertias combined), so a massless ``base_footprint`` rides on ``base_link``; every URDF link
+keeps its offset in its body, so TF still has every frame. Robot geoms win contacts
+(``priority``), so the robot's own friction applies as in Gazebo (ODE takes the smaller mu of
+the two surfaces; a ground plane's mu of 100 never decides), and caster spheres slide freely.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import numpy.typing as npt
+
+from belvedere.description.gazebo_materials import gazebo_material_rgba
+from belvedere.description.meshes import load_mesh, resolve_mesh_path
+from belvedere.description.urdf import (
+    Box,
+    Cylinder,
+    Geometry,
+    Inertial,
+    Joint,
+    Link,
+    Mesh,
+    Pose,
+    RobotModel,
+    Sphere,
+    transform,
+)
+from belvedere.errors import ParseError, SourceLocation
+from belvedere.packages import PackageIndex
+from belvedere.world import Physics, Plane, Polyline, Shape, WorldGeometry, WorldModel
+
+__all__ = ["ModelError", "RobotBuild", "add_robot", "add_world", "new_spec"]
+
+logger = logging.getLogger("belvedere.physics")
+
+Matrix4 = npt.NDArray[np.float64]
+
+VISUAL_GROUP = 1
+COLLISION_GROUP = 3
+MIN_MASS = 1e-3
+"""A moving body with no mass gets this (Gazebo would refuse it less clearly)."""
+
+
+class ModelError(ParseError):
+    """A robot or world the physics engine cannot simulate."""
+
+
+def _quat_wxyz(m: Matrix4) -> list[float]:
+    q = np.zeros(4)
+    mujoco.mju_mat2Quat(q, np.ascontiguousarray(m[:3, :3]).reshape(9))
+    return [float(v) for v in q]
+
+
+def _place(element: object, m: Matrix4) -> None:
+    element.pos = [float(v) for v in m[:3, 3]]  # type: ignore[attr-defined]
+    element.quat = _quat_wxyz(m)  # type: ignore[attr-defined]
+
+
+def new_spec(physics: Physics, *, name: str = "belvedere") -> mujoco.MjSpec:
+    spec = mujoco.MjSpec()
+    spec.modelname = name
+    spec.option.timestep = physics.max_step_size
+    spec.option.gravity = list(physics.gravity)
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
+    spec.compiler.autolimits = True
+    return spec
+
+
+@dataclass
+class RobotBuild:
+    """Where a robot went in the spec: each URDF link's body and offset, each joint's name."""
+
+    name: str
+    model: RobotModel
+    root_body: str
+    free_joint: str | None
+    link_body: dict[str, tuple[str, Matrix4]] = field(default_factory=dict)
+    """URDF link → (MuJoCo body name, T_body_link)."""
+    joints: dict[str, str] = field(default_factory=dict)
+    """URDF joint → MuJoCo joint name."""
+    bodies: list[str] = field(default_factory=list)
+
+    def body_of(self, link: str) -> str:
+        return self.link_body[link][0]
+
+
+class _RobotBuilder:
+    def __init__(
+        self, spec: mujoco.MjSpec, model: RobotModel, name: str, packages: PackageIndex | None
+    ) -> None:
+        self.spec = spec
+        self.model = model
+        self.name = name
+        self.packages = packages or PackageIndex.from_environment(near=model.path)
+        self.materials = {m.name: m for m in model.materials}
+        self.meshes: dict[tuple[str, tuple[float, float, float]], str] = {}
+
+    def prop(self, link: str, key: str) -> str | None:
+        for ext in self.model.gazebo_for(link):
+            value = ext.property(key)
+            if value is not None:
+                return value.strip()
+        return None
+
+    def fprop(self, link: str, key: str) -> float | None:
+        value = self.prop(link, key)
+        if value is None:
+            return None
+        try:
+            return float(value)
+        except ValueError:
+            at = next((e.source.best for e in self.model.gazebo_for(link)), None)
+            msg = f"<gazebo reference={link!r}>: <{key}> expects a number, got {value!r}"
+            raise ModelError(msg, at) from None
+
+    def bprop(self, link: str, key: str) -> bool | None:
+        value = self.prop(link, key)
+        return None if value is None else value.lower() in ("1", "true")
+
+    def build(self, pose: Pose) -> RobotBuild:
+        model = self.model
+        root = model.root_link
+        fixed_to_world = root.name == "world"
+        groups = self._groups(root.name)
+        build = RobotBuild(self.name, model, "", None)
+        parent_body = self.spec.worldbody
+        if fixed_to_world:
+            # <link name="world"> and a joint to it: the robot is fixed where it is spawned
+            for link, offset in groups[root.name]:
+                build.link_body[link] = ("world", transform(pose) @ offset)
+            for joint in model.child_joints(root.name):
+                self._body(parent_body, joint, transform(pose), groups, build)
+            build.root_body = build.bodies[0] if build.bodies else "world"
+            return build
+        body = parent_body.add_body(name=f"{self.name}/{root.name}")
+        _place(body, transform(pose))
+        build.root_body = body.name
+        free = body.add_freejoint(name=f"{self.name}/root")
+        build.free_joint = free.name
+        self._fill(body, root.name, groups, build, moving=True)
+        return build
+
+    def _groups(self, root: str) -> dict[str, list[tuple[str, Matrix4]]]:
+        """For each body-starting link: the links lumped into it with their offsets."""
+        groups: dict[str, list[tuple[str, Matrix4]]] = {}
+        starts = [root]
+        while starts:
+            start = starts.pop()
+            members = [(start, np.eye(4))]
+            stack = [(start, np.eye(4))]
+            while stack:
+                link, offset = stack.pop()
+                for joint in self.model.child_joints(link):
+                    if joint.type == "fixed":
+                        child_offset = offset @ transform(joint.origin)
+                        members.append((joint.child, child_offset))
+                        stack.append((joint.child, child_offset))
+                    else:
+                        starts.append(joint.child)
+            groups[start] = members
+        return groups
+
+    def _body(
+        self,
+        parent: mujoco.MjsBody,
+        joint: Joint,
+        parent_offset: Matrix4,
+        groups: dict[str, list[tuple[str, Matrix4]]],
+        build: RobotBuild,
+    ) -> None:
+        body = parent.add_body(name=f"{self.name}/{joint.child}")
+        _place(body, parent_offset @ transform(joint.origin))
+        if joint.type != "fixed":
+            self._joint(body, joint, build)
+        self._fill(body, joint.child, groups, build, moving=True)
+
+    def _joint(self, body: mujoco.MjsBody, joint: Joint, build: RobotBuild) -> None:
+        axis = np.asarray(joint.axis, dtype=float)
+        norm = float(np.linalg.norm(axis))
+        if norm == 0.0:
+            msg = f"joint {joint.name!r} has a zero axis"
+            raise ModelError(msg, joint.source.best)
+        axis /= norm
+        name = f"{self.name}/{joint.name}"
+        dynamics = joint.dynamics
+        if joint.type == "planar":
+            # two slides in the plane normal to the axis, and a hinge about it
+            u = np.cross(axis, [1.0, 0.0, 0.0])
+            if np.linalg.norm(u) < 1e-6:
+                u = np.cross(axis, [0.0, 1.0, 0.0])
+            u /= np.linalg.norm(u)
+            v = np.cross(axis, u)
+            for suffix, kind, direction in (
+                ("x", mujoco.mjtJoint.mjJNT_SLIDE, u),
+                ("y", mujoco.mjtJoint.mjJNT_SLIDE, v),
+                ("", mujoco.mjtJoint.mjJNT_HINGE, axis),
+            ):
+                body.add_joint(
+                    name=name + (f"_{suffix}" if suffix else ""),
+                    type=kind,
+                    axis=[float(a) for a in direction],
+                )
+            build.joints[joint.name] = name
+            return
+        if joint.type == "floating":
+            msg = f"joint {joint.name!r}: floating joints are only possible at the robot's base"
+            raise ModelError(msg, joint.source.best)
+        kind = (
+            mujoco.mjtJoint.mjJNT_SLIDE
+            if joint.type == "prismatic"
+            else mujoco.mjtJoint.mjJNT_HINGE
+        )
+        mj = body.add_joint(name=name, type=kind, axis=[float(a) for a in axis])
+        if dynamics is not None:
+            mj.damping = dynamics.damping
+            mj.frictionloss = dynamics.friction
+        limit = joint.limit
+        if limit is not None and joint.type in ("revolute", "prismatic"):
+            if limit.lower > limit.upper:
+                msg = f"joint {joint.name!r}: lower limit {limit.lower} > upper {limit.upper}"
+                raise ModelError(msg, joint.source.best)
+            mj.limited = mujoco.mjtLimited.mjLIMITED_TRUE
+            mj.range = [limit.lower, limit.upper]
+        if limit is not None and limit.effort > 0:
+            mj.actfrclimited = mujoco.mjtLimited.mjLIMITED_TRUE
+            mj.actfrcrange = [-limit.effort, limit.effort]
+        mj.armature = 1e-4  # numerical help for light wheels and fingers
+        build.joints[joint.name] = name
+
+    def _fill(
+        self,
+        body: mujoco.MjsBody,
+        start: str,
+        groups: dict[str, list[tuple[str, Matrix4]]],
+        build: RobotBuild,
+        *,
+        moving: bool,
+    ) -> None:
+        build.bodies.append(body.name)
+        members = groups[start]
+        inertials: list[tuple[Inertial, Matrix4]] = []
+        for link_name, offset in members:
+            build.link_body[link_name] = (body.name, offset)
+            link = self.model.link(link_name)
+            if link.inertial is not None:
+                inertials.append((link.inertial, offset))
+            self._geoms(body, link, offset)
+            if self.bprop(link_name, "turnGravityOff") or self.bprop(link_name, "gravity") is False:
+                body.gravcomp = 1.0
+        self._inertia(body, start, inertials, moving=moving)
+        for link_name, _ in members:
+            for joint in self.model.child_joints(link_name):
+                if joint.type != "fixed":
+                    offset = next(o for n, o in members if n == link_name)
+                    self._body(body, joint, offset, groups, build)
+
+    def _inertia(
+        self,
+        body: mujoco.MjsBody,
+        start: str,
+        inertials: list[tuple[Inertial, Matrix4]],
+        *,
+        moving: bool,
+    ) -> None:
+        body.explicitinertial = True
+        total = sum(i.mass for i, _ in inertials)
+        if total <= 0:
+            if moving:
+                logger.warning(
+                    "link %r (and the links fixed to it) has no mass; simulating it with %g kg",
+                    start,
+                    MIN_MASS,
+                )
+            body.mass = MIN_MASS
+            body.ipos = [0.0, 0.0, 0.0]
+            body.fullinertia = [1e-6, 1e-6, 1e-6, 0.0, 0.0, 0.0]
+            return
+        com = np.zeros(3)
+        for inertial, offset in inertials:
+            com += inertial.mass * (offset @ transform(inertial.origin))[:3, 3]
+        com /= total
+        tensor = np.zeros((3, 3))
+        for inertial, offset in inertials:
+            frame = offset @ transform(inertial.origin)
+            rotation = frame[:3, :3]
+            local = np.array(
+                [
+                    [inertial.ixx, inertial.ixy, inertial.ixz],
+                    [inertial.ixy, inertial.iyy, inertial.iyz],
+                    [inertial.ixz, inertial.iyz, inertial.izz],
+                ]
+            )
+            d = frame[:3, 3] - com
+            tensor += rotation @ local @ rotation.T
+            tensor += inertial.mass * (float(d @ d) * np.eye(3) - np.outer(d, d))
+        eigen = np.linalg.eigvalsh(tensor)
+        source = self.model.link(start).source.best
+        bad = eigen[0] <= 0 or eigen[0] + eigen[1] < eigen[2] * (1 - 1e-6)
+        if bad:
+            msg = (
+                f"the inertia of link {start!r} (with the links fixed to it) is not physical: "
+                f"principal moments {', '.join(f'{e:.6g}' for e in eigen)} must be positive "
+                "and no one larger than the sum of the other two"
+            )
+            raise ModelError(msg, source, hint="check its <inertia> ixx/iyy/izz values")
+        body.mass = total
+        body.ipos = [float(v) for v in com]
+        body.fullinertia = [
+            float(tensor[0, 0]),
+            float(tensor[1, 1]),
+            float(tensor[2, 2]),
+            float(tensor[0, 1]),
+            float(tensor[0, 2]),
+            float(tensor[1, 2]),
+        ]
+
+    # --- geoms ------------------------------------------------------------------------------
+    def _geoms(self, body: mujoco.MjsBody, link: Link, offset: Matrix4) -> None:
+        mu1 = self.fprop(link.name, "mu1")
+        mu2 = self.fprop(link.name, "mu2")
+        kp = self.fprop(link.name, "kp")
+        kd = self.fprop(link.name, "kd")
+        min_depth = self.fprop(link.name, "minDepth")
+        gazebo_rgba = gazebo_material_rgba(self.prop(link.name, "material"))
+        caster = _is_caster(link, mu1, mu2)
+        for i, collision in enumerate(link.collisions):
+            geom = self._geom(
+                body,
+                f"{self.name}/{link.name}/collision_{i}",
+                collision.geometry,
+                offset @ transform(collision.origin),
+                collision.source.best,
+            )
+            if geom is None:
+                continue
+            geom.group = COLLISION_GROUP
+            geom.priority = 2 if caster else 1
+            mu = 0.0 if caster else (mu1 if mu1 is not None else 1.0)
+            if mu2 is not None and not caster:
+                mu = min(mu, mu2) if mu1 is not None else mu2
+            geom.friction = [mu, 0.005 if not caster else 0.0, 0.0001 if not caster else 0.0]
+            if kp is not None and kp > 0:
+                damping = kd if kd is not None and kd > 0 else 1.0
+                geom.solref = [-kp, -damping]
+            if min_depth is not None and min_depth > 0:
+                geom.margin = min_depth
+                geom.gap = min_depth
+            geom.rgba = [0.5, 0.5, 0.5, 0.0]
+        for i, visual in enumerate(link.visuals):
+            geom = self._geom(
+                body,
+                f"{self.name}/{link.name}/visual_{i}",
+                visual.geometry,
+                offset @ transform(visual.origin),
+                visual.source.best,
+            )
+            if geom is None:
+                continue
+            geom.group = VISUAL_GROUP
+            geom.contype = 0
+            geom.conaffinity = 0
+            geom.mass = 0.0
+            material = visual.material
+            if material is None or material.rgba is None:
+                material = self.materials.get(visual.material_name or "")
+            rgba = gazebo_rgba or (material.rgba if material and material.rgba else None)
+            geom.rgba = list(rgba or (0.7, 0.7, 0.7, 1.0))
+
+    def _geom(
+        self,
+        body: mujoco.MjsBody,
+        name: str,
+        geometry: Geometry,
+        frame: Matrix4,
+        at: SourceLocation | None,
+    ) -> mujoco.MjsGeom | None:
+        geom = add_geom(self.spec, body, name, geometry, frame, at, self._mesh_file)
+        if geom is not None:
+            geom.typeinertia = mujoco.mjtGeomInertia.mjINERTIA_VOLUME
+        return geom
+
+    def _mesh_file(self, mesh: Mesh, at: SourceLocation | None) -> Path:
+        return resolve_mesh_path(
+            mesh.filename, relative_to=self.model.path, packages=self.packages, requested_at=at
+        )
+
+
+def _is_caster(link: Link, mu1: float | None, mu2: float | None) -> bool:
+    """A caster: spheres only, and called one or given (almost) no friction."""
+    spheres = link.collisions and all(isinstance(c.geometry, Sphere) for c in link.collisions)
+    frictionless = mu1 is not None and mu2 is not None and max(mu1, mu2) <= 0.01
+    return bool(spheres) and ("caster" in link.name.lower() or frictionless)
+
+
+def add_geom(
+    spec: mujoco.MjSpec,
+    body: mujoco.MjsBody,
+    name: str,
+    geometry: Geometry | WorldGeometry,
+    frame: Matrix4,
+    at: SourceLocation | None,
+    mesh_file: object,
+) -> mujoco.MjsGeom | None:
+    """One geom for a URDF or SDF geometry (None for what MuJoCo cannot hold)."""
+    geom = body.add_geom(name=name)
+    _place(geom, frame)
+    if isinstance(geometry, Box):
+        geom.type = mujoco.mjtGeom.mjGEOM_BOX
+        geom.size = [max(s, 1e-6) / 2 for s in geometry.size]
+    elif isinstance(geometry, Cylinder):
+        geom.type = mujoco.mjtGeom.mjGEOM_CYLINDER
+        geom.size = [max(geometry.radius, 1e-6), max(geometry.length, 1e-6) / 2, 0.0]
+    elif isinstance(geometry, Sphere):
+        geom.type = mujoco.mjtGeom.mjGEOM_SPHERE
+        geom.size = [max(geometry.radius, 1e-6), 0.0, 0.0]
+    elif isinstance(geometry, Plane):
+        geom.type = mujoco.mjtGeom.mjGEOM_PLANE
+        geom.size = [geometry.size[0] / 2, geometry.size[1] / 2, 0.1]
+        normal = np.asarray(geometry.normal, dtype=float)
+        if np.linalg.norm(normal - [0, 0, 1]) > 1e-9:
+            rot = np.eye(4)
+            q = np.zeros(4)
+            mujoco.mju_quatZ2Vec(q, normal / np.linalg.norm(normal))
+            mat = np.zeros(9)
+            mujoco.mju_quat2Mat(mat, q)
+            rot[:3, :3] = mat.reshape(3, 3)
+            _place(geom, frame @ rot)
+    elif isinstance(geometry, Polyline):
+        vertices = [(x, y, z) for z in (0.0, geometry.height) for x, y in geometry.points]
+        mesh_name = f"{name}/polyline"
+        spec.add_mesh(name=mesh_name, uservert=[c for v in vertices for c in v])
+        geom.type = mujoco.mjtGeom.mjGEOM_MESH
+        geom.meshname = mesh_name
+    elif isinstance(geometry, Mesh):
+        path = mesh_file(geometry, at)  # type: ignore[operator]
+        triangles = load_mesh(path, scale=geometry.scale, requested_at=at)
+        mesh_name = f"{name}/mesh"
+        spec.add_mesh(
+            name=mesh_name,
+            uservert=[float(v) for v in triangles.vertices.reshape(-1)],
+            userface=[int(f) for f in triangles.faces.reshape(-1)],
+        )
+        geom.type = mujoco.mjtGeom.mjGEOM_MESH
+        geom.meshname = mesh_name
+    else:  # pragma: no cover - the geometry union is closed
+        spec.delete(geom)
+        return None
+    return geom
+
+
+def add_robot(
+    spec: mujoco.MjSpec,
+    model: RobotModel,
+    *,
+    name: str,
+    pose: Pose = Pose(),
+    packages: PackageIndex | None = None,
+) -> RobotBuild:
+    """Add ``model`` as ``name`` at ``pose`` (its root link's pose in the world)."""
+    build = _RobotBuilder(spec, model, name, packages).build(pose)
+    # Gazebo does not collide a model with itself unless <selfCollide> says so.
+    self_collide = any(
+        (v := _prop(model, link.name, "selfCollide")) is not None and v.lower() in ("1", "true")
+        for link in model.links
+    )
+    if not self_collide:
+        bodies = [b for b in build.bodies if b != "world"]
+        for i, a in enumerate(bodies):
+            for b in bodies[i + 1 :]:
+                spec.add_exclude(bodyname1=a, bodyname2=b)
+    return build
+
+
+def _prop(model: RobotModel, link: str, key: str) -> str | None:
+    for ext in model.gazebo_for(link):
+        value = ext.property(key)
+        if value is not None:
+            return value.strip()
+    return None
+
+
+def add_world(spec: mujoco.MjSpec, world: WorldModel) -> dict[str, str]:
+    """Every model of the world: static ones welded to the world body, others one free rigid
+    body per model (its first link, the others fixed to it). Returns model → root body."""
+    roots: dict[str, str] = {}
+    for model in world.models:
+        if model.joints:
+            logger.warning(
+                "model %r: its %d joints are simulated as rigid (joints between the links of "
+                "world models are not supported yet)",
+                model.name,
+                len(model.joints),
+            )
+        root: mujoco.MjsBody | None = None
+        root_from_model = np.eye(4)
+        for link in model.links:
+            model_from_link = transform(link.pose)
+            if model.static:
+                body = spec.worldbody
+                frame = transform(model.pose) @ model_from_link
+            elif root is None:
+                root = body = spec.worldbody.add_body(name=f"{model.name}/{link.name}")
+                _place(body, transform(model.pose) @ model_from_link)
+                body.add_freejoint(name=f"{model.name}/free")
+                root_from_model = np.asarray(np.linalg.inv(model_from_link), dtype=np.float64)
+                frame = np.eye(4)
+            else:
+                body = root.add_body(name=f"{model.name}/{link.name}")
+                _place(body, root_from_model @ model_from_link)
+                frame = np.eye(4)
+            if not model.static:
+                _world_inertia(body, link.inertial)
+                if not link.gravity:
+                    body.gravcomp = 1.0
+            roots.setdefault(
+                model.name, "world" if model.static else str(root.name if root else "")
+            )
+            for kind, shapes in (("collision", link.collisions), ("visual", link.visuals)):
+                for i, shape in enumerate(shapes):
+                    _world_shape(spec, body, f"{model.name}/{link.name}/{kind}_{i}", shape, frame)
+    return roots
+
+
+def _world_inertia(body: mujoco.MjsBody, inertial: Inertial | None) -> None:
+    body.explicitinertial = True
+    if inertial is None:
+        body.mass = 1.0
+        body.fullinertia = [0.01, 0.01, 0.01, 0.0, 0.0, 0.0]
+        return
+    o = transform(inertial.origin)
+    body.mass = inertial.mass
+    body.ipos = [float(v) for v in o[:3, 3]]
+    r = o[:3, :3]
+    local = np.array(
+        [
+            [inertial.ixx, inertial.ixy, inertial.ixz],
+            [inertial.ixy, inertial.iyy, inertial.iyz],
+            [inertial.ixz, inertial.iyz, inertial.izz],
+        ]
+    )
+    t = r @ local @ r.T
+    body.fullinertia = [t[0, 0], t[1, 1], t[2, 2], t[0, 1], t[0, 2], t[1, 2]]
+
+
+def _world_shape(
+    spec: mujoco.MjSpec, body: mujoco.MjsBody, name: str, shape: Shape, frame: Matrix4
+) -> None:
+    def mesh_file(mesh: Mesh, at: SourceLocation | None) -> Path:
+        return Path(mesh.filename)
+
+    geom = add_geom(
+        spec, body, name, shape.geometry, frame @ transform(shape.pose), shape.source, mesh_file
+    )
+    if geom is None:
+        return
+    geom.typeinertia = mujoco.mjtGeomInertia.mjINERTIA_VOLUME
+    if name.rsplit("/", 1)[-1].startswith("visual"):
+        geom.group = VISUAL_GROUP
+        geom.contype = 0
+        geom.conaffinity = 0
+        geom.rgba = list(shape.rgba or (0.75, 0.75, 0.75, 1.0))
+        return
+    geom.group = COLLISION_GROUP
+    geom.rgba = [0.5, 0.5, 0.5, 0.0]
+    surface = shape.surface
+    mu = min(surface.mu, surface.mu2) if surface is not None else 1.0
+    geom.friction = [mu, 0.005, 0.0001]
+    if surface is not None and surface.kp is not None and surface.kp > 0:
+        geom.solref = [-surface.kp, -(surface.kd or 1.0)]

@@ -1,0 +1,273 @@
+"""``libgazebo_ros_diff_drive.so``: a differential base driven through two wheel joints.
+
+As the original (gazebo_ros_pkgs): the last ``cmd_vel`` persists; each update sets the wheel
+joint velocities (limited by ``wheelTorque``; ``wheelAcceleration`` ramps with the original's
+OR-condition quirk), after publishing odometry (``world``: the model's true pose and
+velocity; ``encoder``: integrated from wheel speeds every step), the odom TF, wheel TFs and
+wheel joint states as configured. ``legacyMode`` true swaps the wheels' roles as Gazebo 7 did
+— the course's mbot, whose "left" wheel is on the right, needs it to turn the right way.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from typing import Any
+
+import mujoco
+import numpy as np
+
+from belvedere.msgs import build
+from belvedere.sim.physics._builder import ModelError
+from belvedere.sim.physics._engine import quat_xyzw, yaw_of
+from belvedere.sim.physics._plugin import Plugin, PluginContext, RateGate, reject_non_finite
+
+__all__ = ["DiffDrive"]
+
+logger = logging.getLogger("belvedere.physics")
+
+POSE_COVARIANCE = (1e-5, 1e-5, 1e12, 1e12, 1e12, 1e-3)
+VELOCITY_GAIN = 200.0  # N*m*s/rad: stiff enough to track like Gazebo's joint motor
+
+
+class DiffDrive(Plugin):
+    def __init__(self, ctx: PluginContext) -> None:
+        super().__init__(ctx)
+        if self.text("publishTf") is None:
+            logger.warning(
+                "%s: diff drive %r: <publishTf> missing, defaults to true",
+                ctx.source,
+                ctx.name,
+            )
+        self.command_topic = self.text("commandTopic", "cmd_vel") or "cmd_vel"
+        self.odom_topic = self.text("odometryTopic", "odom") or "odom"
+        self.odom_frame = (self.text("odometryFrame", "odom") or "odom").lstrip("/")
+        self.base_frame = (self.text("robotBaseFrame", "base_footprint") or "").lstrip("/")
+        self.publish_wheel_tf = self.flag("publishWheelTF", False)
+        self.publish_odom_tf = self.flag("publishOdomTF", True)
+        self.publish_tf = self.flag("publishTf", True)
+        self.publish_joint_states = self.flag("publishWheelJointState", False)
+        self.legacy = self.flag("legacyMode", False)
+        self.separation = self.number("wheelSeparation", 0.34)
+        self.diameter = self.number("wheelDiameter", 0.15)
+        self.accel = self.number("wheelAcceleration", 0.0)
+        self.torque = self.number("wheelTorque", 5.0)
+        self.rate = self.number("updateRate", 100.0)
+        source = self.text("odometrySource", "world") or "world"
+        if source not in ("world", "encoder"):
+            logger.error(
+                "%s: odometrySource %r is neither 'world' nor 'encoder'; using 'world'",
+                ctx.source,
+                source,
+            )
+            source = "world"
+        self.source = source
+        self.left_joint = self.text("leftJoint", "left_joint") or "left_joint"
+        self.right_joint = self.text("rightJoint", "right_joint") or "right_joint"
+        for role, joint in (("leftJoint", self.left_joint), ("rightJoint", self.right_joint)):
+            if joint not in self.robot.joints:
+                known = ", ".join(sorted(self.robot.joints)) or "none"
+                msg = f"diff drive {ctx.name!r}: <{role}> {joint!r} is not a movable joint"
+                raise ModelError(msg, self._where(role), hint=f"movable joints: {known}")
+        if self.diameter <= 0:
+            msg = f"diff drive {ctx.name!r}: wheelDiameter must be positive"
+            raise ModelError(msg, self._where("wheelDiameter"))
+        if self.legacy:
+            logger.info(
+                "diff drive %r: legacyMode true: wheels as Gazebo 7 (Kinetic) drove them; "
+                "Melodic and Noetic ignore legacyMode",
+                ctx.name,
+            )
+        self.node = self.make_node()
+        self.node.subscribe(self.command_topic, "geometry_msgs/Twist", self._on_cmd, queue_size=1)
+        self.odom_pub = (
+            self.node.publisher(self.odom_topic, "nav_msgs/Odometry", queue_size=1)
+            if self.publish_tf
+            else None
+        )
+        self.tf_pub = self.node.publisher("/tf", "tf2_msgs/TFMessage", queue_size=100)
+        self.joint_pub = (
+            self.node.publisher("joint_states", "sensor_msgs/JointState", queue_size=1000)
+            if self.publish_joint_states
+            else None
+        )
+        self.x = 0.0
+        self.rot = 0.0
+        self._cmd_state: dict[str, Any] = {}
+        self.instructions = [0.0, 0.0]
+        self.gate = RateGate(self.rate, ctx.graph.now_ns())
+        self.pose_encoder = [0.0, 0.0, 0.0]
+        self.last_step_ns = ctx.graph.now_ns()
+
+    def joint_names(self) -> tuple[str, ...]:
+        return (self.left_joint, self.right_joint) if self.publish_joint_states else ()
+
+    def _on_cmd(self, msg: Any) -> None:
+        x, rot = float(msg.linear.x), float(msg.angular.z)
+        if reject_non_finite(self.ctx.name, {"linear.x": x, "angular.z": rot}, self._cmd_state):
+            return
+        self.x, self.rot = x, rot
+
+    # --- model ---------------------------------------------------------------------------------
+    def prepare(self, spec: mujoco.MjSpec) -> None:
+        for side, joint in (("left", self.left_joint), ("right", self.right_joint)):
+            actuator = spec.add_actuator(name=self._actuator(side))
+            actuator.target = self.robot.joints[joint]
+            actuator.trntype = mujoco.mjtTrn.mjTRN_JOINT
+            actuator.set_to_velocity(kv=VELOCITY_GAIN)
+            actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
+            actuator.forcerange = [-self.torque, self.torque]
+
+    def _actuator(self, side: str) -> str:
+        return f"{self.robot.name}/{self.ctx.name}/{side}"
+
+    def bind(self) -> None:
+        engine = self.engine
+        self.act = [
+            engine.actuator_id(self._actuator("left")),
+            engine.actuator_id(self._actuator("right")),
+        ]
+        self.joints = [
+            engine.joint(self.robot.joints[self.left_joint]),
+            engine.joint(self.robot.joints[self.right_joint]),
+        ]
+        self.base_link = self.base_frame if self.base_frame in self.robot.link_body else None
+        self.root_body = engine.body_id(self.robot.root_body)
+
+    def reset(self) -> None:
+        self.x = self.rot = 0.0
+        self.instructions = [0.0, 0.0]
+        self.pose_encoder = [0.0, 0.0, 0.0]
+        now = self.ctx.graph.now_ns()
+        self.gate.reset(now)
+        self.last_step_ns = now
+
+    # --- stepping ------------------------------------------------------------------------------
+    def update(self, now_ns: int) -> None:
+        if self.source == "encoder":
+            self._integrate_encoders(now_ns)
+        if not self.gate.due(now_ns):
+            return
+        self._publish_odometry(now_ns)
+        if self.publish_wheel_tf:
+            self._publish_wheel_tf(now_ns)
+        if self.joint_pub is not None:
+            self._publish_joint_states(now_ns)
+        self._set_wheels()
+
+    def _wheel_speeds(self) -> tuple[float, float]:
+        half = self.rot * self.separation / 2.0
+        if self.legacy:
+            return (self.x + half, self.x - half)
+        return (self.x - half, self.x + half)
+
+    def _set_wheels(self) -> None:
+        d = self.engine.d
+        radius = self.diameter / 2.0
+        targets = self._wheel_speeds()
+        current = [float(d.qvel[j.dof]) * radius for j in self.joints]
+        dt = self.gate.period_ns / 1e9 if self.gate.period_ns else self.engine.m.opt.timestep
+        near = any(abs(t - c) < 0.01 for t, c in zip(targets, current, strict=True))
+        for i in range(2):
+            if self.accel == 0 or near:
+                command = targets[i]
+                self.instructions[i] = command
+            else:
+                step = max(-self.accel * dt, min(self.accel * dt, targets[i] - current[i]))
+                self.instructions[i] += step
+                command = self.instructions[i]
+            d.ctrl[self.act[i]] = command / radius
+
+    def _integrate_encoders(self, now_ns: int) -> None:
+        dt = (now_ns - self.last_step_ns) / 1e9
+        self.last_step_ns = now_ns
+        if dt <= 0:
+            return
+        d = self.engine.d
+        radius = self.diameter / 2.0
+        sl = float(d.qvel[self.joints[0].dof]) * radius * dt
+        sr = float(d.qvel[self.joints[1].dof]) * radius * dt
+        sdiff = (sl - sr) if self.legacy else (sr - sl)
+        theta = self.pose_encoder[2]
+        dx = (sl + sr) / 2.0 * math.cos(theta + sdiff / (2.0 * self.separation))
+        dy = (sl + sr) / 2.0 * math.sin(theta + sdiff / (2.0 * self.separation))
+        self.pose_encoder[0] += dx
+        self.pose_encoder[1] += dy
+        self.pose_encoder[2] += sdiff / self.separation
+        self.encoder_twist = (math.hypot(dx, dy) / dt, sdiff / self.separation / dt)
+
+    def _publish_odometry(self, now_ns: int) -> None:
+        if self.source == "encoder":
+            x, y, th = self.pose_encoder
+            position = (x, y, 0.0)
+            quat = (0.0, 0.0, math.sin(th / 2), math.cos(th / 2))
+            v, w = getattr(self, "encoder_twist", (0.0, 0.0))
+            linear = (v, 0.0, 0.0)
+            angular = (0.0, 0.0, w)
+        else:
+            pose = self.engine.body_pose(self.root_body)
+            if self.base_link is not None:
+                pose = self.engine.link_pose(self.robot, self.base_link)
+            position = (float(pose[0, 3]), float(pose[1, 3]), float(pose[2, 3]))
+            quat = quat_xyzw(pose)
+            vel = self.engine.body_velocity(self.root_body)
+            yaw = yaw_of(pose)
+            vx, vy = float(vel[3]), float(vel[4])
+            linear = (
+                math.cos(yaw) * vx + math.sin(yaw) * vy,
+                math.cos(yaw) * vy - math.sin(yaw) * vx,
+                0.0,
+            )
+            angular = (0.0, 0.0, float(vel[2]))
+        if self.publish_tf and self.publish_odom_tf and self.tf_pub.wanted:
+            self.tf_pub.publish(
+                build.tf_message(
+                    [
+                        build.transform_stamped(
+                            self.odom_frame, self.base_frame, position, quat, now_ns
+                        )
+                    ]
+                )
+            )
+        if self.odom_pub is not None and self.odom_pub.wanted:
+            covariance = np.zeros(36)
+            covariance[[0, 7, 14, 21, 28, 35]] = POSE_COVARIANCE
+            self.odom_pub.publish(
+                build.odometry(
+                    stamp_ns=now_ns,
+                    frame_id=self.odom_frame,
+                    child_frame_id=self.base_frame,
+                    position=position,
+                    quat_xyzw=quat,
+                    linear=linear,
+                    angular=angular,
+                    pose_covariance=covariance,
+                )
+            )
+
+    def _publish_wheel_tf(self, now_ns: int) -> None:
+        if not self.tf_pub.wanted:
+            return
+        transforms = []
+        model = self.robot.model
+        for name in (self.left_joint, self.right_joint):
+            joint = next(j for j in model.joints if j.name == name)
+            parent = self.engine.link_pose(self.robot, joint.parent)
+            child = self.engine.link_pose(self.robot, joint.child)
+            rel = np.linalg.inv(parent) @ child
+            transforms.append(
+                build.transform_stamped(
+                    joint.parent, joint.child, rel[:3, 3], quat_xyzw(rel), now_ns
+                )
+            )
+        self.tf_pub.publish(build.tf_message(transforms))
+
+    def _publish_joint_states(self, now_ns: int) -> None:
+        assert self.joint_pub is not None
+        if not self.joint_pub.wanted:
+            return
+        d = self.engine.d
+        positions = [float(d.qpos[j.qpos]) for j in self.joints]
+        self.joint_pub.publish(
+            build.joint_state(now_ns, [self.left_joint, self.right_joint], positions)
+        )

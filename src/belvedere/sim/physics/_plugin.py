@@ -1,0 +1,188 @@
+"""What every Gazebo plugin stand-in shares: its parameters, its node, its place in the step.
+
+A plugin is read from ``<plugin filename=… name=…>`` (in a robot's ``<gazebo>`` or in a
+``<sensor>``). It may add actuators or cameras before the model is compiled (``prepare``),
+finds its ids after every compile (``bind``), and runs after every physics step (``update``),
+deciding itself, from its update rate, whether to act.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import mujoco
+import numpy as np
+
+from belvedere.description.urdf import GazeboPlugin, XmlData
+from belvedere.errors import SourceLocation
+from belvedere.graph import NS, Graph, Node
+from belvedere.sim.physics._builder import ModelError, RobotBuild
+from belvedere.sim.physics._engine import Engine
+
+__all__ = ["Plugin", "PluginContext"]
+
+logger = logging.getLogger("belvedere.physics")
+
+
+@dataclass
+class PluginContext:
+    engine: Engine
+    graph: Graph
+    robot: RobotBuild
+    name: str
+    filename: str
+    params: tuple[XmlData, ...]
+    source: SourceLocation | None
+    reference: str | None = None
+    """The link the plugin's ``<gazebo reference>`` or sensor belongs to."""
+    sensor: XmlData | None = None
+
+    @classmethod
+    def of(
+        cls,
+        engine: Engine,
+        graph: Graph,
+        robot: RobotBuild,
+        plugin: GazeboPlugin,
+        *,
+        reference: str | None = None,
+        sensor: XmlData | None = None,
+    ) -> PluginContext:
+        return cls(
+            engine,
+            graph,
+            robot,
+            plugin.name,
+            plugin.filename,
+            plugin.params,
+            plugin.source.best,
+            reference,
+            sensor,
+        )
+
+
+class Plugin:
+    """Base of the plugin stand-ins."""
+
+    def __init__(self, ctx: PluginContext) -> None:
+        self.ctx = ctx
+        self.engine = ctx.engine
+        self.robot = ctx.robot
+        seed = ctx.graph.executor.random.getrandbits(64)
+        self.rng = np.random.default_rng(seed)
+        """Seeded from the graph's seed: the same seed, the same noise."""
+
+    # --- parameters ------------------------------------------------------------------------------
+    def text(self, tag: str, default: str | None = None) -> str | None:
+        for p in self.ctx.params:
+            if p.tag == tag:
+                return p.text.strip()
+        return default
+
+    def number(self, tag: str, default: float) -> float:
+        value = self.text(tag)
+        if value is None or value == "":
+            return default
+        try:
+            result = float(value)
+        except ValueError:
+            msg = f"plugin {self.ctx.name!r}: <{tag}> expects a number, got {value!r}"
+            raise ModelError(msg, self._where(tag)) from None
+        if not math.isfinite(result):
+            msg = f"plugin {self.ctx.name!r}: <{tag}> must be finite, got {value!r}"
+            raise ModelError(msg, self._where(tag))
+        return result
+
+    def flag(self, tag: str, default: bool) -> bool:
+        value = self.text(tag)
+        if value is None or value == "":
+            return default
+        lowered = value.lower()
+        if lowered in ("1", "true"):
+            return True
+        if lowered in ("0", "false"):
+            return False
+        msg = f"plugin {self.ctx.name!r}: <{tag}> expects true or false, got {value!r}"
+        raise ModelError(msg, self._where(tag))
+
+    def _where(self, tag: str) -> SourceLocation | None:
+        for p in self.ctx.params:
+            if p.tag == tag and p.source.best is not None:
+                return p.source.best
+        return self.ctx.source
+
+    def namespace(self) -> str:
+        ns = self.text("robotNamespace")
+        if ns is None:
+            ns = self.robot.name
+        return "/" + "/".join(part for part in ns.split("/") if part)
+
+    def make_node(self, suffix: str = "") -> Node:
+        base = "gazebo_" + "".join(c if c.isalnum() else "_" for c in self.ctx.name)
+        name = base + suffix
+        ns = self.namespace()
+        taken = set(self.ctx.graph.nodes)
+        candidate, i = name, 1
+        while (ns.rstrip("/") + "/" + candidate) in taken:
+            i += 1
+            candidate = f"{name}_{i}"
+        return self.ctx.graph.create_node(candidate, namespace=ns)
+
+    # --- lifecycle -------------------------------------------------------------------------------
+    def prepare(self, spec: mujoco.MjSpec) -> None:
+        """Add what the plugin needs to the model before it is compiled."""
+
+    def bind(self) -> None:
+        """Find ids after a compile."""
+
+    def update(self, now_ns: int) -> None:
+        """After every physics step."""
+
+    def reset(self) -> None:
+        """After the world was reset."""
+
+    def joint_names(self) -> tuple[str, ...]:
+        """Joints whose states this plugin publishes on joint_states."""
+        return ()
+
+
+class RateGate:
+    """Gazebo's update-rate check: act when more than one period passed since the last
+    update; the last update time advances by whole periods (or to now when rate <= 0)."""
+
+    def __init__(self, rate: float, now_ns: int) -> None:
+        self.period_ns = round(NS / rate) if rate > 0 else 0
+        self.last_ns = now_ns
+
+    def due(self, now_ns: int) -> bool:
+        if self.period_ns == 0:
+            self.last_ns = now_ns
+            return True
+        if now_ns - self.last_ns > self.period_ns:
+            self.last_ns += self.period_ns
+            if now_ns - self.last_ns > self.period_ns:  # fell far behind (a pause, a reset)
+                self.last_ns = now_ns
+            return True
+        return False
+
+    def reset(self, now_ns: int) -> None:
+        self.last_ns = now_ns
+
+
+def stamp_list(ns: int) -> list[int]:
+    return [ns // NS, ns % NS]
+
+
+def reject_non_finite(owner: str, values: dict[str, float], state: dict[str, Any]) -> bool:
+    """True (and one warning per burst) when a command has NaN or infinite values."""
+    bad = {k: v for k, v in values.items() if not math.isfinite(v)}
+    if not bad:
+        state["rejected"] = 0
+        return False
+    state["rejected"] = state.get("rejected", 0) + 1
+    if state["rejected"] == 1:
+        logger.warning("%s: ignored a command with %s; keeping the last one", owner, bad)
+    return True

@@ -1,0 +1,237 @@
+"""``PhysicsSimulation``: a world stepped by MuJoCo on the graph's clock, robots spawned
+into it with their Gazebo plugins, as ``gzserver`` + gazebo_ros do.
+
+One physics step per ``max_step_size`` of simulated time (1 kHz unless the world says
+otherwise), each followed by every plugin's update. A step that leaves NaN or absurd speeds
+stops the physics with one error naming the likely cause (or resets the world, if asked).
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import mujoco
+
+from belvedere.description.urdf import GazeboPlugin, Pose, RobotModel, XmlData
+from belvedere.graph import Graph
+from belvedere.packages import PackageIndex
+from belvedere.sim.physics._builder import ModelError, RobotBuild, add_robot, add_world
+from belvedere.sim.physics._diff_drive import DiffDrive
+from belvedere.sim.physics._engine import Engine
+from belvedere.sim.physics._plugin import Plugin, PluginContext
+from belvedere.world import Physics, WorldModel
+
+__all__ = ["PLUGINS", "PhysicsSimulation", "SpawnedRobot"]
+
+logger = logging.getLogger("belvedere.physics")
+
+PluginFactory = Callable[[PluginContext], Plugin]
+
+PLUGINS: dict[str, PluginFactory] = {
+    "libgazebo_ros_diff_drive.so": DiffDrive,
+}
+"""Model plugins (``<gazebo><plugin filename=…>``) by file name."""
+
+SENSOR_PLUGINS: dict[str, PluginFactory] = {}
+"""Sensor plugins (``<sensor><plugin filename=…>``) by file name."""
+
+NOT_YET: dict[str, str] = {}
+"""Known plugins that are not simulated yet, with what to expect."""
+
+
+@dataclass
+class SpawnedRobot:
+    name: str
+    model: RobotModel
+    build: RobotBuild
+    plugins: list[Plugin] = field(default_factory=list)
+
+    def published_joints(self) -> set[str]:
+        """Joints some plugin reports on joint_states."""
+        return {j for p in self.plugins for j in p.joint_names()}
+
+
+class PhysicsSimulation:
+    """A world and the robots in it, stepped on ``graph``'s executor."""
+
+    def __init__(
+        self,
+        graph: Graph,
+        world: WorldModel | None = None,
+        *,
+        auto_reset: bool = False,
+    ) -> None:
+        self.graph = graph
+        self.world = world or WorldModel()
+        self.engine = Engine(self.world.physics if world else Physics())
+        self.world_roots = add_world(self.engine.spec, self.world)
+        self.robots: dict[str, SpawnedRobot] = {}
+        self.auto_reset = auto_reset
+        self.node = graph.create_node("gazebo")
+        self.stopped_reason: str | None = None
+        self.steps = 0
+        self.engine.compile()
+        self.engine.on_recompile.append(self._bind_all)
+        self.timer = self.node.timer(self.engine.physics.max_step_size, self.step)
+
+    @property
+    def plugins(self) -> list[Plugin]:
+        return [p for r in self.robots.values() for p in r.plugins]
+
+    # --- robots --------------------------------------------------------------------------------
+    def spawn(
+        self,
+        model: RobotModel,
+        *,
+        name: str | None = None,
+        pose: Pose = Pose(),
+        packages: PackageIndex | None = None,
+    ) -> SpawnedRobot:
+        """Add a robot with its plugins (spawn_model). Its ``<gazebo>`` plugins and sensors
+        start now; an unknown plugin is one warning and the rest runs."""
+        name = name or model.name
+        if name in self.robots or name in self.world_roots:
+            msg = f"a model named {name!r} already exists in the simulation"
+            raise ModelError(msg)
+        spec = self.engine.spec
+        build = add_robot(spec, model, name=name, pose=pose, packages=packages)
+        robot = SpawnedRobot(name, model, build)
+        robot.plugins = self._make_plugins(robot)
+        for plugin in robot.plugins:
+            plugin.prepare(spec)
+        self.robots[name] = robot
+        try:
+            self.engine.compile()
+        except ValueError as err:
+            del self.robots[name]
+            msg = f"MuJoCo refused robot {name!r}: {err}"
+            raise ModelError(msg, model.link(model.root_link.name).source.best) from None
+        return robot
+
+    def _make_plugins(self, robot: SpawnedRobot) -> list[Plugin]:
+        plugins: list[Plugin] = []
+        for ext in robot.model.gazebo:
+            for plugin in ext.plugins:
+                made = self._plugin(PLUGINS, robot, plugin, reference=ext.reference)
+                if made is not None:
+                    plugins.append(made)
+            for sensor in ext.sensors:
+                plugins += self._sensor_plugins(robot, sensor, ext.reference)
+        return plugins
+
+    def _plugin(
+        self,
+        registry: dict[str, PluginFactory],
+        robot: SpawnedRobot,
+        plugin: GazeboPlugin,
+        *,
+        reference: str | None,
+        sensor: XmlData | None = None,
+    ) -> Plugin | None:
+        filename = plugin.filename.strip()
+        factory = registry.get(filename)
+        if factory is None:
+            why = NOT_YET.get(filename, "unknown plugin")
+            logger.warning(
+                "%s: warning: plugin %r (%s): %s; the simulation runs without it",
+                plugin.source.best or robot.model.path,
+                plugin.name,
+                filename,
+                why,
+            )
+            return None
+        ctx = PluginContext.of(
+            self.engine, self.graph, robot.build, plugin, reference=reference, sensor=sensor
+        )
+        return factory(ctx)
+
+    def _sensor_plugins(
+        self, robot: SpawnedRobot, sensor: XmlData, reference: str | None
+    ) -> list[Plugin]:
+        out: list[Plugin] = []
+        for child in sensor.children:
+            if child.tag != "plugin":
+                continue
+            plugin = GazeboPlugin(
+                name=child.attr("name") or "",
+                filename=child.attr("filename") or "",
+                params=child.children,
+                source=child.source,
+            )
+            made = self._plugin(SENSOR_PLUGINS, robot, plugin, reference=reference, sensor=sensor)
+            if made is not None:
+                out.append(made)
+        return out
+
+    def _bind_all(self) -> None:
+        for plugin in self.plugins:
+            plugin.bind()
+
+    # --- stepping ------------------------------------------------------------------------------
+    def step(self) -> None:
+        if self.stopped_reason is not None:
+            return
+        engine = self.engine
+        mujoco.mj_step(engine.m, engine.d)
+        self.steps += 1
+        if self.steps % 10 == 0:
+            problem = engine.healthy()
+            if problem is not None:
+                self._diverged(problem)
+                return
+        now = self.graph.now_ns()
+        for plugin in self.plugins:
+            plugin.update(now)
+
+    def _diverged(self, problem: str) -> None:
+        cause = self._likely_cause()
+        if self.auto_reset:
+            logger.error("physics diverged (%s; %s): resetting the world", problem, cause)
+            self.reset_world()
+            return
+        self.stopped_reason = f"{problem}; {cause}"
+        logger.error(
+            "physics diverged at t=%.3f s: %s. Likely cause: %s. The physics is stopped "
+            "(the graph keeps running); fix the model, or run with auto-reset",
+            self.graph.now_ns() / 1e9,
+            problem,
+            cause,
+        )
+
+    def _likely_cause(self) -> str:
+        """The robot link with the lightest or least balanced inertia, where it was written."""
+        worst: tuple[float, str] | None = None
+        for robot in self.robots.values():
+            for link in robot.model.links:
+                inertial = link.inertial
+                if inertial is None:
+                    continue
+                smallest = min(inertial.ixx, inertial.iyy, inertial.izz)
+                ratio = smallest / max(inertial.mass, 1e-12)
+                where = link.source.best
+                text = f"the inertia of link {link.name!r} ({where})"
+                if worst is None or ratio < worst[0]:
+                    worst = (ratio, text)
+        return worst[1] if worst else "a world model's mass or inertia"
+
+    def reset_world(self) -> None:
+        """Every model back to its start pose, still (Gazebo's reset_world)."""
+        self.engine.reset()
+        self.stopped_reason = None
+        for plugin in self.plugins:
+            plugin.reset()
+
+    # --- the viewer's controls -----------------------------------------------------------------
+    def pause(self, paused: bool) -> None:
+        self.graph.executor.pause(paused)
+
+    def step_once(self) -> None:
+        self.graph.executor.step(self.engine.physics.max_step_size)
+
+    def reset(self) -> None:
+        self.graph.executor.post(self.reset_world)
+
+    def set_rtf(self, rtf: float | None) -> None:
+        self.graph.executor.set_rtf(rtf)
