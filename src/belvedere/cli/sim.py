@@ -1,6 +1,8 @@
-"""``belvedere sim MODEL --engine kinematic``: drive a robot with ``/cmd_vel`` and watch it in
-the browser (ArbotiX fake mode + robot_state_publisher + joint_state_publisher + rviz).
+"""``belvedere sim MODEL``: drive a robot with ``/cmd_vel`` and watch it in the browser.
 
+``--engine kinematic``: ArbotiX fake mode + robot_state_publisher + joint_state_publisher.
+``--engine physics``: MuJoCo in a world (``--world``), the robot's Gazebo plugins, gazebo_ros's
+services, robot_state_publisher + joint_state_publisher — the course's Gazebo launch.
 Scripted runs: ``--headless --rtf max --duration 10 --pub '…' --echo /odom``.
 """
 
@@ -15,15 +17,25 @@ from typing import TYPE_CHECKING
 from belvedere.cli._args import mappings_only
 from belvedere.cli._script import ScriptOptions, add_script_options, install_script
 from belvedere.cli._tool import add_endpoint_option
-from belvedere.description.urdf import RobotModel
+from belvedere.description.urdf import Pose, RobotModel
 from belvedere.errors import BelvedereError
 from belvedere.graph import Graph, ZenohTransport
 from belvedere.packages import PackageIndex
 from belvedere.sim.kinematic import ArbotixConfig, KinematicSimulation
+from belvedere.sim.physics import GazeboRos, PhysicsSimulation
+from belvedere.tf import JointStatePublisher, RobotStatePublisher
+from belvedere.world import WorldModel, read_world, read_world_string
 from belvedere.yamlfile import load_yaml_file
 
 if TYPE_CHECKING:
     from belvedere.viewer import Viewer
+
+SimControls = KinematicSimulation | PhysicsSimulation
+
+EMPTY_WORLD = """<sdf version="1.6"><world name="default">
+  <include><uri>model://ground_plane</uri></include>
+  <include><uri>model://sun</uri></include>
+</world></sdf>"""
 
 __all__ = ["add_parser", "run"]
 
@@ -56,6 +68,15 @@ def add_parser(
         help="stop the base after SECONDS without a command (default: never, as ArbotiX)",
     )
     p.add_argument("--seed", type=int, default=0, help="seed of the simulation's randomness")
+    p.add_argument("--world", metavar="FILE", help="physics: a Gazebo .world file (default: empty)")
+    for axis, what in (("x", "x (m)"), ("y", "y (m)"), ("z", "z (m)")):
+        p.add_argument(f"-{axis}", type=float, default=0.0, help=f"physics: spawn at {what}")
+    for axis, what in (("R", "roll"), ("P", "pitch"), ("Y", "yaw")):
+        p.add_argument(f"-{axis}", type=float, default=0.0, help=f"physics: spawn {what} (rad)")
+    p.add_argument("--paused", action="store_true", help="physics: start paused")
+    p.add_argument(
+        "--auto-reset", action="store_true", help="physics: reset the world if it diverges"
+    )
     p.add_argument("--headless", action="store_true", help="no viewer")
     p.add_argument("--rviz", metavar="CONFIG", help="an rviz .rviz config for the viewer")
     p.add_argument("--port", type=int, default=8080, help="viewer port")
@@ -78,36 +99,34 @@ def load_config(path: str) -> tuple[ArbotixConfig, dict[str, object]]:
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.engine == "physics":
-        msg = "the physics engine is not available yet; use --engine kinematic"
-        raise BelvedereError(msg)
     mappings = mappings_only(list(args.extra))
     script = ScriptOptions.from_args(args)
+    if args.engine == "kinematic" and (args.world or args.paused):
+        msg = "--world and --paused are for --engine physics"
+        raise BelvedereError(msg)
+    if args.engine == "physics" and (args.config or args.namespace != "/"):
+        msg = "--config and --namespace are for --engine kinematic"
+        raise BelvedereError(
+            msg, hint="with physics, the model's <gazebo> plugins say what drives it"
+        )
     config, params = load_config(args.config) if args.config else (None, {})
     packages = PackageIndex.from_environment(package_path=args.package_path, near=args.input)
     model = RobotModel.from_path(args.input, mappings=mappings, packages=packages)
     for warning in model.warnings:
         sys.stderr.write(f"{warning}\n")
+    world = _read_world(args, packages) if args.engine == "physics" else None
     graph = Graph(sim_time=True, seed=args.seed, transport=ZenohTransport(endpoint=args.endpoint))
     viewer: Viewer | None = None
     try:
-        sim = KinematicSimulation(
-            graph,
-            model,
-            config,
-            params=params,
-            namespace=args.namespace,
-            cmd_vel_timeout=args.cmd_vel_timeout,
-        )
-        if config is None:
-            base = sim.driver.base
-            sys.stderr.write(
-                "no --config: a diff_controller drives "
-                f"{base.base_frame if base else '?'} (odom frame {sim.odom_frame})\n"
-            )
+        if world is not None:
+            sim: SimControls = _physics(args, graph, model, world, packages)
+        else:
+            sim = _kinematic(args, graph, model, config, params)
         install_script(graph, script)
+        if args.paused:
+            graph.executor.pause(True)
         if not args.headless:
-            viewer = _open_viewer(args, graph, model, sim, packages)
+            viewer = _open_viewer(args, graph, model, sim, packages, world)
         _run(graph, args)
     except KeyboardInterrupt:
         pass
@@ -119,12 +138,66 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _kinematic(
+    args: argparse.Namespace,
+    graph: Graph,
+    model: RobotModel,
+    config: ArbotixConfig | None,
+    params: dict[str, object],
+) -> KinematicSimulation:
+    sim = KinematicSimulation(
+        graph,
+        model,
+        config,
+        params=params,
+        namespace=args.namespace,
+        cmd_vel_timeout=args.cmd_vel_timeout,
+    )
+    if config is None:
+        base = sim.driver.base
+        sys.stderr.write(
+            "no --config: a diff_controller drives "
+            f"{base.base_frame if base else '?'} (odom frame {sim.odom_frame})\n"
+        )
+    return sim
+
+
+def _read_world(args: argparse.Namespace, packages: PackageIndex) -> WorldModel:
+    if args.world:
+        world = read_world(args.world, packages=packages)
+    else:
+        world = read_world_string(EMPTY_WORLD, "<empty world>", packages=packages)
+    for warning in world.warnings:
+        sys.stderr.write(f"{warning}\n")
+    return world
+
+
+def _physics(
+    args: argparse.Namespace,
+    graph: Graph,
+    model: RobotModel,
+    world: WorldModel,
+    packages: PackageIndex,
+) -> PhysicsSimulation:
+    sim = PhysicsSimulation(graph, world, auto_reset=args.auto_reset)
+    GazeboRos(sim, packages=packages)
+    graph.params.set("/robot_description", model.to_urdf())
+    pose = Pose((args.x, args.y, args.z), (args.R, args.P, args.Y))
+    robot = sim.spawn(model, name=model.name, pose=pose, packages=packages)
+    RobotStatePublisher(graph.create_node("robot_state_publisher"), model)
+    JointStatePublisher(
+        graph.create_node("joint_state_publisher"), model, exclude=robot.published_joints()
+    )
+    return sim
+
+
 def _open_viewer(
     args: argparse.Namespace,
     graph: Graph,
     model: RobotModel,
-    sim: KinematicSimulation,
+    sim: SimControls,
     packages: PackageIndex,
+    world: WorldModel | None,
 ) -> Viewer:
     from belvedere.viewer import Viewer, read_rviz
 
@@ -137,6 +210,8 @@ def _open_viewer(
         rviz=read_rviz(args.rviz) if args.rviz else None,
         sim=sim,
         packages=packages,
+        world=world,
+        world_poses=sim.model_poses if isinstance(sim, PhysicsSimulation) else None,
     )
     sys.stderr.write(f"viewer: {viewer.url} (Ctrl-C to stop)\n")
     if args.open:

@@ -55,8 +55,48 @@ _EXTRA_MESSAGES: Final = {
         "std_msgs/Header header\nactionlib_msgs/GoalStatus status\n"
         "control_msgs/FollowJointTrajectoryFeedback feedback"
     ),
+    "gazebo_msgs/msg/ModelState": (
+        "string model_name\ngeometry_msgs/Pose pose\ngeometry_msgs/Twist twist\n"
+        "string reference_frame"
+    ),
+    "gazebo_msgs/msg/ModelStates": (
+        "string[] name\ngeometry_msgs/Pose[] pose\ngeometry_msgs/Twist[] twist"
+    ),
+    "gazebo_msgs/msg/LinkState": (
+        "string link_name\ngeometry_msgs/Pose pose\ngeometry_msgs/Twist twist\n"
+        "string reference_frame"
+    ),
+    "gazebo_msgs/msg/LinkStates": (
+        "string[] name\ngeometry_msgs/Pose[] pose\ngeometry_msgs/Twist[] twist"
+    ),
+    "gazebo_msgs/msg/ODEPhysics": (
+        "bool auto_disable_bodies\nuint32 sor_pgs_precon_iters\nuint32 sor_pgs_iters\n"
+        "float64 sor_pgs_w\nfloat64 sor_pgs_rms_error_tol\nfloat64 contact_surface_layer\n"
+        "float64 contact_max_correcting_vel\nfloat64 cfm\nfloat64 erp\nuint32 max_contacts"
+    ),
 }
 _EXTRA_SERVICES: Final = {
+    "gazebo_msgs/srv/SpawnModel": (
+        "string model_name\nstring model_xml\nstring robot_namespace\n"
+        "geometry_msgs/Pose initial_pose\nstring reference_frame",
+        "bool success\nstring status_message",
+    ),
+    "gazebo_msgs/srv/DeleteModel": ("string model_name", "bool success\nstring status_message"),
+    "gazebo_msgs/srv/GetModelState": (
+        "string model_name\nstring relative_entity_name",
+        "std_msgs/Header header\ngeometry_msgs/Pose pose\ngeometry_msgs/Twist twist\n"
+        "bool success\nstring status_message",
+    ),
+    "gazebo_msgs/srv/SetModelState": (
+        "gazebo_msgs/ModelState model_state",
+        "bool success\nstring status_message",
+    ),
+    "gazebo_msgs/srv/GetPhysicsProperties": (
+        "",
+        "float64 time_step\nbool pause\nfloat64 max_update_rate\n"
+        "geometry_msgs/Vector3 gravity\ngazebo_msgs/ODEPhysics ode_config\n"
+        "bool success\nstring status_message",
+    ),
     "arbotix_msgs/srv/Relax": ("", ""),
     "arbotix_msgs/srv/Enable": ("bool enable", "bool state"),
     "arbotix_msgs/srv/SetSpeed": ("float64 speed", ""),

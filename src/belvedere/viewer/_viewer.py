@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any, Protocol
 
 from belvedere.description.urdf import RobotModel
@@ -18,6 +18,7 @@ from belvedere.packages import PackageIndex
 from belvedere.tf import (
     JointStatePublisher,
     TFError,
+    Transform,
     TransformListener,
     quat_xyzw_from_rpy,
     wxyz_from_xyzw,
@@ -25,6 +26,8 @@ from belvedere.tf import (
 from belvedere.viewer._displays import DISPLAYS, Display
 from belvedere.viewer._robot import RobotDrawing
 from belvedere.viewer._rviz import RvizConfig
+from belvedere.viewer._world import WorldDrawing
+from belvedere.world import WorldModel
 
 __all__ = ["SimControls", "Viewer"]
 
@@ -77,7 +80,11 @@ class Viewer:
         sim: SimControls | None = None,
         packages: PackageIndex | None = None,
         rate_hz: float = 30.0,
+        world: WorldModel | None = None,
+        world_poses: Callable[[], Mapping[str, Transform]] | None = None,
     ) -> None:
+        """``world``: models drawn in the fixed frame (Gazebo's world frame);
+        ``world_poses``: where the movable ones are now (called each frame)."""
         import viser  # heavy: only the viewer uses it
 
         self.graph = graph
@@ -92,6 +99,8 @@ class Viewer:
             or (model.root_link.name if model else "map")
         )
         self.robot = RobotDrawing(self.scene, model, packages=packages) if model else None
+        self.world = WorldDrawing(self.scene, world) if world else None
+        self.world_poses = world_poses
         self.displays: list[Display] = []
         self.frames: dict[str, Any] = {}
         self.rate_hz = rate_hz
@@ -350,6 +359,8 @@ class Viewer:
         else:
             for handle in self.frames.values():
                 handle.visible = False
+        if self.world is not None and self.world_poses is not None:
+            self.world.update(self.world_poses())
         for display in self.displays:
             display.render(fixed)
         _set(self.time_text, f"{self.graph.now_ns() / NS:.3f}")

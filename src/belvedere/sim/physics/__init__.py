@@ -3,11 +3,13 @@ and Gazebo's ROS plugins (diff drive, sensors, ros_control) read from ``<gazebo>
 
 from belvedere.sim.physics._builder import ModelError, RobotBuild, add_robot, add_world, new_spec
 from belvedere.sim.physics._engine import Engine
+from belvedere.sim.physics._gazebo_ros import GazeboRos, parse_spawn_args, spawn_model
 from belvedere.sim.physics._simulation import PLUGINS, PhysicsSimulation, SpawnedRobot
 
 __all__ = [
     "PLUGINS",
     "Engine",
+    "GazeboRos",
     "ModelError",
     "PhysicsSimulation",
     "RobotBuild",
@@ -15,4 +17,6 @@ __all__ = [
     "add_robot",
     "add_world",
     "new_spec",
+    "parse_spawn_args",
+    "spawn_model",
 ]

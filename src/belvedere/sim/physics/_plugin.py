@@ -74,6 +74,8 @@ class Plugin:
         seed = ctx.graph.executor.random.getrandbits(64)
         self.rng = np.random.default_rng(seed)
         """Seeded from the graph's seed: the same seed, the same noise."""
+        self.active = True
+        """False once its robot is deleted."""
 
     # --- parameters ------------------------------------------------------------------------------
     def text(self, tag: str, default: str | None = None) -> str | None:

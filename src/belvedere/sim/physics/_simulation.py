@@ -13,19 +13,24 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import mujoco
+import numpy as np
+import numpy.typing as npt
 
-from belvedere.description.urdf import GazeboPlugin, Pose, RobotModel, XmlData
+from belvedere.description.urdf import GazeboPlugin, Pose, RobotModel, XmlData, transform
 from belvedere.graph import Graph
 from belvedere.packages import PackageIndex
 from belvedere.sim.physics._builder import ModelError, RobotBuild, add_robot, add_world
 from belvedere.sim.physics._diff_drive import DiffDrive
 from belvedere.sim.physics._engine import Engine
 from belvedere.sim.physics._plugin import Plugin, PluginContext
-from belvedere.world import Physics, WorldModel
+from belvedere.tf import Transform
+from belvedere.world import Physics, WorldModel, WorldModelEntry
 
 __all__ = ["PLUGINS", "PhysicsSimulation", "SpawnedRobot"]
 
 logger = logging.getLogger("belvedere.physics")
+
+Matrix4 = npt.NDArray[np.float64]
 
 PluginFactory = Callable[[PluginContext], Plugin]
 
@@ -72,9 +77,10 @@ class PhysicsSimulation:
         self.node = graph.create_node("gazebo")
         self.stopped_reason: str | None = None
         self.steps = 0
+        self.after_step: list[Callable[[], None]] = []
         self.engine.compile()
         self.engine.on_recompile.append(self._bind_all)
-        self.timer = self.node.timer(self.engine.physics.max_step_size, self.step)
+        self.timer = self.node.timer(self.engine.physics.max_step_size, self.physics_step)
 
     @property
     def plugins(self) -> list[Plugin]:
@@ -170,7 +176,8 @@ class PhysicsSimulation:
             plugin.bind()
 
     # --- stepping ------------------------------------------------------------------------------
-    def step(self) -> None:
+    def physics_step(self) -> None:
+        """One MuJoCo step, then every plugin's update (the graph's timer calls this)."""
         if self.stopped_reason is not None:
             return
         engine = self.engine
@@ -183,7 +190,10 @@ class PhysicsSimulation:
                 return
         now = self.graph.now_ns()
         for plugin in self.plugins:
-            plugin.update(now)
+            if plugin.active:
+                plugin.update(now)
+        for hook in self.after_step:
+            hook()
 
     def _diverged(self, problem: str) -> None:
         cause = self._likely_cause()
@@ -223,11 +233,142 @@ class PhysicsSimulation:
         for plugin in self.plugins:
             plugin.reset()
 
+    @property
+    def odom_frame(self) -> str | None:
+        """The odometry frame of the first diff-drive base (the viewer's fixed frame)."""
+        for plugin in self.plugins:
+            frame = getattr(plugin, "odom_frame", None)
+            if isinstance(frame, str):
+                return frame
+        return None
+
+    # --- state ---------------------------------------------------------------------------------
+    def model_pose(self, name: str) -> Matrix4:
+        """A model's world pose: a robot's root link, a world model's frame."""
+        engine = self.engine
+        robot = self.robots.get(name)
+        if robot is not None:
+            return engine.link_pose(robot.build, robot.model.root_link.name)
+        entry = self.world.model(name)
+        root = self.world_roots.get(name)
+        if entry is None or root is None:
+            known = ", ".join(sorted([*self.robots, *self.world_roots]))
+            msg = f"no model named {name!r} (models: {known})"
+            raise KeyError(msg)
+        if root == "world" or not entry.links:
+            return transform(entry.pose)
+        body_pose = engine.body_pose(engine.body_id(root))
+        result: Matrix4 = body_pose @ np.linalg.inv(transform(entry.links[0].pose))
+        return result
+
+    def model_poses(self) -> dict[str, Transform]:
+        """World poses of the world's movable models (for the viewer)."""
+        return {
+            name: Transform.from_matrix(self.model_pose(name))
+            for name, root in self.world_roots.items()
+            if root != "world"
+        }
+
+    def model_names(self) -> list[str]:
+        return [*self.world_roots, *self.robots]
+
+    def model_twist(self, name: str) -> npt.NDArray[np.float64]:
+        """(angular, linear) world velocity of a model's root body."""
+        robot = self.robots.get(name)
+        if robot is not None:
+            body = robot.build.root_body
+        else:
+            body = self.world_roots.get(name, "")
+            if not body:
+                self.model_pose(name)  # raises the KeyError naming the models
+        if body == "world":
+            return np.zeros(6)
+        return self.engine.body_velocity(self.engine.body_id(body))
+
+    def set_model_pose(self, name: str, pose: Pose) -> None:
+        """Teleport a free model (set_model_state); its velocity is zeroed."""
+        robot = self.robots.get(name)
+        if robot is not None and robot.build.free_joint is not None:
+            root_offset = robot.build.link_body[robot.model.root_link.name][1]
+            target = transform(pose) @ np.linalg.inv(root_offset)
+            self.engine.set_free_pose(robot.build.free_joint, target)
+            return
+        entry = self.world.model(name)
+        if entry is not None and self.world_roots.get(name, "world") != "world":
+            self.engine.set_free_pose(
+                f"{name}/free", transform(pose) @ transform(entry.links[0].pose)
+            )
+            return
+        self.model_pose(name)  # unknown: raises
+        msg = f"model {name!r} is static or fixed to the world; it cannot be moved"
+        raise KeyError(msg)
+
+    def add_model(self, entry: WorldModelEntry, *, name: str, pose: Pose) -> None:
+        """Add an SDF model to the world (spawn_sdf_model)."""
+        name = name or entry.name
+        if name in self.robots or name in self.world_roots:
+            msg = f"a model named {name!r} already exists in the simulation"
+            raise ModelError(msg)
+        placed = WorldModelEntry(
+            name, pose, entry.static, entry.links, entry.joints, entry.uri, entry.source
+        )
+        self.world_roots.update(add_world(self.engine.spec, WorldModel(models=(placed,))))
+        self.world = WorldModel(
+            self.world.name,
+            self.world.physics,
+            (*self.world.models, placed),
+            self.world.lights,
+            self.world.path,
+            self.world.sdf_version,
+        )
+        self.engine.compile()
+
+    def delete(self, name: str) -> None:
+        """Remove a robot or a world model (delete_model)."""
+        spec = self.engine.spec
+        prefix = f"{name}/"
+        robot = self.robots.pop(name, None)
+        if robot is None and name not in self.world_roots:
+            self.model_pose(name)  # raises the KeyError naming the models
+        for plugin in robot.plugins if robot else []:
+            plugin.active = False
+        for actuator in list(spec.actuators):
+            if actuator.name.startswith(prefix):
+                spec.delete(actuator)
+        for exclude in list(spec.excludes):
+            if exclude.bodyname1.startswith(prefix):
+                spec.delete(exclude)
+        for body in list(spec.worldbody.bodies):
+            if body.name.startswith(prefix):
+                spec.delete(body)
+        for geom in list(spec.worldbody.geoms):
+            if geom.name.startswith(prefix):
+                spec.delete(geom)
+        self.world_roots.pop(name, None)
+        self.world = WorldModel(
+            self.world.name,
+            self.world.physics,
+            tuple(m for m in self.world.models if m.name != name),
+            self.world.lights,
+            self.world.path,
+            self.world.sdf_version,
+        )
+        self.engine.compile()
+
+    @property
+    def paused(self) -> bool:
+        return self.graph.executor.paused
+
+    @paused.setter
+    def paused(self, value: bool) -> None:
+        self.graph.executor.pause(value)
+
     # --- the viewer's controls -----------------------------------------------------------------
     def pause(self, paused: bool) -> None:
         self.graph.executor.pause(paused)
 
-    def step_once(self) -> None:
+    def step(self) -> None:
+        """While paused: one physics step (the viewer's Step button)."""
         self.graph.executor.step(self.engine.physics.max_step_size)
 
     def reset(self) -> None:
