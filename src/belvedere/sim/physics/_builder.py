@@ -304,7 +304,8 @@ class _RobotBuilder:
             tensor += rotation @ local @ rotation.T
             tensor += inertial.mass * (float(d @ d) * np.eye(3) - np.outer(d, d))
         eigen = np.linalg.eigvalsh(tensor)
-        source = self.model.link(start).source.best
+        own = self.model.link(start).inertial
+        source = (own.source.best if own else None) or self.model.link(start).source.best
         bad = eigen[0] <= 0 or eigen[0] + eigen[1] < eigen[2] * (1 - 1e-6)
         if bad:
             msg = (
