@@ -1,6 +1,11 @@
 """The physics engine: MuJoCo, with the model built by us from the robot and world models,
 and Gazebo's ROS plugins (diff drive, sensors, ros_control) read from ``<gazebo>`` tags."""
 
+import os
+
+# Cameras render offscreen; without a display, Mesa's EGL (llvmpipe) is the way.
+os.environ.setdefault("MUJOCO_GL", "egl")
+
 from belvedere.sim.physics._builder import ModelError, RobotBuild, add_robot, add_world, new_spec
 from belvedere.sim.physics._engine import Engine
 from belvedere.sim.physics._gazebo_ros import GazeboRos, parse_spawn_args, spawn_model

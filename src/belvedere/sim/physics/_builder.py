@@ -46,6 +46,8 @@ Matrix4 = npt.NDArray[np.float64]
 
 VISUAL_GROUP = 1
 COLLISION_GROUP = 3
+"""Collision geoms: hit by rays, hidden from cameras (which show VISUAL_GROUP only). They must
+not be fully transparent: MuJoCo's rays skip geoms with alpha 0."""
 MIN_MASS = 1e-3
 """A moving body with no mass gets this (Gazebo would refuse it less clearly)."""
 
@@ -356,7 +358,7 @@ class _RobotBuilder:
             if min_depth is not None and min_depth > 0:
                 geom.margin = min_depth
                 geom.gap = min_depth
-            geom.rgba = [0.5, 0.5, 0.5, 0.0]
+            geom.rgba = [0.5, 0.5, 0.5, 0.5]
         for i, visual in enumerate(link.visuals):
             geom = self._geom(
                 body,
@@ -572,7 +574,7 @@ def _world_shape(
         geom.rgba = list(shape.rgba or (0.75, 0.75, 0.75, 1.0))
         return
     geom.group = COLLISION_GROUP
-    geom.rgba = [0.5, 0.5, 0.5, 0.0]
+    geom.rgba = [0.5, 0.5, 0.5, 0.5]
     surface = shape.surface
     mu = min(surface.mu, surface.mu2) if surface is not None else 1.0
     geom.friction = [mu, 0.005, 0.0001]

@@ -31,6 +31,8 @@ VELOCITY_GAIN = 200.0  # N*m*s/rad: stiff enough to track like Gazebo's joint mo
 
 
 class DiffDrive(Plugin):
+    NAMESPACE_DEFAULTS_TO_MODEL = True
+
     def __init__(self, ctx: PluginContext) -> None:
         super().__init__(ctx)
         if self.text("publishTf") is None:

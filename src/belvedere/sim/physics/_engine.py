@@ -100,10 +100,11 @@ class Engine:
         return result
 
     def body_velocity(self, body_id: int, *, local: bool = False) -> npt.NDArray[np.float64]:
-        """(angular xyz, linear xyz) at the body's origin, world (or body) axes."""
+        """(angular xyz, linear xyz) at the body's origin, world (or body) axes. (XBODY: the
+        body's own frame; BODY would be its principal-inertia frame.)"""
         res = np.zeros(6)
         mujoco.mj_objectVelocity(
-            self.m, self.d, mujoco.mjtObj.mjOBJ_BODY, body_id, res, 1 if local else 0
+            self.m, self.d, mujoco.mjtObj.mjOBJ_XBODY, body_id, res, 1 if local else 0
         )
         return res
 
@@ -111,7 +112,7 @@ class Engine:
         """(angular, linear) proper acceleration in body axes (what an IMU measures)."""
         mujoco.mj_rnePostConstraint(self.m, self.d)
         res = np.zeros(6)
-        mujoco.mj_objectAcceleration(self.m, self.d, mujoco.mjtObj.mjOBJ_BODY, body_id, res, 1)
+        mujoco.mj_objectAcceleration(self.m, self.d, mujoco.mjtObj.mjOBJ_XBODY, body_id, res, 1)
         return res
 
     def healthy(self) -> str | None:

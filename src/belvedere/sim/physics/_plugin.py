@@ -67,6 +67,10 @@ class PluginContext:
 class Plugin:
     """Base of the plugin stand-ins."""
 
+    NAMESPACE_DEFAULTS_TO_MODEL = False
+    """Plugins built on gazebo_ros's GazeboRos helper (diff drive, joint state publisher)
+    default ``robotNamespace`` to the model's name; the others to the root namespace."""
+
     def __init__(self, ctx: PluginContext) -> None:
         self.ctx = ctx
         self.engine = ctx.engine
@@ -119,7 +123,7 @@ class Plugin:
     def namespace(self) -> str:
         ns = self.text("robotNamespace")
         if ns is None:
-            ns = self.robot.name
+            ns = self.robot.name if self.NAMESPACE_DEFAULTS_TO_MODEL else "/"
         return "/" + "/".join(part for part in ns.split("/") if part)
 
     def make_node(self, suffix: str = "") -> Node:

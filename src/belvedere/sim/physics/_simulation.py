@@ -22,7 +22,9 @@ from belvedere.packages import PackageIndex
 from belvedere.sim.physics._builder import ModelError, RobotBuild, add_robot, add_world
 from belvedere.sim.physics._diff_drive import DiffDrive
 from belvedere.sim.physics._engine import Engine
+from belvedere.sim.physics._model_plugins import GroundTruth, JointStates, PlanarMove
 from belvedere.sim.physics._plugin import Plugin, PluginContext
+from belvedere.sim.physics._sensors import CameraSensor, DepthCamera, ImuSensor, LaserSensor
 from belvedere.tf import Transform
 from belvedere.world import Physics, WorldModel, WorldModelEntry
 
@@ -36,13 +38,26 @@ PluginFactory = Callable[[PluginContext], Plugin]
 
 PLUGINS: dict[str, PluginFactory] = {
     "libgazebo_ros_diff_drive.so": DiffDrive,
+    "libgazebo_ros_p3d.so": GroundTruth,
+    "libgazebo_ros_joint_state_publisher.so": JointStates,
+    "libgazebo_ros_planar_move.so": PlanarMove,
+    "libgazebo_ros_imu.so": ImuSensor,
 }
 """Model plugins (``<gazebo><plugin filename=…>``) by file name."""
 
-SENSOR_PLUGINS: dict[str, PluginFactory] = {}
+SENSOR_PLUGINS: dict[str, PluginFactory] = {
+    "libgazebo_ros_laser.so": LaserSensor,
+    "libgazebo_ros_gpu_laser.so": LaserSensor,
+    "libgazebo_ros_camera.so": CameraSensor,
+    "libgazebo_ros_openni_kinect.so": DepthCamera,
+    "libgazebo_ros_depth_camera.so": DepthCamera,
+    "libgazebo_ros_imu_sensor.so": ImuSensor,
+}
 """Sensor plugins (``<sensor><plugin filename=…>``) by file name."""
 
-NOT_YET: dict[str, str] = {}
+NOT_YET: dict[str, str] = {
+    "libgazebo_ros_control.so": "ros_control is not simulated yet",
+}
 """Known plugins that are not simulated yet, with what to expect."""
 
 
