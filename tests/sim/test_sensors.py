@@ -13,6 +13,7 @@ from belvedere.description.urdf import RobotModel
 from belvedere.graph import Graph
 from belvedere.packages import PackageIndex
 from belvedere.sim.physics import PhysicsSimulation
+from belvedere.sim.physics._sensors import LaserSensor
 from belvedere.world import read_world, read_world_string
 from tests.conftest import EXAMPLES
 
@@ -78,7 +79,7 @@ def test_laser_costs_nothing_without_subscribers() -> None:
     graph = Graph()
     sim = PhysicsSimulation(graph, read_world(BOX_ROOM))
     robot = sim.spawn(_model("mbot_with_laser_gazebo.xacro"), name="mbot")
-    laser = next(p for p in robot.plugins if type(p).__name__ == "LaserSensor")
+    laser = next(p for p in robot.plugins if isinstance(p, LaserSensor))
     graph.run(duration=1.0)
     assert laser.last_ns is None  # never cast a ray
 
