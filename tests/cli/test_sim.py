@@ -76,7 +76,6 @@ def test_rbx1_fake_turtlebot_in_one_command(
             "--pub '/cmd_vel geometry_msgs/Twst {}': unknown",
         ),
         (["--echo", "/nothing"], "--echo /nothing: no node in this run"),
-        (["--engine", "physics"], "physics engine is not available yet"),
         (["--duration", "-1"], "--duration expects a positive number"),
         (["no_such:=arg", "extra"], "unexpected arguments: extra"),
     ],
@@ -137,3 +136,36 @@ def test_paced_run_with_the_viewer_and_tools(endpoint: str) -> None:
     finally:
         sim.terminate()
         sim.wait(timeout=10)
+
+
+def test_physics_scripted_run_in_a_world(endpoint: str, capsys: pytest.CaptureFixture[str]) -> None:
+    world = str(EXAMPLES / "mbot_gazebo/worlds/playground.world")
+    args = ["sim", MBOT, "--engine", "physics", "--world", world, "--headless", "--rtf", "max"]
+    args += ["--duration", "2", "-x", "0.5", "-Y", "1.5707963"]
+    args += ["--pub", "/cmd_vel geometry_msgs/Twist {linear: {x: 0.2}}", "--echo", "/odom"]
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    odom = _documents(out)
+    # 100 Hz; Gazebo's "more than one period passed" check puts the first at 11 ms
+    assert len(odom) == 199
+    position = odom[-1]["pose"]["pose"]["position"]  # type: ignore[index]
+    assert position["x"] == pytest.approx(0.5, abs=0.02)  # spawned at x=0.5 facing +y
+    assert position["y"] > 0.25
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--world", "/no/such.world"], "cannot read /no/such.world"),
+        (["--engine", "physics", "--config", MBOT_YAML], "--config and --namespace are for"),
+        (["--paused"], "--world and --paused are for --engine physics"),
+    ],
+)
+def test_physics_argument_errors(
+    endpoint: str, capsys: pytest.CaptureFixture[str], extra: list[str], message: str
+) -> None:
+    engine = [] if "--engine" in extra else ["--engine", "physics"]
+    if "--paused" in extra:
+        engine = []
+    assert main(["sim", MBOT, "--headless", "--duration", "1", *engine, *extra]) == 1
+    assert message in capsys.readouterr().err

@@ -12,8 +12,7 @@ import pytest
 from belvedere.description.urdf import RobotModel
 from belvedere.graph import Graph
 from belvedere.packages import PackageIndex
-from belvedere.sim.physics import PhysicsSimulation
-from belvedere.sim.physics._sensors import LaserSensor
+from belvedere.sim.physics import LaserSensor, PhysicsSimulation
 from belvedere.world import read_world, read_world_string
 from tests.conftest import EXAMPLES
 

@@ -9,12 +9,17 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 from belvedere.sim.physics._builder import ModelError, RobotBuild, add_robot, add_world, new_spec
 from belvedere.sim.physics._engine import Engine
 from belvedere.sim.physics._gazebo_ros import GazeboRos, parse_spawn_args, spawn_model
+from belvedere.sim.physics._sensors import CameraSensor, DepthCamera, ImuSensor, LaserSensor
 from belvedere.sim.physics._simulation import PLUGINS, PhysicsSimulation, SpawnedRobot
 
 __all__ = [
     "PLUGINS",
+    "CameraSensor",
+    "DepthCamera",
     "Engine",
     "GazeboRos",
+    "ImuSensor",
+    "LaserSensor",
     "ModelError",
     "PhysicsSimulation",
     "RobotBuild",
