@@ -24,18 +24,13 @@ from belvedere.packages import PackageIndex
 from belvedere.sim.kinematic import ArbotixConfig, KinematicSimulation
 from belvedere.sim.physics import GazeboRos, PhysicsSimulation
 from belvedere.tf import JointStatePublisher, RobotStatePublisher
-from belvedere.world import WorldModel, read_world, read_world_string
+from belvedere.world import ModelPaths, WorldModel, empty_world, read_world
 from belvedere.yamlfile import load_yaml_file
 
 if TYPE_CHECKING:
     from belvedere.viewer import Viewer
 
 SimControls = KinematicSimulation | PhysicsSimulation
-
-EMPTY_WORLD = """<sdf version="1.6"><world name="default">
-  <include><uri>model://ground_plane</uri></include>
-  <include><uri>model://sun</uri></include>
-</world></sdf>"""
 
 __all__ = ["add_parser", "run"]
 
@@ -166,7 +161,7 @@ def _read_world(args: argparse.Namespace, packages: PackageIndex) -> WorldModel:
     if args.world:
         world = read_world(args.world, packages=packages)
     else:
-        world = read_world_string(EMPTY_WORLD, "<empty world>", packages=packages)
+        world = empty_world(model_paths=ModelPaths.from_environment(packages=packages))
     for warning in world.warnings:
         sys.stderr.write(f"{warning}\n")
     return world

@@ -74,8 +74,32 @@ _EXTRA_MESSAGES: Final = {
         "float64 sor_pgs_w\nfloat64 sor_pgs_rms_error_tol\nfloat64 contact_surface_layer\n"
         "float64 contact_max_correcting_vel\nfloat64 cfm\nfloat64 erp\nuint32 max_contacts"
     ),
+    "control_msgs/msg/JointTrajectoryControllerState": (
+        "std_msgs/Header header\nstring[] joint_names\n"
+        "trajectory_msgs/JointTrajectoryPoint desired\n"
+        "trajectory_msgs/JointTrajectoryPoint actual\n"
+        "trajectory_msgs/JointTrajectoryPoint error"
+    ),
+    "controller_manager_msgs/msg/HardwareInterfaceResources": (
+        "string hardware_interface\nstring[] resources"
+    ),
+    "controller_manager_msgs/msg/ControllerState": (
+        "string name\nstring state\nstring type\n"
+        "controller_manager_msgs/HardwareInterfaceResources[] claimed_resources"
+    ),
 }
 _EXTRA_SERVICES: Final = {
+    "controller_manager_msgs/srv/LoadController": ("string name", "bool ok"),
+    "controller_manager_msgs/srv/UnloadController": ("string name", "bool ok"),
+    "controller_manager_msgs/srv/SwitchController": (
+        "string[] start_controllers\nstring[] stop_controllers\nint32 strictness\n"
+        "bool start_asap\nfloat64 timeout",
+        "bool ok",
+    ),
+    "controller_manager_msgs/srv/ListControllers": (
+        "",
+        "controller_manager_msgs/ControllerState[] controller",
+    ),
     "gazebo_msgs/srv/SpawnModel": (
         "string model_name\nstring model_xml\nstring robot_namespace\n"
         "geometry_msgs/Pose initial_pose\nstring reference_frame",

@@ -19,7 +19,13 @@ from belvedere.world._model import (
     WorldModelEntry,
 )
 from belvedere.world._paths import BUILTIN_MODELS, ModelPaths, model_sdf_file
-from belvedere.world._sdf import SDFError, read_model_file, read_world, read_world_string
+from belvedere.world._sdf import (
+    SDFError,
+    empty_world,
+    read_model_file,
+    read_world,
+    read_world_string,
+)
 
 __all__ = [
     "BUILTIN_MODELS",
@@ -36,6 +42,7 @@ __all__ = [
     "WorldLink",
     "WorldModel",
     "WorldModelEntry",
+    "empty_world",
     "model_sdf_file",
     "read_model_file",
     "read_world",

@@ -36,7 +36,12 @@ from belvedere.world._paths import BUILTIN_MODELS, ModelPaths, model_sdf_file
 from belvedere.world._poses import compose, from_matrix, inverse, matrix, quat_xyzw_to_rpy
 from belvedere.xmldom import Element, parse_file, parse_string
 
-__all__ = ["SDFError", "read_model_file", "read_world", "read_world_string"]
+__all__ = ["SDFError", "empty_world", "read_model_file", "read_world", "read_world_string"]
+
+EMPTY_WORLD = """<sdf version="1.6"><world name="default">
+  <include><uri>model://ground_plane</uri></include>
+  <include><uri>model://sun</uri></include>
+</world></sdf>"""
 
 _IGNORED_WORLD = {"scene", "gui", "spherical_coordinates", "magnetic_field", "atmosphere", "wind"}
 _IGNORED_WORLD |= {"audio", "gravity", "physics", "model", "include", "light", "state", "plugin"}
@@ -67,6 +72,11 @@ def read_world_string(
 ) -> WorldModel:
     doc = parse_string(text, path, namespaces=False, keep_blank=False)
     return _Reader(_paths(packages, model_paths), path).world(doc.root)
+
+
+def empty_world(*, model_paths: ModelPaths | None = None) -> WorldModel:
+    """gazebo_ros's ``empty.world``: a ground plane and the sun (built in unless installed)."""
+    return read_world_string(EMPTY_WORLD, "<empty world>", model_paths=model_paths)
 
 
 def read_model_file(path: str | Path, *, model_paths: ModelPaths | None = None) -> WorldModelEntry:

@@ -9,10 +9,12 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 from belvedere.sim.physics._builder import ModelError, RobotBuild, add_robot, add_world, new_spec
 from belvedere.sim.physics._engine import Engine
 from belvedere.sim.physics._gazebo_ros import GazeboRos, parse_spawn_args, spawn_model
+from belvedere.sim.physics._ros_control import CONTROLLER_TYPES, RosControl, spawner
 from belvedere.sim.physics._sensors import CameraSensor, DepthCamera, ImuSensor, LaserSensor
 from belvedere.sim.physics._simulation import PLUGINS, PhysicsSimulation, SpawnedRobot
 
 __all__ = [
+    "CONTROLLER_TYPES",
     "PLUGINS",
     "CameraSensor",
     "DepthCamera",
@@ -23,10 +25,12 @@ __all__ = [
     "ModelError",
     "PhysicsSimulation",
     "RobotBuild",
+    "RosControl",
     "SpawnedRobot",
     "add_robot",
     "add_world",
     "new_spec",
     "parse_spawn_args",
     "spawn_model",
+    "spawner",
 ]

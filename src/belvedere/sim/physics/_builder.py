@@ -75,6 +75,7 @@ def new_spec(physics: Physics, *, name: str = "belvedere") -> mujoco.MjSpec:
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
     spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
     spec.compiler.autolimits = True
+    spec.compiler.degree = False  # joint ranges in radians, as URDF has them
     return spec
 
 
@@ -136,20 +137,16 @@ class _RobotBuilder:
         groups = self._groups(root.name)
         build = RobotBuild(self.name, model, "", None)
         parent_body = self.spec.worldbody
-        if fixed_to_world:
-            # <link name="world"> and a joint to it: the robot is fixed where it is spawned
-            for link, offset in groups[root.name]:
-                build.link_body[link] = ("world", transform(pose) @ offset)
-            for joint in model.child_joints(root.name):
-                self._body(parent_body, joint, transform(pose), groups, build)
-            build.root_body = build.bodies[0] if build.bodies else "world"
-            return build
         body = parent_body.add_body(name=f"{self.name}/{root.name}")
         _place(body, transform(pose))
         build.root_body = body.name
-        free = body.add_freejoint(name=f"{self.name}/root")
-        build.free_joint = free.name
-        self._fill(body, root.name, groups, build, moving=True)
+        if not fixed_to_world:
+            free = body.add_freejoint(name=f"{self.name}/root")
+            build.free_joint = free.name
+        # A robot fixed to the world (<link name="world"> and a joint to it) keeps its fixed
+        # part in a jointless body of its own: welded where it is spawned, and MuJoCo's
+        # parent-child contact filter still keeps it from colliding with what it carries.
+        self._fill(body, root.name, groups, build, moving=not fixed_to_world)
         return build
 
     def _groups(self, root: str) -> dict[str, list[tuple[str, Matrix4]]]:
@@ -224,7 +221,7 @@ class _RobotBuilder:
         )
         mj = body.add_joint(name=name, type=kind, axis=[float(a) for a in axis])
         if dynamics is not None:
-            mj.damping = dynamics.damping
+            mj.damping = [dynamics.damping, 0.0, 0.0]  # (MuJoCo 4: a polynomial in velocity)
             mj.frictionloss = dynamics.friction
         limit = joint.limit
         if limit is not None and joint.type in ("revolute", "prismatic"):

@@ -24,9 +24,10 @@ from belvedere.sim.physics._diff_drive import DiffDrive
 from belvedere.sim.physics._engine import Engine
 from belvedere.sim.physics._model_plugins import GroundTruth, JointStates, PlanarMove
 from belvedere.sim.physics._plugin import Plugin, PluginContext
+from belvedere.sim.physics._ros_control import RosControl
 from belvedere.sim.physics._sensors import CameraSensor, DepthCamera, ImuSensor, LaserSensor
 from belvedere.tf import Transform
-from belvedere.world import Physics, WorldModel, WorldModelEntry
+from belvedere.world import WorldModel, WorldModelEntry, empty_world
 
 __all__ = ["PLUGINS", "PhysicsSimulation", "SpawnedRobot"]
 
@@ -42,6 +43,7 @@ PLUGINS: dict[str, PluginFactory] = {
     "libgazebo_ros_joint_state_publisher.so": JointStates,
     "libgazebo_ros_planar_move.so": PlanarMove,
     "libgazebo_ros_imu.so": ImuSensor,
+    "libgazebo_ros_control.so": RosControl,
 }
 """Model plugins (``<gazebo><plugin filename=…>``) by file name."""
 
@@ -55,9 +57,7 @@ SENSOR_PLUGINS: dict[str, PluginFactory] = {
 }
 """Sensor plugins (``<sensor><plugin filename=…>``) by file name."""
 
-NOT_YET: dict[str, str] = {
-    "libgazebo_ros_control.so": "ros_control is not simulated yet",
-}
+NOT_YET: dict[str, str] = {}
 """Known plugins that are not simulated yet, with what to expect."""
 
 
@@ -74,7 +74,8 @@ class SpawnedRobot:
 
 
 class PhysicsSimulation:
-    """A world and the robots in it, stepped on ``graph``'s executor."""
+    """A world (default: the empty world, a ground plane and the sun) and the robots in it,
+    stepped on ``graph``'s executor."""
 
     def __init__(
         self,
@@ -84,8 +85,8 @@ class PhysicsSimulation:
         auto_reset: bool = False,
     ) -> None:
         self.graph = graph
-        self.world = world or WorldModel()
-        self.engine = Engine(self.world.physics if world else Physics())
+        self.world = world or empty_world()
+        self.engine = Engine(self.world.physics)
         self.world_roots = add_world(self.engine.spec, self.world)
         self.robots: dict[str, SpawnedRobot] = {}
         self.auto_reset = auto_reset
