@@ -139,7 +139,7 @@ def test_effort_pid_position_controller_holds_against_gravity() -> None:
 
 def test_missing_gains_and_bad_controllers(caplog: pytest.LogCaptureFixture) -> None:
     caplog.set_level(logging.WARNING, logger="belvedere.ros_control")
-    graph, sim, client = _arm()
+    _graph, _sim, client = _arm()
     warnings = [r for r in caplog.records if "no PID gains" in r.getMessage()]
     assert len(warnings) == 1  # one line for every joint, not a flood
     graph.params.set(
@@ -171,7 +171,8 @@ def test_diff_drive_controller_drives_and_times_out() -> None:
     end = urdf.index("</plugin>", start) + len("</plugin>")
     urdf = (
         urdf[:start]
-        + '<plugin name="rc" filename="libgazebo_ros_control.so"><robotNamespace>/</robotNamespace></plugin>'
+        + '<plugin name="rc" filename="libgazebo_ros_control.so">'
+        + "<robotNamespace>/</robotNamespace></plugin>"
         + urdf[end:]
     )
     for side in ("left", "right"):  # ros_control wants effort limits on its joints
