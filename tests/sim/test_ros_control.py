@@ -139,7 +139,7 @@ def test_effort_pid_position_controller_holds_against_gravity() -> None:
 
 def test_missing_gains_and_bad_controllers(caplog: pytest.LogCaptureFixture) -> None:
     caplog.set_level(logging.WARNING, logger="belvedere.ros_control")
-    _graph, _sim, client = _arm()
+    graph, _sim, client = _arm()
     warnings = [r for r in caplog.records if "no PID gains" in r.getMessage()]
     assert len(warnings) == 1  # one line for every joint, not a flood
     graph.params.set(
