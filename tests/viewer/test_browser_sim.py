@@ -11,8 +11,13 @@ import pytest
 
 from belvedere.description.urdf import RobotModel
 from belvedere.graph import Graph
+from belvedere.packages import PackageIndex
 from belvedere.sim.kinematic import KinematicSimulation
+from belvedere.sim.physics import PhysicsSimulation
+from belvedere.tf import JointStatePublisher, RobotStatePublisher
 from belvedere.viewer import Viewer
+from belvedere.world import read_world
+from tests.conftest import EXAMPLES
 from tests.viewer.test_browser import (
     CHROMIUM_ARGS,
     MBOT,
@@ -65,6 +70,54 @@ def test_robot_drives_in_the_viewer_and_resets() -> None:
             page.get_by_role("button", name="Reset").click()
             assert _wait(lambda: base.x == 0.0)
             assert _wait(lambda: _is_base_yellow(_pixel(page, project((0.0, 0.0, top)))))
+            browser.close()
+    finally:
+        viewer.close()
+        graph.shutdown()
+
+
+def test_physics_world_and_robot_in_the_viewer() -> None:
+    """The playground's orange post and the robot's scan show in the browser."""
+    if shutil.which("chromium") is None:
+        pytest.skip("Debian's chromium is not installed")
+    playwright = pytest.importorskip("playwright.sync_api")
+    packages = PackageIndex([EXAMPLES])
+    world = read_world(EXAMPLES / "mbot_gazebo/worlds/playground.world", packages=packages)
+    laser_bot = EXAMPLES / "mbot_description/urdf/xacro/gazebo/mbot_with_laser_gazebo.xacro"
+    model = RobotModel.from_path(laser_bot)
+    graph = Graph()
+    sim = PhysicsSimulation(graph, world)
+    sim.spawn(model, name="mbot", packages=packages)
+    RobotStatePublisher(graph.create_node("robot_state_publisher"), model)
+    JointStatePublisher(graph.create_node("joint_state_publisher"), model)
+    viewer = Viewer(
+        graph,
+        model=model,
+        port=_free_port(),
+        fixed_frame=sim.odom_frame,
+        sim=sim,
+        world=world,
+        world_poses=sim.model_poses,
+    )
+    for kind, topic in sim.sensor_topics():
+        viewer.add_display(kind, topic)
+    graph.start(rtf=1.0)
+    try:
+        with playwright.sync_playwright() as p:
+            browser = p.chromium.launch(
+                executable_path=shutil.which("chromium"), headless=True, args=CHROMIUM_ARGS
+            )
+            page: Any = browser.new_page(viewport={"width": VIEWPORT[0], "height": VIEWPORT[1]})
+            page.goto(viewer.url)
+            page.wait_for_selector("canvas", timeout=30000)
+            time.sleep(2.0)
+
+            def orange(xy: tuple[float, float]) -> bool:
+                r, g, b = _pixel(page, xy)
+                return r > 180 and 60 < g < 200 and b < 80
+
+            assert _wait(lambda: orange(project((-1.0, 2.0, 0.5))))  # post_2, Gazebo/Orange
+            assert _wait(lambda: bool(viewer.displays[0].handles))  # the scan arrived
             browser.close()
     finally:
         viewer.close()

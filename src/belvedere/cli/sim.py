@@ -208,6 +208,9 @@ def _open_viewer(
         world=world,
         world_poses=sim.model_poses if isinstance(sim, PhysicsSimulation) else None,
     )
+    if isinstance(sim, PhysicsSimulation) and not args.rviz:
+        for kind, topic in sim.sensor_topics():
+            viewer.add_display(kind, topic)
     sys.stderr.write(f"viewer: {viewer.url} (Ctrl-C to stop)\n")
     if args.open:
         webbrowser.open(viewer.url)

@@ -258,6 +258,18 @@ class PhysicsSimulation:
                 return frame
         return None
 
+    def sensor_topics(self) -> list[tuple[str, str]]:
+        """(rviz display kind, topic) for each sensor's main output, to show them at once."""
+        out: list[tuple[str, str]] = []
+        for plugin in self.plugins:
+            if isinstance(plugin, LaserSensor):
+                out.append(("LaserScan", plugin.pub.name))
+            elif isinstance(plugin, DepthCamera):
+                out.append(("PointCloud2", plugin.points_pub.name))
+            elif isinstance(plugin, CameraSensor):
+                out.append(("Image", plugin.image_pub.name))
+        return out
+
     # --- state ---------------------------------------------------------------------------------
     def model_pose(self, name: str) -> Matrix4:
         """A model's world pose: a robot's root link, a world model's frame."""
