@@ -14,6 +14,7 @@ from belvedere.tf._math import (
 from belvedere.tf._nodes import (
     JointStatePublisher,
     RobotStatePublisher,
+    TransformBroadcaster,
     TransformListener,
     parse_static_transform_args,
     static_transform_publisher,
@@ -25,6 +26,7 @@ __all__ = [
     "TFBuffer",
     "TFError",
     "Transform",
+    "TransformBroadcaster",
     "TransformListener",
     "parse_static_transform_args",
     "quat_xyzw_from_rpy",

@@ -17,10 +17,41 @@ from belvedere.tf._math import Transform, quat_xyzw_from_rpy
 __all__ = [
     "JointStatePublisher",
     "RobotStatePublisher",
+    "TransformBroadcaster",
     "TransformListener",
     "parse_static_transform_args",
     "static_transform_publisher",
 ]
+
+
+class TransformBroadcaster:
+    """tf's TransformBroadcaster: transforms on ``/tf`` (built only when someone listens)."""
+
+    def __init__(self, node: Node) -> None:
+        self.pub = node.publisher("/tf", "tf2_msgs/TFMessage", queue_size=100)
+
+    def send(
+        self,
+        parent: str,
+        child: str,
+        translation: build.Floats,
+        quat_xyzw: build.Floats,
+        stamp_ns: int,
+    ) -> None:
+        self.send_all([(parent, child, translation, quat_xyzw)], stamp_ns)
+
+    def send_all(
+        self,
+        transforms: Sequence[tuple[str, str, build.Floats, build.Floats]],
+        stamp_ns: int,
+    ) -> None:
+        """Several (parent, child, translation, quat_xyzw) in one message."""
+        if self.pub.wanted:
+            self.pub.publish(
+                build.tf_message(
+                    [build.transform_stamped(p, c, t, q, stamp_ns) for p, c, t, q in transforms]
+                )
+            )
 
 
 class TransformListener:

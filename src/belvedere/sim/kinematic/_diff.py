@@ -16,6 +16,7 @@ from typing import Any
 from belvedere.graph import NS, Node
 from belvedere.msgs import build
 from belvedere.sim.kinematic._config import DiffControllerConfig
+from belvedere.tf import TransformBroadcaster
 
 __all__ = ["DiffController"]
 
@@ -45,7 +46,7 @@ class DiffController:
         self._rejected = 0
         node.subscribe("cmd_vel", "geometry_msgs/Twist", self.on_cmd_vel, queue_size=10)
         self.odom_pub = node.publisher("odom", "nav_msgs/Odometry", queue_size=5)
-        self.tf_pub = node.publisher("/tf", "tf2_msgs/TFMessage", queue_size=100)
+        self.tf = TransformBroadcaster(node)
         node.timer(1.0 / config.rate, self.update)
         logger.info(
             "Started DiffController (%s). Geometry: %sm wide, %s ticks/m.",
@@ -95,12 +96,7 @@ class DiffController:
         self.th += self.dr * elapsed
         quat = (0.0, 0.0, math.sin(self.th / 2), math.cos(self.th / 2))
         position = (self.x, self.y, 0.0)
-        if self.tf_pub.wanted:
-            self.tf_pub.publish(
-                build.tf_message(
-                    [build.transform_stamped(self.odom_frame, self.base_frame, position, quat, now)]
-                )
-            )
+        self.tf.send(self.odom_frame, self.base_frame, position, quat, now)
         if self.odom_pub.wanted:
             self.odom_pub.publish(
                 build.odometry(

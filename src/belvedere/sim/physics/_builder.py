@@ -291,16 +291,8 @@ class _RobotBuilder:
         tensor = np.zeros((3, 3))
         for inertial, offset in inertials:
             frame = offset @ transform(inertial.origin)
-            rotation = frame[:3, :3]
-            local = np.array(
-                [
-                    [inertial.ixx, inertial.ixy, inertial.ixz],
-                    [inertial.ixy, inertial.iyy, inertial.iyz],
-                    [inertial.ixz, inertial.iyz, inertial.izz],
-                ]
-            )
             d = frame[:3, 3] - com
-            tensor += rotation @ local @ rotation.T
+            tensor += _tensor_in(inertial, frame[:3, :3])
             tensor += inertial.mass * (float(d @ d) * np.eye(3) - np.outer(d, d))
         eigen = np.linalg.eigvalsh(tensor)
         own = self.model.link(start).inertial
@@ -531,6 +523,19 @@ def add_world(spec: mujoco.MjSpec, world: WorldModel) -> dict[str, str]:
     return roots
 
 
+def _tensor_in(inertial: Inertial, rotation: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+    """The inertia tensor about the centre of mass, in the frame ``rotation`` maps from."""
+    local = np.array(
+        [
+            [inertial.ixx, inertial.ixy, inertial.ixz],
+            [inertial.ixy, inertial.iyy, inertial.iyz],
+            [inertial.ixz, inertial.iyz, inertial.izz],
+        ]
+    )
+    result: npt.NDArray[np.float64] = rotation @ local @ rotation.T
+    return result
+
+
 def _world_inertia(body: mujoco.MjsBody, inertial: Inertial | None) -> None:
     body.explicitinertial = True
     if inertial is None:
@@ -540,15 +545,7 @@ def _world_inertia(body: mujoco.MjsBody, inertial: Inertial | None) -> None:
     o = transform(inertial.origin)
     body.mass = inertial.mass
     body.ipos = [float(v) for v in o[:3, 3]]
-    r = o[:3, :3]
-    local = np.array(
-        [
-            [inertial.ixx, inertial.ixy, inertial.ixz],
-            [inertial.ixy, inertial.iyy, inertial.iyz],
-            [inertial.ixz, inertial.iyz, inertial.izz],
-        ]
-    )
-    t = r @ local @ r.T
+    t = _tensor_in(inertial, o[:3, :3])
     body.fullinertia = [t[0, 0], t[1, 1], t[2, 2], t[0, 1], t[0, 2], t[1, 2]]
 
 

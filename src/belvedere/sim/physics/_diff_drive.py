@@ -21,6 +21,7 @@ from belvedere.msgs import build
 from belvedere.sim.physics._builder import ModelError
 from belvedere.sim.physics._engine import quat_xyzw, yaw_of
 from belvedere.sim.physics._plugin import Plugin, PluginContext, RateGate, reject_non_finite
+from belvedere.tf import TransformBroadcaster
 
 __all__ = ["DiffDrive"]
 
@@ -87,7 +88,7 @@ class DiffDrive(Plugin):
             if self.publish_tf
             else None
         )
-        self.tf_pub = self.node.publisher("/tf", "tf2_msgs/TFMessage", queue_size=100)
+        self.tf = TransformBroadcaster(self.node)
         self.joint_pub = (
             self.node.publisher("joint_states", "sensor_msgs/JointState", queue_size=1000)
             if self.publish_joint_states
@@ -221,16 +222,8 @@ class DiffDrive(Plugin):
                 0.0,
             )
             angular = (0.0, 0.0, float(vel[2]))
-        if self.publish_tf and self.publish_odom_tf and self.tf_pub.wanted:
-            self.tf_pub.publish(
-                build.tf_message(
-                    [
-                        build.transform_stamped(
-                            self.odom_frame, self.base_frame, position, quat, now_ns
-                        )
-                    ]
-                )
-            )
+        if self.publish_tf and self.publish_odom_tf:
+            self.tf.send(self.odom_frame, self.base_frame, position, quat, now_ns)
         if self.odom_pub is not None and self.odom_pub.wanted:
             covariance = np.zeros(36)
             covariance[[0, 7, 14, 21, 28, 35]] = POSE_COVARIANCE
@@ -248,7 +241,7 @@ class DiffDrive(Plugin):
             )
 
     def _publish_wheel_tf(self, now_ns: int) -> None:
-        if not self.tf_pub.wanted:
+        if not self.tf.pub.wanted:
             return
         transforms = []
         model = self.robot.model
@@ -257,12 +250,8 @@ class DiffDrive(Plugin):
             parent = self.engine.link_pose(self.robot, joint.parent)
             child = self.engine.link_pose(self.robot, joint.child)
             rel = np.linalg.inv(parent) @ child
-            transforms.append(
-                build.transform_stamped(
-                    joint.parent, joint.child, rel[:3, 3], quat_xyzw(rel), now_ns
-                )
-            )
-        self.tf_pub.publish(build.tf_message(transforms))
+            transforms.append((joint.parent, joint.child, rel[:3, 3], quat_xyzw(rel)))
+        self.tf.send_all(transforms, now_ns)
 
     def _publish_joint_states(self, now_ns: int) -> None:
         assert self.joint_pub is not None

@@ -12,6 +12,7 @@ from belvedere.msgs import build
 from belvedere.sim.physics._builder import ModelError
 from belvedere.sim.physics._engine import quat_xyzw, yaw_of
 from belvedere.sim.physics._plugin import Plugin, PluginContext, RateGate, reject_non_finite
+from belvedere.tf import TransformBroadcaster
 
 __all__ = ["GroundTruth", "JointStates", "PlanarMove"]
 
@@ -139,7 +140,7 @@ class PlanarMove(Plugin):
         self.odom_pub = self.node.publisher(
             self.text("odometryTopic", "odom") or "odom", "nav_msgs/Odometry", queue_size=1
         )
-        self.tf_pub = self.node.publisher("/tf", "tf2_msgs/TFMessage", queue_size=100)
+        self.tf = TransformBroadcaster(self.node)
         self.command = (0.0, 0.0, 0.0)
         self._state: dict[str, Any] = {}
 
@@ -172,16 +173,8 @@ class PlanarMove(Plugin):
             return
         position = pose[:3, 3]
         quat = quat_xyzw(pose)
-        if self.publish_tf and self.tf_pub.wanted:
-            self.tf_pub.publish(
-                build.tf_message(
-                    [
-                        build.transform_stamped(
-                            self.odom_frame, self.base_frame, position, quat, now_ns
-                        )
-                    ]
-                )
-            )
+        if self.publish_tf:
+            self.tf.send(self.odom_frame, self.base_frame, position, quat, now_ns)
         if self.odom_pub.wanted:
             self.odom_pub.publish(
                 build.odometry(

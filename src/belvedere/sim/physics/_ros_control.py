@@ -25,6 +25,7 @@ from belvedere.msgs import build, message_from_data
 from belvedere.sim.physics._builder import ModelError
 from belvedere.sim.physics._engine import JointRef
 from belvedere.sim.physics._plugin import Plugin, PluginContext
+from belvedere.tf import TransformBroadcaster
 
 __all__ = ["CONTROLLER_TYPES", "RosControl", "spawner"]
 
@@ -431,7 +432,7 @@ class DiffDriveController(Controller):
         self.velocity = (0.0, 0.0)
         self.node.subscribe("~cmd_vel", "geometry_msgs/Twist", self._on_cmd, queue_size=1)
         self.odom_pub = self.node.publisher("~odom", "nav_msgs/Odometry", queue_size=100)
-        self.tf_pub = self.node.publisher("/tf", "tf2_msgs/TFMessage", queue_size=100)
+        self.tf = TransformBroadcaster(self.node)
 
     def joints(self) -> list[str]:
         return [*self.left, *self.right]
@@ -490,16 +491,8 @@ class DiffDriveController(Controller):
                     twist_covariance=self.twist_cov,
                 )
             )
-        if self.enable_tf and self.tf_pub.wanted:
-            self.tf_pub.publish(
-                build.tf_message(
-                    [
-                        build.transform_stamped(
-                            self.odom_frame, self.base_frame, position, quat, now_ns
-                        )
-                    ]
-                )
-            )
+        if self.enable_tf:
+            self.tf.send(self.odom_frame, self.base_frame, position, quat, now_ns)
 
 
 def _limit(value: float, limits: dict[str, Any]) -> float:
