@@ -3,8 +3,10 @@ says so, and the viewer's Reset button brings it back."""
 
 from __future__ import annotations
 
+import contextlib
 import shutil
 import time
+from collections.abc import Iterator
 from typing import Any
 
 import pytest
@@ -31,15 +33,32 @@ from tests.viewer.test_browser import (
 pytestmark = pytest.mark.browser
 
 
+@contextlib.contextmanager
+def _page(url: str) -> Iterator[Any]:
+    """A headless Chromium page on ``url`` with its first frames drawn."""
+    if shutil.which("chromium") is None:
+        pytest.skip("Debian's chromium is not installed")
+    playwright = pytest.importorskip("playwright.sync_api")
+    with playwright.sync_playwright() as p:
+        browser = p.chromium.launch(
+            executable_path=shutil.which("chromium"), headless=True, args=CHROMIUM_ARGS
+        )
+        page = browser.new_page(viewport={"width": VIEWPORT[0], "height": VIEWPORT[1]})
+        page.goto(url)
+        page.wait_for_selector("canvas", timeout=30000)
+        time.sleep(2.0)  # software WebGL: let the first frames reach the canvas
+        try:
+            yield page
+        finally:
+            browser.close()
+
+
 def _is_base_yellow(rgb: tuple[int, int, int]) -> bool:
     r, _, b = rgb
     return r > 200 and r - b > 100
 
 
 def test_robot_drives_in_the_viewer_and_resets() -> None:
-    if shutil.which("chromium") is None:
-        pytest.skip("Debian's chromium is not installed")
-    playwright = pytest.importorskip("playwright.sync_api")
     model = RobotModel.from_path(MBOT)
     graph = Graph()
     sim = KinematicSimulation(graph, model)
@@ -49,14 +68,7 @@ def test_robot_drives_in_the_viewer_and_resets() -> None:
     base = sim.driver.base
     assert base is not None
     try:
-        with playwright.sync_playwright() as p:
-            browser = p.chromium.launch(
-                executable_path=shutil.which("chromium"), headless=True, args=CHROMIUM_ARGS
-            )
-            page: Any = browser.new_page(viewport={"width": VIEWPORT[0], "height": VIEWPORT[1]})
-            page.goto(viewer.url)
-            page.wait_for_selector("canvas", timeout=30000)
-            time.sleep(2.0)  # software WebGL: let the first frames reach the canvas
+        with _page(viewer.url) as page:
             top = 0.19  # the top of the base above base_footprint
             assert _wait(lambda: _is_base_yellow(_pixel(page, project((0.0, 0.0, top)))))
             # Backwards: away from the GUI panel on the right of the page.
@@ -70,7 +82,6 @@ def test_robot_drives_in_the_viewer_and_resets() -> None:
             page.get_by_role("button", name="Reset").click()
             assert _wait(lambda: base.x == 0.0)
             assert _wait(lambda: _is_base_yellow(_pixel(page, project((0.0, 0.0, top)))))
-            browser.close()
     finally:
         viewer.close()
         graph.shutdown()
@@ -78,9 +89,6 @@ def test_robot_drives_in_the_viewer_and_resets() -> None:
 
 def test_physics_world_and_robot_in_the_viewer() -> None:
     """The playground's orange post and the robot's scan show in the browser."""
-    if shutil.which("chromium") is None:
-        pytest.skip("Debian's chromium is not installed")
-    playwright = pytest.importorskip("playwright.sync_api")
     packages = PackageIndex([EXAMPLES])
     world = read_world(EXAMPLES / "mbot_gazebo/worlds/playground.world", packages=packages)
     laser_bot = EXAMPLES / "mbot_description/urdf/xacro/gazebo/mbot_with_laser_gazebo.xacro"
@@ -103,14 +111,7 @@ def test_physics_world_and_robot_in_the_viewer() -> None:
         viewer.add_display(kind, topic)
     graph.start(rtf=1.0)
     try:
-        with playwright.sync_playwright() as p:
-            browser = p.chromium.launch(
-                executable_path=shutil.which("chromium"), headless=True, args=CHROMIUM_ARGS
-            )
-            page: Any = browser.new_page(viewport={"width": VIEWPORT[0], "height": VIEWPORT[1]})
-            page.goto(viewer.url)
-            page.wait_for_selector("canvas", timeout=30000)
-            time.sleep(2.0)
+        with _page(viewer.url) as page:
 
             def orange(xy: tuple[float, float]) -> bool:
                 r, g, b = _pixel(page, xy)
@@ -118,7 +119,6 @@ def test_physics_world_and_robot_in_the_viewer() -> None:
 
             assert _wait(lambda: orange(project((-1.0, 2.0, 0.5))))  # post_2, Gazebo/Orange
             assert _wait(lambda: bool(viewer.displays[0].handles))  # the scan arrived
-            browser.close()
     finally:
         viewer.close()
         graph.shutdown()
