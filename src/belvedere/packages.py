@@ -72,8 +72,14 @@ def _crawl(root: Path) -> Iterator[Path]:
             stack.append(Path(e.path))
 
 
+BUILTIN_PACKAGES = Path(__file__).resolve().parent / "share" / "packages"
+"""Packages belvedere provides itself (xacro, gazebo_ros, robot_state_publisher, …): found
+after everything on the search path, so a user's own copy wins."""
+
+
 class PackageIndex:
-    """Finds packages by name along a search path, crawling lazily and caching."""
+    """Finds packages by name along a search path, crawling lazily and caching; then among
+    the packages belvedere provides."""
 
     def __init__(self, search_path: Sequence[Path]) -> None:
         seen: set[Path] = set()
@@ -124,6 +130,9 @@ class PackageIndex:
         """The directory of package ``name``; errors name every directory searched."""
         while name not in self._found:
             if not self._index_next():
+                builtin = BUILTIN_PACKAGES / name
+                if (builtin / "package.xml").is_file():
+                    return builtin
                 searched = (
                     "\n".join(f"    {d}" for d in self.search_path) or "    (nothing to search)"
                 )

@@ -1,0 +1,533 @@
+"""Reading roslaunch XML into a :class:`LaunchConfig`, as roslaunch does it.
+
+Tags: ``launch``, ``arg``, ``param``, ``rosparam``, ``node``, ``include``, ``group``,
+``remap``, ``env``, ``machine`` (a warning: everything runs here), ``test`` (skipped).
+Substitutions: ``$(find)``, ``$(arg)``, ``$(env)``, ``$(optenv)``, ``$(eval)``, ``$(anon)``,
+``$(dirname)``. ``if``/``unless`` accept true/false/1/0 only, as roslaunch. Errors name the
+file and line.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shlex
+import subprocess
+import uuid
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+from belvedere.description.xacro import XacroError
+from belvedere.description.xacro._command import is_xacro_program, parse_xacro_argv
+from belvedere.description.xacro._run import run_command
+from belvedere.description.xacro._substitutions import Substitutions
+from belvedere.errors import BelvedereError, ParseError, SourceLocation
+from belvedere.graph import resolve_name
+from belvedere.graph._names import GraphNameError
+from belvedere.launch._model import LaunchConfig, LaunchError, LaunchNode
+from belvedere.packages import PackageIndex
+from belvedere.xmldom import Element, parse_file
+from belvedere.yamlfile import load_yaml, load_yaml_file
+
+__all__ = ["load_launch"]
+
+_SUBSTITUTION = re.compile(r"\$\(([^()]*(?:\([^()]*\)[^()]*)*)\)")
+_KNOWN_TAGS = frozenset(
+    {"arg", "param", "rosparam", "node", "include", "group", "remap", "env", "machine", "test"}
+)
+
+
+@dataclass
+class _Scope:
+    """What a place in a launch file sees: its namespace, args, remappings and env."""
+
+    file: str
+    namespace: str = "/"
+    args: dict[str, str] = field(default_factory=dict)
+    passed: dict[str, str] = field(default_factory=dict)
+    used: set[str] = field(default_factory=set)
+    remappings: tuple[tuple[str, str], ...] = ()
+    env: tuple[tuple[str, str], ...] = ()
+
+
+def load_launch(
+    path: str | Path,
+    *,
+    args: Mapping[str, str] | None = None,
+    packages: PackageIndex | None = None,
+) -> LaunchConfig:
+    """Read a launch file (and what it includes) with ``args`` given as ``name:=value``."""
+    packages = packages or PackageIndex.from_environment(near=str(path))
+    loader = _Loader(packages)
+    loader.file(Path(path), _Scope(str(path), passed=dict(args or {})), top=True)
+    return loader.config
+
+
+class _Loader:
+    def __init__(self, packages: PackageIndex) -> None:
+        self.packages = packages
+        self.config = LaunchConfig()
+        self.including: list[str] = []
+        self.anon: dict[str, str] = {}
+
+    # --- files -----------------------------------------------------------------------------------
+    def file(
+        self, path: Path, scope: _Scope, *, top: bool = False, at: SourceLocation | None = None
+    ) -> None:
+        key = str(path.resolve())
+        if key in self.including:
+            chain = " -> ".join([*self.including, key])
+            msg = f"include cycle: {chain}"
+            raise LaunchError(msg, at)
+        if not path.is_file():
+            msg = f"launch file {str(path)!r} does not exist"
+            raise LaunchError(msg, at)
+        try:
+            doc = parse_file(path, namespaces=False, keep_blank=False)
+        except ParseError as err:
+            raise _with_conflict_hint(err, path) from None
+        root = doc.root
+        if root.tag != "launch":
+            msg = f"a launch file's root must be <launch>, not <{root.tag}>"
+            raise LaunchError(msg, root.loc)
+        self.config.files.append(str(path))
+        if "deprecated" in root.attrs:
+            self.config.warnings.append(
+                f"{root.loc}: warning: this launch file is deprecated: {root.attrs['deprecated']}"
+            )
+        self.including.append(key)
+        try:
+            self.children(root, scope)
+        finally:
+            self.including.pop()
+        unused = sorted(set(scope.passed) - scope.used)
+        if unused:
+            where = "the command line" if top else f"the <include> at {at}"
+            msg = f"unused args {unused} given by {where} for {path}"
+            known = ", ".join(sorted(scope.used)) or "none"
+            raise LaunchError(msg, at or root.loc, hint=f"args this file declares: {known}")
+
+    def children(self, el: Element, scope: _Scope) -> None:
+        for child in el.elements():
+            if not self.active(child, scope):
+                continue
+            handler = getattr(self, f"tag_{child.tag}", None)
+            if handler is None:
+                self.config.warnings.append(
+                    f"{child.loc}: warning: unknown tag <{child.tag}> ignored"
+                )
+                continue
+            handler(child, scope)
+
+    # --- substitutions ---------------------------------------------------------------------------
+    def subst(self, text: str, scope: _Scope, at: SourceLocation | None) -> str:
+        if "$(" not in text:
+            return text
+        stripped = text.strip()
+        if stripped.startswith("$(eval ") and stripped.endswith(")"):
+            return self._eval(stripped[7:-1], scope, at)
+
+        def one(match: re.Match[str]) -> str:
+            inner = match.group(1).strip()
+            words = inner.split()
+            if words and words[0] == "anon":
+                if len(words) != 2:
+                    msg = f"$(anon NAME) takes one name: $({inner})"
+                    raise LaunchError(msg, at)
+                return self.anon.setdefault(words[1], f"{words[1]}_{uuid.uuid4().hex[:12]}")
+            if words and words[0] == "arg" and len(words) == 2 and words[1] not in scope.args:
+                declared = ", ".join(sorted(scope.args)) or "none"
+                msg = f"arg {words[1]!r} is not defined (declared here: {declared})"
+                raise LaunchError(msg, at, hint=f'declare it: <arg name="{words[1]}" …/>')
+            if words and words[0] == "eval":
+                msg = "$(eval …) must be the whole attribute value"
+                raise LaunchError(msg, at)
+            try:
+                return self._substitutions(scope, at)(inner)
+            except XacroError as err:
+                message = err.message.replace("xacro:arg", "arg")
+                raise LaunchError(message, at, hint=err.hint) from None
+
+        return _SUBSTITUTION.sub(one, text)
+
+    def _substitutions(self, scope: _Scope, at: SourceLocation | None) -> Substitutions:
+        return Substitutions(
+            args=scope.args,
+            packages=self.packages,
+            root_dir=os.getcwd(),
+            current_file=lambda: scope.file,
+            here=lambda: at,
+        )
+
+    def _eval(self, expr: str, scope: _Scope, at: SourceLocation | None) -> str:
+        try:
+            value = self._substitutions(scope, at)("eval " + expr)
+        except XacroError as err:
+            msg = f"$(eval {expr}): {err.message}"
+            raise LaunchError(msg, at, hint=err.hint) from None
+        except BelvedereError:
+            raise
+        except Exception as err:  # noqa: BLE001 (any error of the user's expression)
+            msg = f"$(eval {expr}) failed: {err}"
+            raise LaunchError(msg, at) from None
+        return value
+
+    def attr(self, el: Element, name: str, scope: _Scope, default: str | None = None) -> str | None:
+        value = el.attrs.get(name)
+        if value is None:
+            return default
+        return self.subst(value, scope, el.loc)
+
+    def required(self, el: Element, name: str, scope: _Scope) -> str:
+        value = self.attr(el, name, scope)
+        if value is None:
+            msg = f"<{el.tag}> needs a {name!r} attribute"
+            raise LaunchError(msg, el.loc)
+        return value
+
+    def boolean(self, el: Element, name: str, scope: _Scope, default: bool) -> bool:
+        value = self.attr(el, name, scope)
+        if value is None:
+            return default
+        return _bool(value, f"{name}={value!r}", el.loc)
+
+    def active(self, el: Element, scope: _Scope) -> bool:
+        if_value = self.attr(el, "if", scope)
+        unless_value = self.attr(el, "unless", scope)
+        if if_value is not None and unless_value is not None:
+            msg = "an element cannot have both 'if' and 'unless'"
+            raise LaunchError(msg, el.loc)
+        if if_value is not None:
+            return _bool(if_value, f"if={if_value!r}", el.loc)
+        if unless_value is not None:
+            return not _bool(unless_value, f"unless={unless_value!r}", el.loc)
+        return True
+
+    # --- tags ------------------------------------------------------------------------------------
+    def tag_arg(self, el: Element, scope: _Scope) -> None:
+        name = self.required(el, "name", scope)
+        value = self.attr(el, "value", scope)
+        default = self.attr(el, "default", scope)
+        if value is not None and default is not None:
+            msg = f"arg {name!r} has both a value and a default"
+            raise LaunchError(msg, el.loc)
+        if name in scope.args:
+            msg = f"arg {name!r} is declared twice"
+            raise LaunchError(msg, el.loc)
+        if value is not None:
+            if name in scope.passed:
+                msg = f"cannot override arg {name!r}, which has a fixed value in this file"
+                raise LaunchError(msg, el.loc)
+            scope.args[name] = value
+        elif name in scope.passed:
+            scope.args[name] = scope.passed[name]
+            scope.used.add(name)
+        elif default is not None:
+            scope.args[name] = default
+        else:
+            msg = f"required arg {name!r} is not set"
+            doc = el.attrs.get("doc")
+            raise LaunchError(
+                msg, el.loc, hint=f"pass {name}:=VALUE" + (f" ({doc})" if doc else "")
+            )
+        if name in scope.passed:
+            scope.used.add(name)
+
+    def tag_param(self, el: Element, scope: _Scope, private_ns: str | None = None) -> None:
+        name = self.required(el, "name", scope)
+        full = self._param_name(name, scope, private_ns, el.loc)
+        value = self._param_value(el, scope)
+        self.config.set_param(full, value, el.loc)
+
+    def _param_name(
+        self, name: str, scope: _Scope, private_ns: str | None, at: SourceLocation | None
+    ) -> str:
+        try:
+            if name.startswith("~"):
+                if private_ns is None:
+                    msg = f"private parameter {name!r} outside a <node>"
+                    raise LaunchError(msg, at)
+                return private_ns.rstrip("/") + "/" + name[1:]
+            base = private_ns or scope.namespace
+            return resolve_name(name, namespace=base)
+        except GraphNameError as err:
+            raise LaunchError(err.message, at) from None
+
+    def _param_value(self, el: Element, scope: _Scope) -> Any:
+        kind = self.attr(el, "type", scope, "auto") or "auto"
+        sources = [k for k in ("value", "textfile", "binfile", "command") if k in el.attrs]
+        if len(sources) != 1:
+            msg = "<param> needs exactly one of value, textfile, binfile, command"
+            raise LaunchError(msg, el.loc)
+        source = sources[0]
+        raw = self.attr(el, source, scope) or ""
+        if source == "value":
+            return _typed(raw, kind, el.loc)
+        if source in ("textfile", "binfile"):
+            try:
+                data = Path(raw).read_bytes()
+            except OSError as err:
+                msg = f"cannot read {source} {raw!r}: {err.strerror}"
+                raise LaunchError(msg, el.loc) from None
+            return data.decode("utf-8", errors="replace") if source == "textfile" else data
+        return _typed(self.command(raw, el.loc), kind if kind != "auto" else "str", el.loc)
+
+    def command(self, command: str, at: SourceLocation | None) -> str:
+        """A ``<param command>``: xacro runs here, in process; anything else as a program."""
+        try:
+            words = shlex.split(command)
+        except ValueError as err:
+            msg = f"cannot split command {command!r}: {err}"
+            raise LaunchError(msg, at) from None
+        if not words:
+            msg = "empty command"
+            raise LaunchError(msg, at)
+        if is_xacro_program(words[0]):
+            try:
+                cmd = parse_xacro_argv(words[1:])
+                result = run_command(cmd, packages=self.packages)
+            except ParseError as err:
+                err.add_trail("in the <param command> at", at) if at else None
+                raise
+            return result.text or ""
+        try:
+            done = subprocess.run(words, capture_output=True, text=True, timeout=60, check=False)
+        except (OSError, subprocess.TimeoutExpired) as err:
+            msg = f"command {command!r} could not run: {err}"
+            raise LaunchError(msg, at) from None
+        if done.returncode != 0:
+            msg = f"command {command!r} failed (exit {done.returncode}): {done.stderr.strip()}"
+            raise LaunchError(msg, at)
+        return done.stdout
+
+    def tag_rosparam(self, el: Element, scope: _Scope, private_ns: str | None = None) -> None:
+        command = self.attr(el, "command", scope, "load") or "load"
+        ns = self.attr(el, "ns", scope)
+        base = private_ns or scope.namespace
+        if ns:
+            base = self._param_name(ns, replace(scope, namespace=base), None, el.loc)
+        param = self.attr(el, "param", scope)
+        target = (
+            self._param_name(param, replace(scope, namespace=base), None, el.loc) if param else base
+        )
+        if command == "delete":
+            self.config.deletions.append(target)
+            return
+        if command == "dump":
+            self.config.warnings.append(f"{el.loc}: warning: <rosparam command=dump> is not done")
+            return
+        if command != "load":
+            msg = f"<rosparam command={command!r}>: expected load, dump or delete"
+            raise LaunchError(msg, el.loc)
+        file = self.attr(el, "file", scope)
+        subst_value = self.boolean(el, "subst_value", scope, False)
+        if file:
+            doc = load_yaml_file(file)
+            if subst_value:
+                doc = load_yaml(self.subst(Path(file).read_text(), scope, el.loc), path=file)
+            self.config.files.append(file)
+        else:
+            text = el.text_content()
+            if subst_value:
+                text = self.subst(text, scope, el.loc)
+            line = el.loc.line if el.loc else 0
+            # keep line numbers: pad so the YAML's lines are the launch file's lines
+            doc = load_yaml("\n" * max(0, line - 1) + text, path=scope.file)
+        data = doc.data
+        if data is None:
+            return
+        if not isinstance(data, dict) and not param:
+            msg = "<rosparam> YAML must be a mapping unless the element has a 'param'"
+            raise LaunchError(msg, el.loc)
+        self.config.set_param(target, data, el.loc)
+
+    def tag_node(self, el: Element, scope: _Scope, *, test: bool = False) -> None:
+        if test:
+            self.config.warnings.append(
+                f"{el.loc}: note: <test> {el.attrs.get('test-name', '')} skipped (tests are "
+                "not run by belvedere launch)"
+            )
+            return
+        pkg = self.required(el, "pkg", scope)
+        kind = self.required(el, "type", scope)
+        name = self.attr(el, "name", scope)
+        if not name:
+            msg = "<node> needs a name"
+            raise LaunchError(msg, el.loc)
+        ns = scope.namespace
+        node_ns = self.attr(el, "ns", scope)
+        if node_ns:
+            ns = resolve_name(node_ns, namespace=ns)
+        private = ns.rstrip("/") + "/" + name
+        if self.boolean(el, "clear_params", scope, False):
+            self.config.clear.append(private)
+        remaps = list(scope.remappings)
+        env = list(scope.env)
+        for child in el.elements():
+            if not self.active(child, scope):
+                continue
+            if child.tag == "remap":
+                remaps.append(
+                    (self.required(child, "from", scope), self.required(child, "to", scope))
+                )
+            elif child.tag == "param":
+                self.tag_param(child, scope, private_ns=private)
+            elif child.tag == "rosparam":
+                self.tag_rosparam(child, scope, private_ns=private)
+            elif child.tag == "env":
+                env.append(
+                    (self.required(child, "name", scope), self.required(child, "value", scope))
+                )
+            else:
+                self.config.warnings.append(
+                    f"{child.loc}: warning: <{child.tag}> inside <node> ignored"
+                )
+        prefix = self.attr(el, "launch-prefix", scope)
+        if prefix:
+            self.config.warnings.append(
+                f"{el.loc}: note: launch-prefix {prefix!r} ignored (nodes run in this process)"
+            )
+        if "machine" in el.attrs:
+            self.config.warnings.append(
+                f"{el.loc}: note: machine={el.attrs['machine']!r}: the node runs on this machine"
+            )
+        self.config.nodes.append(
+            LaunchNode(
+                pkg=pkg,
+                type=kind,
+                name=name,
+                namespace=ns,
+                args=self.attr(el, "args", scope, "") or "",
+                output=self.attr(el, "output", scope, "log") or "log",
+                respawn=self.boolean(el, "respawn", scope, False),
+                respawn_delay=float(self.attr(el, "respawn_delay", scope, "0") or 0),
+                required=self.boolean(el, "required", scope, False),
+                cwd=self.attr(el, "cwd", scope),
+                launch_prefix=prefix,
+                remappings=tuple(remaps),
+                env=tuple(env),
+                source=el.loc,
+            )
+        )
+
+    def tag_test(self, el: Element, scope: _Scope) -> None:
+        self.tag_node(el, scope, test=True)
+
+    def tag_include(self, el: Element, scope: _Scope) -> None:
+        file = self.required(el, "file", scope)
+        ns = scope.namespace
+        include_ns = self.attr(el, "ns", scope)
+        if include_ns:
+            ns = resolve_name(include_ns, namespace=ns)
+        if self.boolean(el, "clear_params", scope, False):
+            if not include_ns:
+                msg = "clear_params on an <include> needs an ns"
+                raise LaunchError(msg, el.loc)
+            self.config.clear.append(ns)
+        passed: dict[str, str] = {}
+        if self.boolean(el, "pass_all_args", scope, False):
+            passed.update(scope.args)
+        env = list(scope.env)
+        for child in el.elements():
+            if not self.active(child, scope):
+                continue
+            if child.tag == "arg":
+                name = self.required(child, "name", scope)
+                value = self.attr(child, "value", scope)
+                if value is None:
+                    value = self.attr(child, "default", scope)
+                if value is None:
+                    msg = f"<arg name={name!r}> in an <include> needs a value"
+                    raise LaunchError(msg, child.loc)
+                passed[name] = value
+            elif child.tag == "env":
+                env.append(
+                    (self.required(child, "name", scope), self.required(child, "value", scope))
+                )
+        inner = _Scope(
+            file, namespace=ns, passed=passed, remappings=scope.remappings, env=tuple(env)
+        )
+        if self.boolean(el, "pass_all_args", scope, False):
+            inner.used |= set(scope.args)  # passing all is not "unused"
+        self.file(Path(file), inner, at=el.loc)
+
+    def tag_group(self, el: Element, scope: _Scope) -> None:
+        ns = scope.namespace
+        group_ns = self.attr(el, "ns", scope)
+        if group_ns:
+            ns = resolve_name(group_ns, namespace=ns)
+        if self.boolean(el, "clear_params", scope, False):
+            self.config.clear.append(ns)
+        inner = replace(scope, namespace=ns)
+        self.children(el, inner)
+        # args declared in a group belong to the file (roslaunch scoping)
+        scope.args.update(inner.args)
+        scope.used |= inner.used
+
+    def tag_remap(self, el: Element, scope: _Scope) -> None:
+        pair = (self.required(el, "from", scope), self.required(el, "to", scope))
+        scope.remappings = (*scope.remappings, pair)
+
+    def tag_env(self, el: Element, scope: _Scope) -> None:
+        pair = (self.required(el, "name", scope), self.required(el, "value", scope))
+        scope.env = (*scope.env, pair)
+
+    def tag_machine(self, el: Element, scope: _Scope) -> None:
+        self.config.warnings.append(
+            f"{el.loc}: note: <machine {el.attrs.get('name', '')}> ignored: everything runs here"
+        )
+
+
+def _bool(value: str, what: str, at: SourceLocation | None) -> bool:
+    low = value.strip().lower()
+    if low in ("true", "1"):
+        return True
+    if low in ("false", "0"):
+        return False
+    msg = f"{what}: expected true, false, 1 or 0"
+    raise LaunchError(msg, at)
+
+
+def _typed(raw: str, kind: str, at: SourceLocation | None) -> Any:
+    try:
+        if kind == "str" or kind == "string":
+            return raw
+        if kind == "int":
+            return int(raw.strip())
+        if kind == "double":
+            return float(raw.strip())
+        if kind in ("bool", "boolean"):
+            return _bool(raw, f"bool value {raw!r}", at)
+        if kind == "yaml":
+            return load_yaml(raw, path=str(at.path) if at else "<param>").data
+    except ValueError:
+        msg = f"param value {raw!r} is not a valid {kind}"
+        raise LaunchError(msg, at) from None
+    if kind != "auto":
+        msg = f"unknown param type {kind!r} (str, int, double, bool, yaml, auto)"
+        raise LaunchError(msg, at)
+    stripped = raw.strip()
+    if stripped.lower() in ("true", "false"):
+        return stripped.lower() == "true"
+    for convert in (int, float):
+        try:
+            return convert(stripped)
+        except ValueError:
+            pass
+    return raw
+
+
+def _with_conflict_hint(err: ParseError, path: Path) -> ParseError:
+    """Malformed XML; say so when the cause is a git merge conflict left in the file."""
+    try:
+        lines = path.read_text(errors="replace").splitlines()
+    except OSError:
+        return err
+    markers = [i + 1 for i, line in enumerate(lines) if line.startswith(("<<<<<<<", ">>>>>>>"))]
+    if markers:
+        err.hint = (
+            f"git conflict markers at line(s) {', '.join(map(str, markers))}: resolve the merge"
+        )
+    return err

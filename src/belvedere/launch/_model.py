@@ -1,0 +1,75 @@
+"""What a launch file says, once read: parameters to set and nodes to start, each with the
+file and line that said so."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+from belvedere.errors import ParseError, SourceLocation
+
+__all__ = ["LaunchConfig", "LaunchError", "LaunchNode", "LaunchParam"]
+
+
+class LaunchError(ParseError):
+    """A launch file that cannot be read or run."""
+
+
+@dataclass(frozen=True)
+class LaunchParam:
+    name: str
+    """Resolved (``/ns/node/param``)."""
+    value: Any
+    source: SourceLocation | None = field(default=None, compare=False)
+
+
+@dataclass(frozen=True)
+class LaunchNode:
+    """One ``<node>`` (or ``<test>``) to start."""
+
+    pkg: str
+    type: str
+    name: str
+    namespace: str = "/"
+    args: str = ""
+    output: str = "log"
+    respawn: bool = False
+    respawn_delay: float = 0.0
+    required: bool = False
+    cwd: str | None = None
+    launch_prefix: str | None = None
+    remappings: tuple[tuple[str, str], ...] = ()
+    env: tuple[tuple[str, str], ...] = ()
+    source: SourceLocation | None = field(default=None, compare=False)
+
+    @property
+    def full_name(self) -> str:
+        ns = self.namespace.rstrip("/")
+        return f"{ns}/{self.name}"
+
+
+@dataclass
+class LaunchConfig:
+    """Everything a launch file (and what it includes) asks for, in document order."""
+
+    params: dict[str, LaunchParam] = field(default_factory=dict)
+    nodes: list[LaunchNode] = field(default_factory=list)
+    files: list[str] = field(default_factory=list)
+    deletions: list[str] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
+    clear: list[str] = field(default_factory=list)
+    """Namespaces whose parameters are cleared before setting (``clear_params``)."""
+
+    def node(self, name: str) -> LaunchNode | None:
+        wanted = name if name.startswith("/") else "/" + name
+        return next((n for n in self.nodes if n.full_name == wanted), None)
+
+    def set_param(self, name: str, value: Any, source: SourceLocation | None) -> None:
+        """Set a parameter; a dictionary sets every leaf below ``name`` (as rosparam)."""
+        if isinstance(value, dict):
+            for key, sub in value.items():
+                self.set_param(f"{name.rstrip('/')}/{key}", sub, source)
+            if not value:
+                self.params[name] = LaunchParam(name, {}, source)
+            return
+        self.params[name] = LaunchParam(name, value, source)
