@@ -15,6 +15,7 @@ from collections.abc import Sequence
 from belvedere import __version__
 from belvedere.cli import check as check_verb
 from belvedere.cli import display as display_verb
+from belvedere.cli import launch as launch_verb
 from belvedere.cli import node as node_verb
 from belvedere.cli import param as param_verb
 from belvedere.cli import service as service_verb
@@ -32,6 +33,7 @@ _VERBS = (
     check_verb,
     display_verb,
     sim_verb,
+    launch_verb,
     teleop_verb,
     topic_verb,
     param_verb,

@@ -17,7 +17,7 @@ import numpy as np
 import numpy.typing as npt
 
 from belvedere.description.urdf import GazeboPlugin, Pose, RobotModel, XmlData, transform
-from belvedere.graph import Graph
+from belvedere.graph import Graph, Node
 from belvedere.packages import PackageIndex
 from belvedere.sim.physics._builder import ModelError, RobotBuild, add_robot, add_world
 from belvedere.sim.physics._diff_drive import DiffDrive
@@ -83,14 +83,16 @@ class PhysicsSimulation:
         world: WorldModel | None = None,
         *,
         auto_reset: bool = False,
+        node: Node | None = None,
     ) -> None:
+        """``node``: the simulation's node (default: a new one named ``gazebo``)."""
         self.graph = graph
         self.world = world or empty_world()
         self.engine = Engine(self.world.physics)
         self.world_roots = add_world(self.engine.spec, self.world)
         self.robots: dict[str, SpawnedRobot] = {}
         self.auto_reset = auto_reset
-        self.node = graph.create_node("gazebo")
+        self.node = node or graph.create_node("gazebo")
         self.stopped_reason: str | None = None
         self.steps = 0
         self.after_step: list[Callable[[], None]] = []

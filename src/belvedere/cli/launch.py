@@ -1,0 +1,158 @@
+"""``belvedere launch PKG FILE.launch [arg:=value …]`` (or ``PATH.launch``): roslaunch, with
+every node in this process on one graph."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import yaml
+
+from belvedere.cli._args import mappings_only
+from belvedere.cli._script import ScriptOptions, add_script_options, install_script
+from belvedere.cli._tool import add_endpoint_option
+from belvedere.errors import BelvedereError
+from belvedere.graph import Graph, ZenohTransport
+from belvedere.launch import LaunchConfig, LaunchError, load_launch
+from belvedere.launch._runtime import NODE_TYPES, LaunchRuntime
+from belvedere.packages import PackageIndex
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(
+    sub: argparse._SubParsersAction[argparse.ArgumentParser], common: argparse.ArgumentParser
+) -> None:
+    p = sub.add_parser(
+        "launch",
+        parents=[common],
+        help="run a roslaunch file",
+        description="Run a ROS launch file: belvedere launch PKG FILE.launch [name:=value …] "
+        "or belvedere launch PATH.launch [name:=value …].",
+    )
+    p.add_argument("target", metavar="PKG|PATH", help="a package name, or a launch file")
+    p.add_argument("file", nargs="?", metavar="FILE", help="the launch file in PKG")
+    p.add_argument("--dump-params", action="store_true", help="print the parameters and exit")
+    p.add_argument("--nodes", action="store_true", help="print the node names and exit")
+    p.add_argument("--args", metavar="NODE", dest="node_args", help="print a node's command")
+    p.add_argument("--files", action="store_true", help="print the files it reads and exit")
+    p.add_argument("--headless", action="store_true", help="no viewer (rviz, gzclient)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the simulation's randomness")
+    p.add_argument("--port", type=int, default=8080, help="viewer port")
+    p.add_argument("--host", default="127.0.0.1", help="viewer address (default: localhost)")
+    add_script_options(p)
+    add_endpoint_option(p)
+    p.set_defaults(run=run)
+
+
+def _launch_file(args: argparse.Namespace, packages: PackageIndex) -> Path:
+    extra = list(args.extra)
+    if args.file is not None and ":=" in args.file:
+        extra.insert(0, args.file)
+        args.file = None
+    args.extra = extra
+    if args.file is None:
+        path = Path(args.target)
+        if not path.is_file():
+            msg = f"launch file {args.target!r} does not exist"
+            raise BelvedereError(msg, hint="or give a package and a file: launch PKG FILE")
+        return path
+    root = packages.find(args.target)
+    direct: Path = root / str(args.file)
+    if direct.is_file():
+        return direct
+    found = sorted(p for p in root.rglob(Path(args.file).name) if p.is_file())
+    if not found:
+        msg = f"no launch file {args.file!r} in package {args.target!r} ({root})"
+        raise BelvedereError(msg)
+    first: Path = found[0]
+    return first
+
+
+def run(args: argparse.Namespace) -> int:
+    packages = PackageIndex.from_environment(
+        package_path=args.package_path, near=args.target if Path(args.target).exists() else None
+    )
+    path = _launch_file(args, packages)
+    packages = packages.with_workspace_of(path)
+    mappings = mappings_only(list(args.extra))
+    script = ScriptOptions.from_args(args)
+    config = load_launch(path, args=mappings, packages=packages)
+    for warning in config.warnings:
+        sys.stderr.write(f"{warning}\n")
+    if args.dump_params:
+        sys.stdout.write(_dump(config))
+        return 0
+    if args.nodes:
+        sys.stdout.write("".join(f"{n.full_name}\n" for n in config.nodes))
+        return 0
+    if args.files:
+        sys.stdout.write("".join(f"{f}\n" for f in dict.fromkeys(config.files)))
+        return 0
+    if args.node_args:
+        spec = config.node(args.node_args)
+        if spec is None:
+            msg = f"no node {args.node_args!r} in this launch"
+            raise LaunchError(msg, hint="see --nodes")
+        how = "in-process" if (spec.pkg, spec.type) in NODE_TYPES else "not available"
+        sys.stdout.write(
+            f"{spec.pkg}/{spec.type} {spec.args} __name:={spec.name} __ns:={spec.namespace}"
+            f"  # {how}\n"
+        )
+        return 0
+    graph = Graph(sim_time=True, seed=args.seed, transport=ZenohTransport(endpoint=args.endpoint))
+    runtime = LaunchRuntime(
+        config,
+        graph,
+        packages,
+        headless=args.headless,
+        viewer_options={"host": args.host, "port": args.port},
+    )
+    try:
+        runtime.start()
+        install_script(graph, script)
+        _run(graph, runtime, args)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        sys.stdout.flush()
+        runtime.close()
+        graph.shutdown()
+    return 0
+
+
+def _run(graph: Graph, runtime: LaunchRuntime, args: argparse.Namespace) -> None:
+    started = time.monotonic()
+    last_check = [0.0]
+
+    def required_exited() -> bool:
+        now = time.monotonic()
+        if now - last_check[0] < 0.2:
+            return False
+        last_check[0] = now
+        spec = runtime.poll_processes()
+        if spec is not None:
+            sys.stderr.write(f"required node {spec.full_name} exited: shutting down\n")
+            return True
+        return False
+
+    graph.run(duration=args.duration, rtf=args.rtf, until=required_exited)
+    if args.duration is not None:
+        wall = time.monotonic() - started
+        sys.stderr.write(f"simulated {args.duration:g} s in {wall:.3f} s\n")
+
+
+def _dump(config: LaunchConfig) -> str:
+    tree: dict[str, object] = {}
+    for name, param in sorted(config.params.items()):
+        node = tree
+        parts = [p for p in name.split("/") if p]
+        for part in parts[:-1]:
+            child = node.setdefault(part, {})
+            assert isinstance(child, dict)
+            node = child
+        value = param.value
+        node[parts[-1]] = value.decode("latin-1") if isinstance(value, bytes) else value
+    return yaml.safe_dump(tree, default_flow_style=False, sort_keys=True)
