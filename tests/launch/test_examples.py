@@ -1,0 +1,181 @@
+"""Every example launch file runs: it starts, its topics appear with the expected types and
+rates, and it shuts down cleanly."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from belvedere.cli import main
+from belvedere.graph import Graph
+from belvedere.launch import load_launch
+from belvedere.launch._runtime import LaunchRuntime
+from belvedere.msgs import types
+from belvedere.packages import PackageIndex
+from tests.conftest import EXAMPLES
+
+DESCRIPTION = EXAMPLES / "mbot_description/launch"
+GAZEBO = EXAMPLES / "mbot_gazebo/launch"
+
+STATE = {"/joint_states": ("sensor_msgs/JointState", 10.0), "/tf": ("tf2_msgs/TFMessage", None)}
+ARBOTIX = {  # joint_states from both the driver (placeholder wheels) and joint_state_publisher
+    "/joint_states": ("sensor_msgs/JointState", 20.0),
+    "/tf": ("tf2_msgs/TFMessage", None),
+    "/odom": ("nav_msgs/Odometry", 10.0),
+}
+PHYSICS = {
+    "/odom": ("nav_msgs/Odometry", 100.0),
+    "/clock": ("rosgraph_msgs/Clock", 100.0),
+    "/gazebo/model_states": ("gazebo_msgs/ModelStates", None),
+}
+
+CASES: list[tuple[Path, dict[str, tuple[str, float | None]], float]] = [
+    (DESCRIPTION / "display_mbot_base_urdf.launch", STATE, 2.0),
+    (DESCRIPTION / "display_mbot_gazebo_xacro.launch", STATE, 2.0),
+    (DESCRIPTION / "display_mbot_with_camera_xacro.launch", STATE, 2.0),
+    (DESCRIPTION / "display_mbot_with_kinect_xacro.launch", STATE, 2.0),
+    (DESCRIPTION / "display_mbot_with_laser_xacro.launch", STATE, 2.0),
+    (DESCRIPTION / "arbotix_mbot_with_camera_xacro.launch", ARBOTIX, 2.0),
+    (DESCRIPTION / "arbotix_mbot_with_kinect_xacro.launch", ARBOTIX, 2.0),
+    (DESCRIPTION / "arbotix_mbot_with_laser_xacro.launch", ARBOTIX, 2.0),
+    (GAZEBO / "view_mbot_gazebo_empty_world.launch", PHYSICS, 2.0),
+    (GAZEBO / "view_mbot_gazebo_play_ground.launch", PHYSICS, 2.0),
+    (
+        GAZEBO / "view_mbot_with_laser_gazebo.launch",
+        {**PHYSICS, "/scan": ("sensor_msgs/LaserScan", 5.5)},
+        2.0,
+    ),
+    (
+        GAZEBO / "view_mbot_with_camera_gazebo.launch",
+        {"/camera/image_raw": ("sensor_msgs/Image", 30.0)},
+        0.2,
+    ),
+    (
+        GAZEBO / "view_mbot_with_kinect_gazebo.launch",
+        {"/kinect/depth/image_raw": ("sensor_msgs/Image", 10.0)},
+        0.5,
+    ),
+    (
+        EXAMPLES / "marm_description/launch/marm_gazebo_control.launch",
+        {
+            "/marm/joint_states": ("sensor_msgs/JointState", 50.0),
+            "/tf": ("tf2_msgs/TFMessage", None),
+        },
+        2.0,
+    ),
+    (
+        EXAMPLES / "rbx1_bringup/launch/fake_turtlebot.launch",
+        {"/odom": ("nav_msgs/Odometry", 10.0)},
+        2.0,
+    ),
+]
+
+
+@pytest.mark.parametrize(("path", "expected", "seconds"), CASES, ids=[c[0].name for c in CASES])
+def test_example_launch_runs(
+    path: Path, expected: dict[str, tuple[str, float | None]], seconds: float
+) -> None:
+    packages = PackageIndex([EXAMPLES])
+    config = load_launch(path, packages=packages)
+    graph = Graph()
+    runtime = LaunchRuntime(config, graph, packages, headless=True)
+    runtime.start()
+    assert not runtime.missing
+    probe = graph.create_node("probe")
+    counts: dict[str, list[Any]] = {topic: [] for topic in expected}
+    for topic, (msg_type, _) in expected.items():
+        probe.subscribe(topic, msg_type, counts[topic].append, queue_size=0)
+    graph.run(duration=seconds)
+    for topic, (msg_type, rate) in expected.items():
+        assert graph.topics[topic].type == types().resolve(msg_type), topic
+        assert counts[topic], f"nothing on {topic}"
+        if rate is not None:
+            assert len(counts[topic]) == pytest.approx(rate * seconds, rel=0.1, abs=1), topic
+    runtime.close()
+    graph.shutdown()
+
+
+def test_arbotix_launch_drives_the_robot() -> None:
+    packages = PackageIndex([EXAMPLES])
+    config = load_launch(DESCRIPTION / "arbotix_mbot_with_laser_xacro.launch", packages=packages)
+    graph = Graph()
+    LaunchRuntime(config, graph, packages, headless=True).start()
+    probe = graph.create_node("probe")
+    odom: list[Any] = []
+    probe.subscribe("/odom", "nav_msgs/Odometry", odom.append)
+    probe.publisher("/cmd_vel", "geometry_msgs/Twist", latch=True).publish_data(
+        {"linear": {"x": 0.2}}
+    )
+    graph.run(duration=1.0)
+    assert odom[-1].pose.pose.position.x == pytest.approx(0.2)
+    assert odom[-1].child_frame_id == "base_footprint"
+
+
+def test_marm_controllers_are_spawned() -> None:
+    packages = PackageIndex([EXAMPLES])
+    config = load_launch(
+        EXAMPLES / "marm_description/launch/marm_gazebo_control.launch", packages=packages
+    )
+    graph = Graph()
+    runtime = LaunchRuntime(config, graph, packages, headless=True)
+    runtime.start()
+    client = graph.create_node("client")
+    listed = client.call_service(
+        "/marm/controller_manager/list_controllers", "controller_manager_msgs/ListControllers"
+    )
+    assert {c.name for c in listed.controller if c.state == "running"} == {
+        "joint_state_controller",
+        "arm_controller",
+        "gripper_controller",
+    }
+
+
+def test_missing_node_types_are_one_line_and_the_rest_runs(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], endpoint: str
+) -> None:
+    script = tmp_path / "pkg" / "scripts"
+    script.mkdir(parents=True)
+    (tmp_path / "pkg" / "package.xml").write_text("<package><name>mypkg</name></package>")
+    (script / "talker.py").write_text("import rospy\n")
+    launch = tmp_path / "pkg" / "all.launch"
+    launch.write_text(
+        """<launch>
+          <node pkg="gmapping" type="slam_gmapping" name="slam"/>
+          <node pkg="mypkg" type="talker.py" name="talker"/>
+          <node pkg="tf" type="static_transform_publisher" name="stp"
+                args="1 0 0 0 0 0 map odom 100"/>
+        </launch>"""
+    )
+    args = ["launch", str(launch), "--headless", "--rtf", "max", "--duration", "0.5"]
+    assert main([*args, "--echo", "/tf_static"]) == 0
+    out, err = capsys.readouterr()
+    assert "not started (belvedere has no such node yet): gmapping/slam_gmapping" in err
+    assert "rospy scripts are not supported yet" in err
+    assert 'child_frame_id: "odom"' in out
+
+
+def test_cli_listing_options(capsys: pytest.CaptureFixture[str], endpoint: str) -> None:
+    base = ["launch", "--package-path", str(EXAMPLES), "mbot_gazebo"]
+    launch = "view_mbot_gazebo_empty_world.launch"
+    assert main([*base, launch, "--nodes"]) == 0
+    assert capsys.readouterr().out.split() == [
+        "/gazebo",
+        "/gazebo_gui",
+        "/joint_state_publisher",
+        "/robot_state_publisher",
+        "/urdf_spawner",
+    ]
+    assert main([*base, launch, "gui:=false", "--nodes"]) == 0
+    assert "/gazebo_gui" not in capsys.readouterr().out
+    assert main([*base, launch, "--files"]) == 0
+    files = capsys.readouterr().out.split()
+    assert files[0].endswith("view_mbot_gazebo_empty_world.launch")
+    assert files[1].endswith("gazebo_ros/launch/empty_world.launch")
+    assert main([*base, launch, "--args", "urdf_spawner"]) == 0
+    assert "gazebo_ros/spawn_model -urdf -model mrobot" in capsys.readouterr().out
+    assert main([*base, launch, "--dump-params"]) == 0
+    assert "use_sim_time: true" in capsys.readouterr().out
+    assert main([*base, launch, "nope:=1", "--nodes"]) == 1
+    assert "unused args ['nope']" in capsys.readouterr().err

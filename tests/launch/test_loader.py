@@ -1,0 +1,209 @@
+"""Reading launch files: the roslaunch language and its errors."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from belvedere.errors import ParseError
+from belvedere.launch import LaunchError, load_launch
+from belvedere.packages import PackageIndex
+from tests.conftest import EXAMPLES
+
+
+def _launch(tmp_path: Path, text: str, name: str = "test.launch", **args: str) -> Path:
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def _load(path: Path, **args: str) -> object:
+    return load_launch(path, args=args, packages=PackageIndex([EXAMPLES]))
+
+
+def test_args_params_groups_remaps_and_substitutions(tmp_path: Path) -> None:
+    inner = _launch(
+        tmp_path,
+        """<launch>
+          <arg name="speed"/>
+          <param name="speed" value="$(arg speed)"/>
+          <node pkg="tf" type="static_transform_publisher" name="$(anon stp)"
+                args="0 0 0 0 0 0 a b 100"/>
+        </launch>""",
+        "inner.launch",
+    )
+    path = _launch(
+        tmp_path,
+        f"""<launch>
+          <arg name="robot" default="mbot"/>
+          <arg name="fast" default="false"/>
+          <arg name="scale" value="2"/>
+          <param name="name" value="$(arg robot)"/>
+          <param name="ratio" type="double" value="3"/>
+          <param name="flag" value="True"/>
+          <param name="twice" value="$(eval 2 * scale + (10 if fast else 0))"/>
+          <param name="here" value="$(dirname)"/>
+          <param name="pkg" value="$(find mbot_description)"/>
+          <param name="home" value="$(optenv NO_SUCH_VARIABLE fallback value)"/>
+          <group ns="robot1" if="$(eval robot == 'mbot')">
+            <remap from="cmd_vel" to="/teleop/cmd_vel"/>
+            <node pkg="robot_state_publisher" type="robot_state_publisher" name="rsp">
+              <param name="publish_frequency" value="20"/>
+              <rosparam>
+                gains: {{p: 1.5, d: 0.1}}
+              </rosparam>
+            </node>
+            <include file="{inner}" ns="sub">
+              <arg name="speed" value="0.5"/>
+            </include>
+          </group>
+          <group unless="$(arg fast)">
+            <param name="slow" value="yes"/>
+          </group>
+          <rosparam param="list">[1, 2, 3]</rosparam>
+          <test test-name="t" pkg="x" type="y"/>
+          <machine name="far" address="10.0.0.1"/>
+        </launch>""",
+    )
+    config = _load(path, fast="true")
+    params = {k: p.value for k, p in config.params.items()}  # type: ignore[attr-defined]
+    assert params["/name"] == "mbot"
+    assert params["/ratio"] == 3.0
+    assert params["/flag"] is True
+    assert params["/twice"] == 14
+    assert params["/here"] == str(tmp_path)
+    assert params["/pkg"] == str(EXAMPLES / "mbot_description")
+    assert params["/home"] == "fallback value"
+    assert params["/robot1/rsp/publish_frequency"] == 20
+    assert params["/robot1/rsp/gains/p"] == 1.5
+    assert params["/robot1/sub/speed"] == 0.5
+    assert params["/list"] == [1, 2, 3]
+    assert "/slow" not in params  # unless fast
+    nodes = config.nodes  # type: ignore[attr-defined]
+    rsp = nodes[0]
+    assert (rsp.full_name, rsp.remappings) == ("/robot1/rsp", (("cmd_vel", "/teleop/cmd_vel"),))
+    assert nodes[1].namespace == "/robot1/sub"
+    assert nodes[1].name.startswith("stp_")
+    warnings = " ".join(config.warnings)  # type: ignore[attr-defined]
+    assert "<test> t skipped" in warnings
+    assert "<machine far> ignored" in warnings
+    assert config.files == [str(path), str(inner)]  # type: ignore[attr-defined]
+
+
+def test_xacro_command_runs_in_process(tmp_path: Path) -> None:
+    path = _launch(
+        tmp_path,
+        """<launch>
+          <arg name="dir" value="$(find mbot_description)/urdf/xacro/gazebo"/>
+          <param name="robot_description"
+                 command="$(find xacro)/xacro --inorder '$(arg dir)/mbot_gazebo_modern.xacro'"/>
+          <param name="legacy" command="xacro.py '$(arg dir)/mbot_gazebo.xacro'"/>
+          <param name="echo" command="echo hello"/>
+        </launch>""",
+    )
+    config = _load(path)
+    params = config.params  # type: ignore[attr-defined]
+    assert "<robot" in params["/robot_description"].value
+    assert 'name="left_wheel_link"' in params["/legacy"].value
+    assert params["/echo"].value == "hello\n"
+
+
+@pytest.mark.parametrize(
+    ("text", "args", "where", "message"),
+    [
+        ("<launch>\n  <arg name='x'/>\n</launch>", {}, ":2:", "required arg 'x' is not set"),
+        (
+            "<launch>\n  <arg name='x' default='1'/>\n</launch>",
+            {"y": "1"},
+            ":1:",
+            "unused args ['y']",
+        ),
+        (
+            "<launch>\n  <param name='p' value='$(arg nope)'/>\n</launch>",
+            {},
+            ":2:",
+            "arg 'nope' is not defined",
+        ),
+        (
+            "<launch>\n  <param name='p' value='$(what x)'/>\n</launch>",
+            {},
+            ":2:",
+            "unknown substitution command $(what x)",
+        ),
+        ("<launch>\n  <include file='/no/such.launch'/>\n</launch>", {}, ":2:", "does not exist"),
+        (
+            "<launch>\n  <group if='maybe'/>\n</launch>",
+            {},
+            ":2:",
+            "if='maybe': expected true, false, 1 or 0",
+        ),
+        (
+            "<launch>\n  <rosparam>\n    a: [1,\n  </rosparam>\n</launch>",
+            {},
+            ":4:",
+            "invalid YAML",
+        ),
+        (
+            "<launch>\n<<<<<<< HEAD\n  <param name='a' value='1'/>\n=======\n>>>>>>> x\n</launch>",
+            {},
+            ":2:",
+            "malformed XML",
+        ),
+        (
+            "<launch>\n  <param name='p' value='1' type='float32'/>\n</launch>",
+            {},
+            ":2:",
+            "unknown param type",
+        ),
+        (
+            "<launch>\n  <param name='p' command='false'/>\n</launch>",
+            {},
+            ":2:",
+            "command 'false' failed",
+        ),
+        ("<launch>\n  <node pkg='a' type='b'/>\n</launch>", {}, ":2:", "<node> needs a name"),
+        ("<robot/>", {}, ":1:", "root must be <launch>"),
+    ],
+)
+def test_errors_name_file_and_line(
+    tmp_path: Path, text: str, args: dict[str, str], where: str, message: str
+) -> None:
+    path = _launch(tmp_path, text)
+    with pytest.raises(ParseError) as info:
+        _load(path, **args)
+    described = info.value.describe()
+    assert f"{path}{where}" in described
+    assert message in described
+
+
+def test_conflict_markers_get_a_hint(tmp_path: Path) -> None:
+    path = _launch(tmp_path, "<launch>\n<<<<<<< HEAD\n</launch>\n")
+    with pytest.raises(ParseError, match="malformed XML") as info:
+        _load(path)
+    assert "git conflict markers at line(s) 2" in info.value.describe()
+
+
+def test_include_cycle(tmp_path: Path) -> None:
+    a = tmp_path / "a.launch"
+    b = tmp_path / "b.launch"
+    a.write_text(f"<launch><include file='{b}'/></launch>")
+    b.write_text(f"<launch><include file='{a}'/></launch>")
+    with pytest.raises(LaunchError, match="include cycle"):
+        _load(a)
+
+
+def test_gazebo_empty_world_is_built_in() -> None:
+    config = load_launch(
+        EXAMPLES / "mbot_gazebo/launch/view_mbot_gazebo_empty_world.launch",
+        args={"gui": "false", "paused": "true"},
+        packages=PackageIndex([EXAMPLES]),
+    )
+    kinds = [(n.pkg, n.type) for n in config.nodes]
+    assert ("gazebo_ros", "gzserver") in kinds
+    assert ("gazebo_ros", "gzclient") not in kinds  # gui:=false
+    server = config.node("/gazebo")
+    assert server is not None
+    assert server.args.startswith("-u ")  # paused
+    assert server.args.endswith("mbot_gazebo/worlds/empty.world")
+    assert config.params["/use_sim_time"].value is True
