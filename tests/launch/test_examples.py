@@ -179,3 +179,52 @@ def test_cli_listing_options(capsys: pytest.CaptureFixture[str], endpoint: str) 
     assert "use_sim_time: true" in capsys.readouterr().out
     assert main([*base, launch, "nope:=1", "--nodes"]) == 1
     assert "unused args ['nope']" in capsys.readouterr().err
+
+
+def test_depthimage_to_laserscan_on_the_kinect(tmp_path: Path) -> None:
+    launch = tmp_path / "kinect_scan.launch"
+    launch.write_text(
+        f"""<launch>
+          <include file="{GAZEBO / "view_mbot_with_kinect_gazebo.launch"}">
+            <arg name="gui" value="false"/>
+          </include>
+          <node pkg="depthimage_to_laserscan" type="depthimage_to_laserscan" name="d2l">
+            <remap from="image" to="/kinect/depth/image_raw"/>
+            <remap from="camera_info" to="/kinect/depth/camera_info"/>
+            <param name="output_frame_id" value="kinect_link"/>
+          </node>
+        </launch>"""
+    )
+    packages = PackageIndex([EXAMPLES])
+    graph = Graph()
+    LaunchRuntime(load_launch(launch, packages=packages), graph, packages, headless=True).start()
+    scans: list[Any] = []
+    graph.create_node("probe").subscribe("/scan", "sensor_msgs/LaserScan", scans.append)
+    graph.run(duration=0.5)
+    assert scans
+    scan = scans[-1]
+    assert scan.header.frame_id == "kinect_link"
+    assert len(scan.ranges) == 640
+    assert scan.angle_max == pytest.approx(-scan.angle_min, abs=0.01)  # 60 degree fov
+    assert scan.angle_max == pytest.approx(0.5236, abs=0.01)
+
+
+def test_required_script_ends_the_launch_and_params_are_dumped(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], endpoint: str
+) -> None:
+    pkg = tmp_path / "pkg"
+    (pkg / "scripts").mkdir(parents=True)
+    (pkg / "package.xml").write_text("<package><name>mypkg</name></package>")
+    (pkg / "scripts" / "quick.py").write_text("import sys\nsys.exit(0)\n")
+    dump = tmp_path / "params.yaml"
+    launch = pkg / "quick.launch"
+    launch.write_text(
+        f"""<launch>
+          <param name="speed" value="0.3"/>
+          <rosparam command="dump" file="{dump}"/>
+          <node pkg="mypkg" type="quick.py" name="quick" required="true"/>
+        </launch>"""
+    )
+    assert main(["launch", str(launch), "--headless", "--duration", "20"]) == 0
+    assert "required node /quick exited: shutting down" in capsys.readouterr().err
+    assert "speed: 0.3" in dump.read_text()

@@ -316,7 +316,11 @@ class _Loader:
             self.config.deletions.append(target)
             return
         if command == "dump":
-            self.config.warnings.append(f"{el.loc}: warning: <rosparam command=dump> is not done")
+            file = self.attr(el, "file", scope)
+            if not file:
+                msg = "<rosparam command='dump'> needs a file"
+                raise LaunchError(msg, el.loc)
+            self.config.dumps.append((file, target))
             return
         if command != "load":
             msg = f"<rosparam command={command!r}>: expected load, dump or delete"

@@ -57,6 +57,8 @@ class LaunchConfig:
     files: list[str] = field(default_factory=list)
     deletions: list[str] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
+    dumps: list[tuple[str, str]] = field(default_factory=list)
+    """(file, namespace) of each ``<rosparam command="dump">``, written once all is set."""
     clear: list[str] = field(default_factory=list)
     """Namespaces whose parameters are cleared before setting (``clear_params``)."""
 

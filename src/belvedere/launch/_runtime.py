@@ -14,6 +14,7 @@ import shlex
 import subprocess
 import sys
 import threading
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -58,6 +59,7 @@ class LaunchRuntime:
     controllers: list[Callable[[], None]] = field(default_factory=list)
     """Run after that (controller spawners: the robots they control exist by then)."""
     missing: list[str] = field(default_factory=list)
+    respawn_at: dict[int, float] = field(default_factory=dict)
 
     def start(self) -> None:
         params = self.graph.params
@@ -69,6 +71,11 @@ class LaunchRuntime:
                 params.delete(name)
         for name, param in self.config.params.items():
             params.set(name, param.value)
+        for file, ns in self.config.dumps:
+            try:
+                Path(file).write_text(params.dump_yaml(ns) if params.has(ns) or ns == "/" else "")
+            except OSError as err:
+                logger.warning("rosparam dump to %s failed: %s", file, err.strerror)
         for spec in self.config.nodes:
             self._start(spec)
         for action in [*self.deferred, *self.controllers]:
@@ -132,10 +139,23 @@ class LaunchRuntime:
         self.processes.append((spec, process))
 
     def poll_processes(self) -> LaunchNode | None:
-        """A required node that has exited (the launch then ends), if any."""
-        for spec, process in self.processes:
-            if process.poll() is not None and spec.required:
+        """A required node that has exited (the launch then ends), if any; nodes with
+        ``respawn`` that exited are started again after their ``respawn_delay``."""
+        now = time.monotonic()
+        for i, (spec, process) in enumerate(list(self.processes)):
+            if process.poll() is None:
+                continue
+            if spec.required:
                 return spec
+            if spec.respawn:
+                due = self.respawn_at.setdefault(id(process), now + spec.respawn_delay)
+                if now >= due:
+                    logger.info("respawning %s", spec.full_name)
+                    self.processes.pop(i)
+                    script = self._user_script(spec)
+                    if script is not None:
+                        self._run_script(spec, script)
+                    break
         return None
 
     # --- the viewer ------------------------------------------------------------------------------
