@@ -30,7 +30,7 @@ from belvedere.yamlfile import load_yaml_file
 if TYPE_CHECKING:
     from belvedere.viewer import Viewer
 
-SimControls = KinematicSimulation | PhysicsSimulation
+Simulation = KinematicSimulation | PhysicsSimulation
 
 __all__ = ["add_parser", "run"]
 
@@ -114,7 +114,7 @@ def run(args: argparse.Namespace) -> int:
     viewer: Viewer | None = None
     try:
         if world is not None:
-            sim: SimControls = _physics(args, graph, model, world, packages)
+            sim: Simulation = _physics(args, graph, model, world, packages)
         else:
             sim = _kinematic(args, graph, model, config, params)
         install_script(graph, script)
@@ -190,7 +190,7 @@ def _open_viewer(
     args: argparse.Namespace,
     graph: Graph,
     model: RobotModel,
-    sim: SimControls,
+    sim: Simulation,
     packages: PackageIndex,
     world: WorldModel | None,
 ) -> Viewer:

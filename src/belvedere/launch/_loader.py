@@ -289,7 +289,8 @@ class _Loader:
                 cmd = parse_xacro_argv(words[1:])
                 result = run_command(cmd, packages=self.packages)
             except ParseError as err:
-                err.add_trail("in the <param command> at", at) if at else None
+                if at is not None:
+                    err.add_trail("in the <param command> at", at)
                 raise
             return result.text or ""
         try:
@@ -328,9 +329,15 @@ class _Loader:
         file = self.attr(el, "file", scope)
         subst_value = self.boolean(el, "subst_value", scope, False)
         if file:
-            doc = load_yaml_file(file)
             if subst_value:
-                doc = load_yaml(self.subst(Path(file).read_text(), scope, el.loc), path=file)
+                try:
+                    text = Path(file).read_text(encoding="utf-8")
+                except OSError as err:
+                    msg = f"cannot read {file!r}: {err.strerror}"
+                    raise LaunchError(msg, el.loc) from None
+                doc = load_yaml(self.subst(text, scope, el.loc), path=file)
+            else:
+                doc = load_yaml_file(file)
             self.config.files.append(file)
         else:
             text = el.text_content()

@@ -12,6 +12,7 @@ the two surfaces; a ground plane's mu of 100 never decides), and caster spheres 
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -401,7 +402,7 @@ def add_geom(
     geometry: Geometry | WorldGeometry,
     frame: Matrix4,
     at: SourceLocation | None,
-    mesh_file: object,
+    mesh_file: Callable[[Mesh, SourceLocation | None], Path],
 ) -> mujoco.MjsGeom | None:
     """One geom for a URDF or SDF geometry (None for what MuJoCo cannot hold)."""
     geom = body.add_geom(name=name)
@@ -434,7 +435,7 @@ def add_geom(
         geom.type = mujoco.mjtGeom.mjGEOM_MESH
         geom.meshname = mesh_name
     elif isinstance(geometry, Mesh):
-        path = mesh_file(geometry, at)  # type: ignore[operator]
+        path = mesh_file(geometry, at)
         triangles = load_mesh(path, scale=geometry.scale, requested_at=at)
         mesh_name = f"{name}/mesh"
         spec.add_mesh(

@@ -100,6 +100,7 @@ class DiffDrive(Plugin):
         self.instructions = [0.0, 0.0]
         self.gate = RateGate(self.rate, ctx.graph.now_ns())
         self.pose_encoder = [0.0, 0.0, 0.0]
+        self.encoder_twist = (0.0, 0.0)
         self.last_step_ns = ctx.graph.now_ns()
 
     def joint_names(self) -> tuple[str, ...]:
@@ -204,7 +205,7 @@ class DiffDrive(Plugin):
             x, y, th = self.pose_encoder
             position = (x, y, 0.0)
             quat = (0.0, 0.0, math.sin(th / 2), math.cos(th / 2))
-            v, w = getattr(self, "encoder_twist", (0.0, 0.0))
+            v, w = self.encoder_twist
             linear = (v, 0.0, 0.0)
             angular = (0.0, 0.0, w)
         else:

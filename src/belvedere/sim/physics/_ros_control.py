@@ -771,9 +771,8 @@ class RosControl(Plugin):
         return handles
 
     def joint_names(self) -> tuple[str, ...]:
-        if any(isinstance(c, JointStateController) for c in self.manager.controllers.values()):
-            return tuple(self.handles)
-        return tuple(self.handles)  # a joint_state_controller is expected to be spawned
+        # Reported once a joint_state_controller runs, which ros_control setups always spawn.
+        return tuple(self.handles)
 
     def wheel_geometry(self, left: str, right: str) -> tuple[float, float]:
         """Wheel separation and radius from the URDF (diff_drive_controller's fallback)."""

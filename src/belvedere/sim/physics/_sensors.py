@@ -429,9 +429,6 @@ class DepthCamera(CameraSensor):
             False,
         )
 
-    def bind(self) -> None:
-        super().bind()
-
 
 class ImuSensor(_Sensor):
     """``libgazebo_ros_imu_sensor.so`` on an ``imu`` sensor (and the model plugin
