@@ -378,7 +378,7 @@ def test_config_from_the_parameter_tree_names_the_parameter() -> None:
         ArbotixDriver(node)
 
 
-def test_hardware_only_controllers_are_skipped(caplog: pytest.LogCaptureFixture) -> None:
+def test_hardware_only_controllers_are_skipped() -> None:
     config = ArbotixConfig.from_params(
         {"sim": True, "controllers": {"gripper": {"type": "linear_controller"}}}
     )

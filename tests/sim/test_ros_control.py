@@ -150,7 +150,7 @@ def test_missing_gains_and_bad_controllers(caplog: pytest.LogCaptureFixture) -> 
         with pytest.raises(ModelError, match=f"failed to load controller {name!r}"):
             spawner(client, [name], namespace="/marm")
     messages = " ".join(r.getMessage() for r in caplog.records)
-    assert "needs a effort interface" in messages or "needs PID gains" in messages
+    assert "needs PID gains: /marm/bad_pid/pid/p" in messages
     assert "unknown type 'mystery_controllers/Thing'" in messages
     assert "no parameter /marm/not_configured/type" in messages
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import math
 import shutil
 import socket
@@ -88,8 +89,9 @@ def scene() -> Iterator[Scene]:
     s.close()
 
 
-@pytest.fixture(scope="module")
-def page(scene: Scene) -> Iterator[Any]:
+@contextlib.contextmanager
+def browser_page(url: str) -> Iterator[Any]:
+    """Debian's Chromium, headless, on ``url``, with the viewer's first frames drawn."""
     if shutil.which("chromium") is None:
         pytest.skip("Debian's chromium is not installed")
     playwright = pytest.importorskip("playwright.sync_api")
@@ -98,16 +100,23 @@ def page(scene: Scene) -> Iterator[Any]:
             executable_path=shutil.which("chromium"), headless=True, args=CHROMIUM_ARGS
         )
         page = browser.new_page(viewport={"width": VIEWPORT[0], "height": VIEWPORT[1]})
-        started = time.monotonic()
-        page.goto(scene.viewer.url)
+        page.goto(url)
         page.wait_for_selector("canvas", timeout=30000)
+        time.sleep(2.0)  # software WebGL: let the first frames reach the canvas
+        try:
+            yield page
+        finally:
+            browser.close()
+
+
+@pytest.fixture(scope="module")
+def page(scene: Scene) -> Iterator[Any]:
+    started = time.monotonic()
+    with browser_page(scene.viewer.url) as page:
         frames = scene.viewer.frames_rendered
         _wait(lambda: scene.viewer.frames_rendered > frames + 3)
-        time.sleep(2.0)  # software WebGL: let the first frames reach the canvas
-        page.evaluate("window.__belvedere_started = 1")
         print(f"first frame in the browser after {time.monotonic() - started:.2f} s")  # noqa: T201
         yield page
-        browser.close()
 
 
 def _wait(condition: Any, timeout: float = 10.0) -> bool:

@@ -3,11 +3,7 @@ says so, and the viewer's Reset button brings it back."""
 
 from __future__ import annotations
 
-import contextlib
-import shutil
 import time
-from collections.abc import Iterator
-from typing import Any
 
 import pytest
 
@@ -21,36 +17,15 @@ from belvedere.viewer import Viewer
 from belvedere.world import read_world
 from tests.conftest import EXAMPLES
 from tests.viewer.test_browser import (
-    CHROMIUM_ARGS,
     MBOT,
-    VIEWPORT,
     _free_port,
     _pixel,
     _wait,
+    browser_page,
     project,
 )
 
 pytestmark = pytest.mark.browser
-
-
-@contextlib.contextmanager
-def _page(url: str) -> Iterator[Any]:
-    """A headless Chromium page on ``url`` with its first frames drawn."""
-    if shutil.which("chromium") is None:
-        pytest.skip("Debian's chromium is not installed")
-    playwright = pytest.importorskip("playwright.sync_api")
-    with playwright.sync_playwright() as p:
-        browser = p.chromium.launch(
-            executable_path=shutil.which("chromium"), headless=True, args=CHROMIUM_ARGS
-        )
-        page = browser.new_page(viewport={"width": VIEWPORT[0], "height": VIEWPORT[1]})
-        page.goto(url)
-        page.wait_for_selector("canvas", timeout=30000)
-        time.sleep(2.0)  # software WebGL: let the first frames reach the canvas
-        try:
-            yield page
-        finally:
-            browser.close()
 
 
 def _is_base_yellow(rgb: tuple[int, int, int]) -> bool:
@@ -68,7 +43,7 @@ def test_robot_drives_in_the_viewer_and_resets() -> None:
     base = sim.driver.base
     assert base is not None
     try:
-        with _page(viewer.url) as page:
+        with browser_page(viewer.url) as page:
             top = 0.19  # the top of the base above base_footprint
             assert _wait(lambda: _is_base_yellow(_pixel(page, project((0.0, 0.0, top)))))
             # Backwards: away from the GUI panel on the right of the page.
@@ -111,7 +86,7 @@ def test_physics_world_and_robot_in_the_viewer() -> None:
         viewer.add_display(kind, topic)
     graph.start(rtf=1.0)
     try:
-        with _page(viewer.url) as page:
+        with browser_page(viewer.url) as page:
 
             def orange(xy: tuple[float, float]) -> bool:
                 r, g, b = _pixel(page, xy)

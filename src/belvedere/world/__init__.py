@@ -22,7 +22,6 @@ from belvedere.world._paths import BUILTIN_MODELS, ModelPaths, model_sdf_file
 from belvedere.world._sdf import (
     SDFError,
     empty_world,
-    read_model_file,
     read_world,
     read_world_string,
 )
@@ -44,7 +43,6 @@ __all__ = [
     "WorldModelEntry",
     "empty_world",
     "model_sdf_file",
-    "read_model_file",
     "read_world",
     "read_world_string",
 ]

@@ -36,7 +36,7 @@ from belvedere.world._paths import BUILTIN_MODELS, ModelPaths, model_sdf_file
 from belvedere.world._poses import compose, from_matrix, inverse, matrix, quat_xyzw_to_rpy
 from belvedere.xmldom import Element, parse_file, parse_string
 
-__all__ = ["SDFError", "empty_world", "read_model_file", "read_world", "read_world_string"]
+__all__ = ["SDFError", "empty_world", "read_world", "read_world_string"]
 
 EMPTY_WORLD = """<sdf version="1.6"><world name="default">
   <include><uri>model://ground_plane</uri></include>
@@ -79,15 +79,6 @@ def empty_world(*, model_paths: ModelPaths | None = None) -> WorldModel:
     return read_world_string(EMPTY_WORLD, "<empty world>", model_paths=model_paths)
 
 
-def read_model_file(path: str | Path, *, model_paths: ModelPaths | None = None) -> WorldModelEntry:
-    """One model from a ``model.sdf``."""
-    world = read_world(path, model_paths=model_paths)
-    if len(world.models) != 1:
-        msg = f"expected one <model> in {path}, found {len(world.models)}"
-        raise SDFError(msg, SourceLocation(str(path)))
-    return world.models[0]
-
-
 def _paths(packages: PackageIndex | None, model_paths: ModelPaths | None) -> ModelPaths:
     return model_paths or ModelPaths.from_environment(packages=packages)
 
@@ -112,6 +103,14 @@ def _child(el: Element, tag: str) -> Element | None:
 def _number(el: Element, tag: str, default: float) -> float:
     c = _child(el, tag)
     return _floats(c, 1)[0] if c is not None else default
+
+
+def _positive(el: Element, tag: str, default: float) -> float:
+    value = _number(el, tag, default)
+    if not value > 0:
+        msg = f"<{tag}> must be positive, got {value}"
+        raise SDFError(msg, (_child(el, tag) or el).loc)
+    return value
 
 
 def _flag(el: Element, tag: str, default: bool) -> bool:
@@ -219,10 +218,7 @@ class _Reader:
                 gravity = (x, y, z)
         if physics_el is None:
             return Physics(gravity=gravity)
-        step = _number(physics_el, "max_step_size", 0.001)
-        if not step > 0:
-            msg = f"max_step_size must be positive, got {step}"
-            raise SDFError(msg, (_child(physics_el, "max_step_size") or physics_el).loc)
+        step = _positive(physics_el, "max_step_size", 0.001)
         return Physics(
             max_step_size=step,
             real_time_update_rate=_number(physics_el, "real_time_update_rate", 1000.0),
@@ -489,10 +485,7 @@ class _Reader:
         def value(tag: str, default: float) -> float:
             return _number(inertia, tag, default) if inertia is not None else default
 
-        mass = _number(el, "mass", 1.0)
-        if not mass > 0:
-            msg = f"link mass must be positive, got {mass}"
-            raise SDFError(msg, (_child(el, "mass") or el).loc)
+        mass = _positive(el, "mass", 1.0)
         return Inertial(
             mass=mass,
             ixx=value("ixx", 1.0),

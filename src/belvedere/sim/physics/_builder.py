@@ -47,8 +47,7 @@ Matrix4 = npt.NDArray[np.float64]
 
 VISUAL_GROUP = 1
 COLLISION_GROUP = 3
-"""Collision geoms: hit by rays, hidden from cameras (which show VISUAL_GROUP only). They must
-not be fully transparent: MuJoCo's rays skip geoms with alpha 0."""
+"""Collision geoms: hit by rays, hidden from cameras (which show VISUAL_GROUP only)."""
 MIN_MASS = 1e-3
 """A moving body with no mass gets this (Gazebo would refuse it less clearly)."""
 
@@ -323,7 +322,6 @@ class _RobotBuilder:
         mu2 = self.fprop(link.name, "mu2")
         kp = self.fprop(link.name, "kp")
         kd = self.fprop(link.name, "kd")
-        min_depth = self.fprop(link.name, "minDepth")
         gazebo_rgba = gazebo_material_rgba(self.prop(link.name, "material"))
         caster = _is_caster(link, mu1, mu2)
         for i, collision in enumerate(link.collisions):
@@ -336,19 +334,11 @@ class _RobotBuilder:
             )
             if geom is None:
                 continue
-            geom.group = COLLISION_GROUP
-            geom.priority = 2 if caster else 1
-            mu = 0.0 if caster else (mu1 if mu1 is not None else 1.0)
-            if mu2 is not None and not caster:
-                mu = min(mu, mu2) if mu1 is not None else mu2
-            geom.friction = [mu, 0.005 if not caster else 0.0, 0.0001 if not caster else 0.0]
-            if kp is not None and kp > 0:
-                damping = kd if kd is not None and kd > 0 else 1.0
-                geom.solref = [-kp, -damping]
-            if min_depth is not None and min_depth > 0:
-                geom.margin = min_depth
-                geom.gap = min_depth
-            geom.rgba = [0.5, 0.5, 0.5, 0.5]
+            if caster:
+                _as_collision(geom, mu=0.0, kp=kp, kd=kd, priority=2, rolling=False)
+            else:
+                given = [m for m in (mu1, mu2) if m is not None]
+                _as_collision(geom, mu=min(given, default=1.0), kp=kp, kd=kd, priority=1)
         for i, visual in enumerate(link.visuals):
             geom = self._geom(
                 body,
@@ -359,15 +349,11 @@ class _RobotBuilder:
             )
             if geom is None:
                 continue
-            geom.group = VISUAL_GROUP
-            geom.contype = 0
-            geom.conaffinity = 0
-            geom.mass = 0.0
             material = visual.material
             if material is None or material.rgba is None:
                 material = self.materials.get(visual.material_name or "")
             rgba = gazebo_rgba or (material.rgba if material and material.rgba else None)
-            geom.rgba = list(rgba or (0.7, 0.7, 0.7, 1.0))
+            _as_visual(geom, rgba or (0.7, 0.7, 0.7, 1.0))
 
     def _geom(
         self,
@@ -386,6 +372,35 @@ class _RobotBuilder:
         return resolve_mesh_path(
             mesh.filename, relative_to=self.model.path, packages=self.packages, requested_at=at
         )
+
+
+def _as_collision(
+    geom: mujoco.MjsGeom,
+    *,
+    mu: float,
+    kp: float | None = None,
+    kd: float | None = None,
+    priority: int = 0,
+    rolling: bool = True,
+) -> None:
+    """A geom that touches things: collision group, friction ``mu`` (with MuJoCo's default
+    torsional and rolling friction unless ``rolling`` is off), ODE's kp/kd as a direct
+    solref. Not fully transparent: MuJoCo's rays skip geoms with alpha 0."""
+    geom.group = COLLISION_GROUP
+    geom.rgba = [0.5, 0.5, 0.5, 0.5]
+    geom.priority = priority
+    geom.friction = [mu, 0.005, 0.0001] if rolling else [mu, 0.0, 0.0]
+    if kp is not None and kp > 0:
+        geom.solref = [-kp, -(kd if kd is not None and kd > 0 else 1.0)]
+
+
+def _as_visual(geom: mujoco.MjsGeom, rgba: tuple[float, ...]) -> None:
+    """A geom only cameras see: visual group, no contacts, no mass."""
+    geom.group = VISUAL_GROUP
+    geom.contype = 0
+    geom.conaffinity = 0
+    geom.mass = 0.0
+    geom.rgba = list(rgba)
 
 
 def _is_caster(link: Link, mu1: float | None, mu2: float | None) -> bool:
@@ -520,7 +535,8 @@ def add_world(spec: mujoco.MjSpec, world: WorldModel) -> dict[str, str]:
             )
             for kind, shapes in (("collision", link.collisions), ("visual", link.visuals)):
                 for i, shape in enumerate(shapes):
-                    _world_shape(spec, body, f"{model.name}/{link.name}/{kind}_{i}", shape, frame)
+                    name = f"{model.name}/{link.name}/{kind}_{i}"
+                    _world_shape(spec, body, name, shape, frame, visual=kind == "visual")
     return roots
 
 
@@ -551,7 +567,13 @@ def _world_inertia(body: mujoco.MjsBody, inertial: Inertial | None) -> None:
 
 
 def _world_shape(
-    spec: mujoco.MjSpec, body: mujoco.MjsBody, name: str, shape: Shape, frame: Matrix4
+    spec: mujoco.MjSpec,
+    body: mujoco.MjsBody,
+    name: str,
+    shape: Shape,
+    frame: Matrix4,
+    *,
+    visual: bool,
 ) -> None:
     def mesh_file(mesh: Mesh, at: SourceLocation | None) -> Path:
         return Path(mesh.filename)
@@ -562,16 +584,11 @@ def _world_shape(
     if geom is None:
         return
     geom.typeinertia = mujoco.mjtGeomInertia.mjINERTIA_VOLUME
-    if name.rsplit("/", 1)[-1].startswith("visual"):
-        geom.group = VISUAL_GROUP
-        geom.contype = 0
-        geom.conaffinity = 0
-        geom.rgba = list(shape.rgba or (0.75, 0.75, 0.75, 1.0))
+    if visual:
+        _as_visual(geom, shape.rgba or (0.75, 0.75, 0.75, 1.0))
         return
-    geom.group = COLLISION_GROUP
-    geom.rgba = [0.5, 0.5, 0.5, 0.5]
     surface = shape.surface
-    mu = min(surface.mu, surface.mu2) if surface is not None else 1.0
-    geom.friction = [mu, 0.005, 0.0001]
-    if surface is not None and surface.kp is not None and surface.kp > 0:
-        geom.solref = [-surface.kp, -(surface.kd or 1.0)]
+    if surface is None:
+        _as_collision(geom, mu=1.0)
+    else:
+        _as_collision(geom, mu=min(surface.mu, surface.mu2), kp=surface.kp, kd=surface.kd)

@@ -44,9 +44,7 @@ class Engine:
         self.spec = new_spec(physics)
         self.model: mujoco.MjModel | None = None
         self.data: mujoco.MjData | None = None
-        self.robots: dict[str, RobotBuild] = {}
         self.on_recompile: list[Callable[[], None]] = []
-        self._initial_qpos: npt.NDArray[np.float64] | None = None
 
     # --- compiling -------------------------------------------------------------------------------
     def compile(self) -> None:
@@ -56,7 +54,6 @@ class Engine:
         else:
             self.model, self.data = self.spec.recompile(self.model, self.data)
         mujoco.mj_forward(self.model, self.data)
-        self._initial_qpos = self.model.qpos0.copy()
         for hook in self.on_recompile:
             hook()
 

@@ -178,10 +178,6 @@ class RateGate:
         self.last_ns = now_ns
 
 
-def stamp_list(ns: int) -> list[int]:
-    return [ns // NS, ns % NS]
-
-
 def reject_non_finite(owner: str, values: dict[str, float], state: dict[str, Any]) -> bool:
     """True (and one warning per burst) when a command has NaN or infinite values."""
     bad = {k: v for k, v in values.items() if not math.isfinite(v)}

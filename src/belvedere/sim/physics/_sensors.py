@@ -66,22 +66,31 @@ def sensor_pose(sensor: XmlData) -> Pose:
 
 
 class _Sensor(Plugin):
-    """A plugin on a ``<sensor>``: its frame, update rate and laziness."""
+    """A plugin on a ``<sensor>`` (or a model plugin measuring its ``<bodyName>``): its
+    frame, update rate and laziness."""
 
     def __init__(self, ctx: PluginContext) -> None:
         super().__init__(ctx)
-        assert ctx.sensor is not None
-        self.sensor = ctx.sensor
-        self.sensor_name = ctx.sensor.attr("name") or ctx.name
-        link = ctx.reference
-        if link is None or link not in self.robot.link_body:
-            msg = f"sensor {self.sensor_name!r} must be inside <gazebo reference='LINK'>"
-            raise ModelError(msg, ctx.sensor.source.best)
+        if ctx.sensor is None:
+            self.sensor_name = ctx.name
+            link = self.text("bodyName")
+            if link is None or link not in self.robot.link_body:
+                msg = f"plugin {ctx.name!r}: <bodyName> {link!r} is not a link of the robot"
+                raise ModelError(msg, self._where("bodyName"))
+            self.pose = Pose()
+            rate = 0.0
+        else:
+            self.sensor_name = ctx.sensor.attr("name") or ctx.name
+            link = ctx.reference
+            if link is None or link not in self.robot.link_body:
+                msg = f"sensor {self.sensor_name!r} must be inside <gazebo reference='LINK'>"
+                raise ModelError(msg, ctx.sensor.source.best)
+            self.pose = sensor_pose(ctx.sensor)
+            rate = _num(ctx.sensor, 0.0, "update_rate")
         self.link = link
-        self.pose = sensor_pose(ctx.sensor)
-        rate = _num(ctx.sensor, 0.0, "update_rate")
-        plugin_rate = self.number("updateRate", 0.0)
-        rate = plugin_rate if plugin_rate > 0 else rate
+        for tag in ("updateRate", "updateRateHZ"):  # the plugin's own rate wins
+            plugin_rate = self.number(tag, 0.0)
+            rate = plugin_rate if plugin_rate > 0 else rate
         self.period_ns = round(1e9 / rate) if rate > 0 else 0
         self.last_ns: int | None = None
         self.frame = (self.text("frameName") or self.link).lstrip("/")
@@ -108,6 +117,8 @@ class LaserSensor(_Sensor):
 
     def __init__(self, ctx: PluginContext) -> None:
         super().__init__(ctx)
+        assert ctx.sensor is not None  # registered as a sensor plugin only
+        self.sensor = ctx.sensor
         ray = self.sensor.child("ray")
         horizontal = ray.child("scan").child("horizontal") if ray and ray.child("scan") else None  # type: ignore[union-attr]
         if ray is None or horizontal is None:
@@ -239,6 +250,8 @@ class CameraSensor(_Sensor):
 
     def __init__(self, ctx: PluginContext) -> None:
         super().__init__(ctx)
+        assert ctx.sensor is not None  # registered as a sensor plugin only
+        self.sensor = ctx.sensor
         camera = self.sensor.child("camera")
         if camera is None:
             msg = f"camera sensor {self.sensor_name!r} needs <camera>"
@@ -436,24 +449,7 @@ class ImuSensor(_Sensor):
     sensor frame, with gaussian noise."""
 
     def __init__(self, ctx: PluginContext) -> None:
-        if ctx.sensor is None:  # the model plugin: its body is <bodyName>
-            super(_Sensor, self).__init__(ctx)
-            body = self.text("bodyName")
-            if body is None or body not in self.robot.link_body:
-                msg = f"imu plugin {ctx.name!r}: <bodyName> {body!r} is not a link"
-                raise ModelError(msg, ctx.source)
-            self.link = body
-            self.pose = Pose()
-            rate = self.number("updateRate", 0.0) or self.number("updateRateHZ", 0.0)
-            self.period_ns = round(1e9 / rate) if rate > 0 else 0
-            self.last_ns = None
-            self.frame = (self.text("frameName") or body).lstrip("/")
-            self.sensor_name = ctx.name
-        else:
-            super().__init__(ctx)
-            rate = self.number("updateRateHZ", 0.0)
-            if rate > 0:
-                self.period_ns = round(1e9 / rate)
+        super().__init__(ctx)
         self.noise = self.number("gaussianNoise", 0.0)
         topic = self.text("topicName", "imu") or "imu"
         self.node = self.make_node()

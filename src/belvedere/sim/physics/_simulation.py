@@ -57,9 +57,6 @@ SENSOR_PLUGINS: dict[str, PluginFactory] = {
 }
 """Sensor plugins (``<sensor><plugin filename=…>``) by file name."""
 
-NOT_YET: dict[str, str] = {}
-"""Known plugins that are not simulated yet, with what to expect."""
-
 
 @dataclass
 class SpawnedRobot:
@@ -157,13 +154,11 @@ class PhysicsSimulation:
         filename = plugin.filename.strip()
         factory = registry.get(filename)
         if factory is None:
-            why = NOT_YET.get(filename, "unknown plugin")
             logger.warning(
-                "%s: warning: plugin %r (%s): %s; the simulation runs without it",
+                "%s: warning: plugin %r (%s): unknown plugin; the simulation runs without it",
                 plugin.source.best or robot.model.path,
                 plugin.name,
                 filename,
-                why,
             )
             return None
         ctx = PluginContext.of(
