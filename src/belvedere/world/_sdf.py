@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 
 from belvedere.description.gazebo_materials import gazebo_material_rgba
@@ -295,12 +296,11 @@ class _Reader:
         pose, _ = self.pose(el)
         name_el = _child(el, "name")
         static_el = _child(el, "static")
-        return WorldModelEntry(
+        return replace(
+            model,
             name=name_el.text_content().strip() if name_el is not None else model.name,
             pose=compose(pose, model.pose) if _child(el, "pose") is not None else model.pose,
             static=_flag(el, "static", model.static) if static_el is not None else model.static,
-            links=model.links,
-            joints=model.joints,
             uri=uri,
             source=el.loc,
         )
@@ -361,48 +361,20 @@ class _Reader:
                 if isinstance(nested, WorldModelEntry):
                     inner = f"{nested.name}::"
                     links += [
-                        WorldLink(
-                            inner + lk.name,
-                            compose(nested.pose, lk.pose),
-                            lk.inertial,
-                            lk.collisions,
-                            lk.visuals,
-                            lk.gravity,
-                            lk.kinematic,
-                            lk.source,
-                        )
+                        replace(lk, name=inner + lk.name, pose=compose(nested.pose, lk.pose))
                         for lk in nested.links
                     ]
                     joints += [
-                        WorldJoint(
-                            inner + j.name,
-                            j.type,
-                            j.parent if j.parent == "world" else inner + j.parent,
-                            inner + j.child,
-                            j.pose,
-                            j.axis,
-                            j.lower,
-                            j.upper,
-                            j.damping,
-                            j.friction,
-                            j.source,
+                        replace(
+                            j,
+                            name=inner + j.name,
+                            parent=j.parent if j.parent == "world" else inner + j.parent,
+                            child=inner + j.child,
                         )
                         for j in nested.joints
                     ]
         resolved = self._resolve_frames(frames)
-        links = [
-            WorldLink(
-                lk.name,
-                resolved.get(lk.name, lk.pose),
-                lk.inertial,
-                lk.collisions,
-                lk.visuals,
-                lk.gravity,
-                lk.kinematic,
-                lk.source,
-            )
-            for lk in links
-        ]
+        links = [replace(lk, pose=resolved.get(lk.name, lk.pose)) for lk in links]
         link_poses = {lk.name: lk.pose for lk in links}
         for child in el.elements():
             if child.tag == "joint":
@@ -685,7 +657,7 @@ class _Reader:
                 if base is None:
                     msg = f"model {m.name!r} pose is relative_to unknown model {target!r}"
                     raise SDFError(msg, m.source)
-                m = _with_pose(m, compose(base.pose, m.pose))
+                m = replace(m, pose=compose(base.pose, m.pose))
             out.append(m)
         return out
 
@@ -704,7 +676,7 @@ class _Reader:
             i = by_name[el.attrs["name"]]
             model = out[i]
             if _child(el, "pose") is not None:
-                model = _with_pose(model, self.pose(el)[0])
+                model = replace(model, pose=self.pose(el)[0])
             scale = _child(el, "scale")
             if scale is not None and any(abs(s - 1.0) > 1e-9 for s in _floats(scale, 3)):
                 self.warn(scale.loc, f"model {model.name!r} is scaled in <state>; scale ignored")
@@ -718,26 +690,8 @@ class _Reader:
                     continue
                 world_pose = matrix(self.pose(link_el)[0])
                 rel = from_matrix(model_from_world @ world_pose)
-                lk = links[j]
-                links[j] = WorldLink(
-                    lk.name,
-                    rel,
-                    lk.inertial,
-                    lk.collisions,
-                    lk.visuals,
-                    lk.gravity,
-                    lk.kinematic,
-                    lk.source,
-                )
-            out[i] = WorldModelEntry(
-                model.name,
-                model.pose,
-                model.static,
-                tuple(links),
-                model.joints,
-                model.uri,
-                model.source,
-            )
+                links[j] = replace(links[j], pose=rel)
+            out[i] = replace(model, links=tuple(links))
         return out
 
     def _unique(self, models: list[WorldModelEntry]) -> None:
@@ -747,7 +701,3 @@ class _Reader:
                 msg = f"two models are named {m.name!r} (the first at {seen[m.name].source})"
                 raise SDFError(msg, m.source, hint="give the <include> a <name> of its own")
             seen[m.name] = m
-
-
-def _with_pose(m: WorldModelEntry, pose: Pose) -> WorldModelEntry:
-    return WorldModelEntry(m.name, pose, m.static, m.links, m.joints, m.uri, m.source)

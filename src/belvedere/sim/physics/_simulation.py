@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import mujoco
 import numpy as np
@@ -334,18 +334,9 @@ class PhysicsSimulation:
         if name in self.robots or name in self.world_roots:
             msg = f"a model named {name!r} already exists in the simulation"
             raise ModelError(msg)
-        placed = WorldModelEntry(
-            name, pose, entry.static, entry.links, entry.joints, entry.uri, entry.source
-        )
+        placed = replace(entry, name=name, pose=pose)
         self.world_roots.update(add_world(self.engine.spec, WorldModel(models=(placed,))))
-        self.world = WorldModel(
-            self.world.name,
-            self.world.physics,
-            (*self.world.models, placed),
-            self.world.lights,
-            self.world.path,
-            self.world.sdf_version,
-        )
+        self.world = replace(self.world, models=(*self.world.models, placed))
         self.engine.compile()
 
     def delete(self, name: str) -> None:
@@ -370,13 +361,8 @@ class PhysicsSimulation:
             if geom.name.startswith(prefix):
                 spec.delete(geom)
         self.world_roots.pop(name, None)
-        self.world = WorldModel(
-            self.world.name,
-            self.world.physics,
-            tuple(m for m in self.world.models if m.name != name),
-            self.world.lights,
-            self.world.path,
-            self.world.sdf_version,
+        self.world = replace(
+            self.world, models=tuple(m for m in self.world.models if m.name != name)
         )
         self.engine.compile()
 
