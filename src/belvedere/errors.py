@@ -14,7 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import NamedTuple
 
-__all__ = ["BelvedereError", "ParseError", "SourceLocation"]
+__all__ = ["BelvedereError", "ParseError", "SourceLocation", "pinpoint"]
 
 
 class SourceLocation(NamedTuple):
@@ -33,6 +33,33 @@ class SourceLocation(NamedTuple):
         if self.col <= 0:
             return f"{self.path}:{self.line}"
         return f"{self.path}:{self.line}:{self.col}"
+
+
+def pinpoint(near: SourceLocation | None, text: str, offset: int = 0) -> SourceLocation | None:
+    """Where ``text[offset]`` is in the file, looking for ``text`` from ``near`` on (an
+    element's start, say, to find the column of an expression in one of its attributes).
+
+    Falls back to ``near`` when the file cannot be read or does not hold ``text`` as written
+    (an attribute with entities, for instance)."""
+    if near is None or near.line <= 0:
+        return near
+    try:
+        with open(near.path, encoding="utf-8") as f:
+            source = f.read()
+    except (OSError, UnicodeDecodeError, ValueError):
+        return near
+    start = 0
+    for _ in range(near.line - 1):
+        start = source.find("\n", start) + 1
+        if start == 0:
+            return near
+    start += max(0, near.col - 1)
+    found = source.find(text, start)
+    if found < 0:
+        return near
+    at = found + offset
+    line_start = source.rfind("\n", 0, at) + 1
+    return SourceLocation(near.path, source.count("\n", 0, at) + 1, at - line_start + 1)
 
 
 class BelvedereError(Exception):

@@ -55,7 +55,7 @@ def test_undefined_property_suggests_near_names(tmp_path: Path) -> None:
 def test_bad_expression_shows_it_and_the_failing_part(tmp_path: Path) -> None:
     path = write(tmp_path, '  <a r="${1 +* 2}"/>\n')
     text = str(expand_error(path))
-    assert f"{path}:3:3: error: invalid expression '1 +* 2'" in text
+    assert f"{path}:3:14: error: invalid expression '1 +* 2'" in text
     assert "    1 +* 2\n       ^" in text
 
 
@@ -110,7 +110,10 @@ def test_circular_properties(tmp_path: Path) -> None:
     err = expand_error(path)
     assert "circular variable definition: c1 -> c2 -> c1" in str(err)
     assert 'lazy_eval="false"' in str(err)
-    assert str(err).startswith(f"{path}:5:3:")
+    # at the property that closes the circle, with the chain of uses that led there
+    assert str(err).startswith(f"{path}:4:3:")
+    assert f"in property 'c2', used at {path}:3:3" in str(err)
+    assert f"in property 'c1', used at {path}:5:3" in str(err)
 
 
 def test_recursive_macro_without_end_is_a_clear_error(tmp_path: Path) -> None:

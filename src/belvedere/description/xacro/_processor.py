@@ -21,21 +21,22 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any, Final
 
+from belvedere.description.xacro._builtins import YamlDict
 from belvedere.description.xacro._errors import XacroError
-from belvedere.description.xacro._expr import EXPR, EXTENSION, ExpressionError, evaluate, tokenize
+from belvedere.description.xacro._expr import EXPR, EXTENSION, tokenize
+from belvedere.description.xacro._interpreter import ExpressionError, evaluate
 from belvedere.description.xacro._macros import Macro, MacroTable, parse_macro_params
 from belvedere.description.xacro._substitutions import Substitutions
 from belvedere.description.xacro._symbols import (
     NameSpace,
     Scope,
-    YamlDict,
     boolean,
     kinetic_boolean,
     kinetic_literal,
     literal,
     make_global_symbols,
 )
-from belvedere.errors import ParseError, SourceLocation
+from belvedere.errors import ParseError, SourceLocation, pinpoint
 from belvedere.packages import PackageIndex
 from belvedere.xmldom import Comment, Document, Element, Node, Text, parse_file
 
@@ -143,6 +144,8 @@ class Processor:
         self.marker = Text("\n\n")
         """xacro moves one shared blank text node around to stop comment removal; so do we."""
         self.current: Element | None = None
+        self.origin: SourceLocation | None = None
+        """Where the lazy property being evaluated was defined (errors point there)."""
         self.substitute = Substitutions(
             args=self.args,
             packages=self.packages,
@@ -223,8 +226,14 @@ class Processor:
             raise XacroError(msg) from None
         from belvedere.description.xacro._yaml import parse_yaml  # PyYAML loads only if used
 
-        unit_scope = Scope(None, root=self.globals, evaluate=self.eval_text)
-        return parse_yaml(text, path=path, unit_scope=unit_scope)
+        unit_scope = Scope(None, root=self.globals, evaluate=self.eval_property)
+        try:
+            return parse_yaml(text, path=path, unit_scope=unit_scope)
+        except XacroError as err:
+            here = self.origin or self.here()
+            if err.location is not None and here is not None:
+                err.add_trail("loaded by xacro.load_yaml at", here)
+            raise
 
     # --- text evaluation -----------------------------------------------------------------------
     def eval_text(self, text: str, scope: Scope) -> Any:
@@ -236,6 +245,23 @@ class Processor:
             return self._eval_token(toks[0], scope)
         return "".join([self.text(self._eval_token(t, scope)) for t in toks])
 
+    def eval_property(
+        self, text: str, scope: Scope, name: str, where: SourceLocation | None
+    ) -> Any:
+        """Evaluate a lazy property on its first use: errors point at its definition."""
+        outer = self.origin
+        self.origin = where
+        try:
+            return self.eval_text(text, scope)
+        except XacroError as err:
+            err.locate(where)
+            used = outer or self.here()
+            if used is not None and used != where:
+                err.add_trail(f"in property '{name}', used at", used)
+            raise
+        finally:
+            self.origin = outer
+
     def _eval_token(self, tok: tuple[int, str], scope: Scope) -> Any:
         kind, payload = tok
         if kind == EXPR:
@@ -246,6 +272,9 @@ class Processor:
                 name = getattr(err.cause, "name", None)
                 if isinstance(err.cause, NameError) and name:
                     err.hint = _did_you_mean(name, scope)
+                if err.offset is not None and err.location is None:
+                    near = self.origin or self.here()
+                    err.locate(pinpoint(near, "${" + payload + "}", 2 + err.offset))
                 raise
         if kind == EXTENSION:
             inner = str(self.eval_text(payload, scope)) if "$" in payload else payload
@@ -263,7 +292,7 @@ class Processor:
         scope = Scope(
             None,
             root=self.globals,
-            evaluate=self.eval_text,
+            evaluate=self.eval_property,
             typing=kinetic_literal if self.two_pass else literal,
         )
         with _expanding():
@@ -562,7 +591,7 @@ class Processor:
             stored = self.eval_text(stored, scope)
         if name in target.root:
             self.warn(f"redefining global symbol: {name}")
-        target.define(name, stored, lazy=lazy)
+        target.define(name, stored, lazy=lazy, where=el.loc)
 
     def define_macro(self, el: Element, macros: MacroTable) -> None:
         self.remove_previous_comments(el)
@@ -597,7 +626,7 @@ class Processor:
             if ns in scope.root:
                 self.warn(f"redefining global symbol: {ns}")
             scope.vars[ns] = ns_scope
-            scope.lazy.discard(ns)
+            scope.lazy.pop(ns, None)
         optional = self.boolean(optional_t, None) if optional_t is not None else False
         if el.first_element() is not None:
             self.warn("Child elements of a <xacro:include> tag are ignored", el.loc)

@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-import math
 import os
 from collections.abc import Callable
 from typing import Any
 
+from belvedere.description.xacro._builtins import expose, math_functions, python_functions
 from belvedere.description.xacro._errors import XacroError
-from belvedere.description.xacro._expr import evaluate
-from belvedere.description.xacro._symbols import SAFE_BUILTINS, Scope
+from belvedere.description.xacro._interpreter import evaluate
+from belvedere.description.xacro._symbols import Scope
 from belvedere.errors import SourceLocation
 from belvedere.packages import PackageIndex
 
@@ -98,18 +98,19 @@ class Substitutions:
         return str(evaluate(expr, Scope(None, root=self._eval_names())))
 
     def _eval_names(self) -> dict[str, Any]:
-        # 2.1.1 evaluates $(eval) with Python's builtins; we give the harmless ones.
-        names: dict[str, Any] = dict(SAFE_BUILTINS)
-        names.update({k: v for k, v in vars(math).items() if k[0] != "_"})
+        # xacro and roslaunch evaluate $(eval) with Python's builtins and math; we give the
+        # bounded builtins of the expression interpreter.
+        names: dict[str, Any] = python_functions()
+        names.update(math_functions())
         names.update(
             {
                 "true": True,
                 "false": False,
-                "arg": lambda name: _auto_convert(self.arg(name)),
-                "env": lambda name: os.environ[name],
-                "optenv": lambda name, default="": os.environ.get(name, default),
-                "find": self.find,
-                "dirname": self.dirname,
+                "arg": expose(lambda name: _auto_convert(self.arg(name)), "arg"),
+                "env": expose(lambda name: os.environ[name], "env"),
+                "optenv": expose(lambda name, default="": os.environ.get(name, default), "optenv"),
+                "find": expose(self.find, "find"),
+                "dirname": expose(self.dirname, "dirname"),
             }
         )
         for k, v in self.args.items():

@@ -3,19 +3,22 @@
 from __future__ import annotations
 
 import ast
-import math
 import re
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from typing import Any, Final
 
+from belvedere.description.xacro._builtins import (
+    Namespace,
+    expose,
+    math_functions,
+    python_functions,
+)
 from belvedere.description.xacro._errors import XacroError
+from belvedere.errors import SourceLocation
 
 __all__ = [
-    "SAFE_BUILTINS",
     "NameSpace",
     "Scope",
-    "YamlDict",
-    "YamlList",
     "boolean",
     "kinetic_boolean",
     "kinetic_literal",
@@ -23,7 +26,8 @@ __all__ = [
     "make_global_symbols",
 ]
 
-TextEvaluator = Callable[[str, "Scope"], Any]
+TextEvaluator = Callable[[str, "Scope", str, "SourceLocation | None"], Any]
+"""Evaluates a lazy property's text: (text, scope, property name, where it was defined)."""
 
 
 def literal(value: Any) -> Any:
@@ -117,7 +121,8 @@ class Scope:
     ) -> None:
         self.parent = parent
         self.vars: dict[str, Any] = {}
-        self.lazy: set[str] = set()
+        self.lazy: dict[str, SourceLocation | None] = {}
+        """Properties still stored as text, and where each was defined."""
         self.resolving: list[str] = []
         if parent is not None:
             self.root: dict[str, Any] = parent.root
@@ -156,29 +161,32 @@ class Scope:
         assert self.evaluate is not None
         self.resolving.append(key)
         try:
-            value = self.literal(self.evaluate(self.vars[key], self))
+            value = self.literal(self.evaluate(self.vars[key], self, key, self.lazy[key]))
         finally:
             self.resolving.pop()
         self.vars[key] = value
-        self.lazy.discard(key)
+        self.lazy.pop(key, None)
         return value
 
     # --- definition ------------------------------------------------------------------------
-    def define(self, key: str, value: Any, *, lazy: bool) -> None:
-        """Store ``value`` (typed like a literal); text stays unevaluated when ``lazy``."""
+    def define(
+        self, key: str, value: Any, *, lazy: bool, where: SourceLocation | None = None
+    ) -> None:
+        """Store ``value`` (typed like a literal); text stays unevaluated when ``lazy``
+        (``where`` it was defined is kept for errors found when it is evaluated)."""
         value = self.literal(value)
         self.vars[key] = value
         if lazy and isinstance(value, str):
-            self.lazy.add(key)
+            self.lazy[key] = where
         else:
-            self.lazy.discard(key)
+            self.lazy.pop(key, None)
 
     def remove(self, key: str) -> None:
         """Remove ``key`` from this scope and every parent."""
         s: Scope | None = self
         while s is not None:
             s.vars.pop(key, None)
-            s.lazy.discard(key)
+            s.lazy.pop(key, None)
             s = s.parent
 
     def top(self) -> Scope:
@@ -192,103 +200,33 @@ class Scope:
 _MISSING: Final = object()
 
 
-class NameSpace(Scope):
+class NameSpace(Scope, Namespace):
     """A scope reachable by dotted access: ``${ns.prop}`` (include namespaces, ``math``…)."""
 
     __slots__ = ()
-
-    def __getattr__(self, item: str) -> Any:
-        try:
-            return self[item]
-        except KeyError:
-            msg = f"name '{item}' is not defined"
-            raise NameError(msg) from None
 
     def __repr__(self) -> str:
         return repr(self.vars)
 
 
-# --- YAML values -------------------------------------------------------------------------------
-
-
-def _wrap(item: Any) -> Any:
-    if isinstance(item, dict) and not isinstance(item, YamlDict):
-        return YamlDict(item)
-    if isinstance(item, list) and not isinstance(item, YamlList):
-        return YamlList(item)
-    return item
-
-
-class YamlList(list[Any]):
-    """A YAML list whose nested dicts allow dotted access."""
-
-    def __getitem__(self, idx: Any) -> Any:
-        return _wrap(super().__getitem__(idx))
-
-    def __iter__(self) -> Iterator[Any]:
-        for item in super().__iter__():
-            yield _wrap(item)
-
-
-class YamlDict(dict[Any, Any]):
-    """A YAML mapping with dotted access: ``${cfg.arm.length}``."""
-
-    def __getattr__(self, item: str) -> Any:
-        try:
-            return _wrap(super().__getitem__(item))
-        except KeyError:
-            msg = f"The yaml dictionary has no key '{item}'"
-            raise AttributeError(msg) from None
-
-    __getitem__ = __getattr__
-
-
 # --- the global names ------------------------------------------------------------------------
 
-_BUILTINS: Final[dict[str, Any]] = {
-    "list": list,
-    "dict": dict,
-    "map": map,
-    "len": len,
-    "str": str,
-    "float": float,
-    "int": int,
-    "bool": bool,
-    "True": True,
-    "False": False,
-    "min": min,
-    "max": max,
-    "round": round,
-}
-_PYTHON_EXTRA: Final[dict[str, Any]] = {
-    "abs": abs,
-    "all": all,
-    "any": any,
-    "complex": complex,
-    "divmod": divmod,
-    "enumerate": enumerate,
-    "filter": filter,
-    "frozenset": frozenset,
-    "hash": hash,
-    "isinstance": isinstance,
-    "issubclass": issubclass,
-    "ord": ord,
-    "repr": repr,
-    "reversed": reversed,
-    "slice": slice,
-    "set": set,
-    "sum": sum,
-    "tuple": tuple,
-    "type": type,
-    "vars": vars,
-    "zip": zip,
-    "sorted": sorted,
-    "range": range,
-}
-
-
-SAFE_BUILTINS: Final[dict[str, Any]] = {**_BUILTINS, **_PYTHON_EXTRA}
-"""Builtins with no access to files, the interpreter or attributes by name."""
+_BARE: Final = [
+    "list",
+    "dict",
+    "map",
+    "len",
+    "str",
+    "float",
+    "int",
+    "bool",
+    "True",
+    "False",
+    "min",
+    "max",
+    "round",
+]
+"""The builtins xacro has always exposed without the ``python.`` prefix."""
 
 
 def tokenize_string(s: str, sep: str = ",; ", skip_empty: bool = True) -> list[str]:
@@ -312,25 +250,24 @@ def make_global_symbols(
             warn(f"Using {name}() directly is deprecated. Use {ns}.{name}() instead.")
             return f(*args, **kwargs)
 
-        return wrapper
+        return expose(wrapper, name)
 
-    symbols: dict[str, Any] = dict(_BUILTINS)
+    builtins = python_functions()
+    symbols: dict[str, Any] = {name: builtins[name] for name in _BARE}
     python = NameSpace(None)
-    python.vars.update(SAFE_BUILTINS)
+    python.vars.update(builtins)
     symbols["python"] = python
     for name in ("sorted", "range"):
-        symbols[name] = deprecated(name, "python", _PYTHON_EXTRA[name])
+        symbols[name] = deprecated(name, "python", builtins[name])
 
     math_ns = NameSpace(None)
-    for k, v in vars(math).items():
-        if not k.startswith("_"):
-            math_ns.vars[k] = v
-            symbols[k] = v
+    math_ns.vars.update(math_functions())
+    symbols.update(math_ns.vars)
     symbols["math"] = math_ns
 
     xacro_ns = NameSpace(None)
-    xacro_ns.vars.update(xacro_functions)
-    xacro_ns.vars["tokenize"] = tokenize_string
+    xacro_ns.vars.update({k: expose(f, k) for k, f in xacro_functions.items()})
+    xacro_ns.vars["tokenize"] = expose(tokenize_string, "tokenize")
     symbols["xacro"] = xacro_ns
     for name in ("load_yaml", "abs_filename", "dotify"):
         symbols[name] = deprecated(name, "xacro", xacro_functions[name])

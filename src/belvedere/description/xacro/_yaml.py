@@ -8,9 +8,12 @@ from typing import Any, Final
 
 import yaml
 
+from belvedere.description.xacro._builtins import to_yaml_value
 from belvedere.description.xacro._errors import XacroError
-from belvedere.description.xacro._expr import evaluate
-from belvedere.description.xacro._symbols import Scope, YamlDict, YamlList
+from belvedere.description.xacro._interpreter import evaluate
+from belvedere.description.xacro._symbols import Scope
+from belvedere.errors import ParseError
+from belvedere.yamlfile import check_expansion
 
 __all__ = ["parse_yaml"]
 
@@ -43,14 +46,23 @@ def _loader(unit_scope: Scope) -> type[yaml.SafeLoader]:
 
 
 def parse_yaml(text: str, *, path: str, unit_scope: Scope) -> Any:
-    """Parse YAML text; mappings come back with dotted access (``cfg.arm.length``)."""
+    """Parse YAML text; mappings come back with dotted access (``cfg.arm.length``).
+
+    Aliases that would expand to more than a million values, or that refer to themselves,
+    are refused before anything is built."""
+    loader = _loader(unit_scope)(text)
     try:
-        data = yaml.load(text, Loader=_loader(unit_scope))
+        root = loader.get_single_node()
+        check_expansion(root, path)
+        data = loader.construct_document(root) if root is not None else None
     except yaml.YAMLError as err:
         msg = f"invalid YAML in {path}: {err}"
         raise XacroError(msg) from None
-    if isinstance(data, dict):
-        return YamlDict(data)
-    if isinstance(data, list):
-        return YamlList(data)
-    return data
+    except ParseError as err:
+        raise XacroError(err.message, err.location, hint=err.hint) from None
+    except RecursionError:
+        msg = f"invalid YAML in {path}: nested too deeply"
+        raise XacroError(msg) from None
+    finally:
+        loader.dispose()
+    return to_yaml_value(data)
