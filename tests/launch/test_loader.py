@@ -207,3 +207,26 @@ def test_gazebo_empty_world_is_built_in() -> None:
     assert server.args.startswith("-u ")  # paused
     assert server.args.endswith("mbot_gazebo/worlds/empty.world")
     assert config.params["/use_sim_time"].value is True
+
+
+@pytest.mark.parametrize(
+    ("expr", "message", "at"),
+    [
+        # the escape reported against xacro, spelt for roslaunch's $(eval)
+        ("vars(type)['_'+'_subclasses_'+'_']", "name 'vars' is not defined", None),
+        ("'a'.upper._self", "the attribute '_self' is not allowed", "._self"),
+        ("str.mro()", "attribute 'mro' of a type value is not available", ".mro"),
+        ("(x for x in []).gi_frame.f_globals", "attribute 'gi_frame' of a generator", ".gi_"),
+        ("9**9**9", "9 ** 387420489 is too large", "9**9**9"),
+        ("'{0.real}'.format(1)", "format field '{0.real}' is not allowed", "'{0."),
+    ],
+)
+def test_eval_runs_in_the_sandbox(tmp_path: Path, expr: str, message: str, at: str | None) -> None:
+    line = f'  <param name="p" value="$(eval {expr})"/>'
+    path = _launch(tmp_path, f"<launch>\n{line}\n</launch>")
+    with pytest.raises(LaunchError) as info:
+        _load(path)
+    described = info.value.describe()
+    assert message in described
+    col = 3 if at is None else line.index(at) + 1
+    assert described.startswith(f"{path}:2:{col}: error: $(eval "), described

@@ -21,9 +21,10 @@ from typing import Any
 
 from belvedere.description.xacro import XacroError
 from belvedere.description.xacro._command import is_xacro_program, parse_xacro_argv
+from belvedere.description.xacro._interpreter import ExpressionError
 from belvedere.description.xacro._run import run_command
 from belvedere.description.xacro._substitutions import Substitutions
-from belvedere.errors import BelvedereError, ParseError, SourceLocation
+from belvedere.errors import BelvedereError, ParseError, SourceLocation, pinpoint
 from belvedere.graph import resolve_name
 from belvedere.graph._names import GraphNameError
 from belvedere.launch._model import LaunchConfig, LaunchError, LaunchNode
@@ -164,6 +165,10 @@ class _Loader:
     def _eval(self, expr: str, scope: _Scope, at: SourceLocation | None) -> str:
         try:
             value = self._substitutions(scope, at)("eval " + expr)
+        except ExpressionError as err:
+            msg = f"$(eval {expr}): {err.message}"
+            where = at if err.offset is None else pinpoint(at, f"$(eval {expr}", 7 + err.offset)
+            raise LaunchError(msg, where, hint=err.hint) from None
         except XacroError as err:
             msg = f"$(eval {expr}): {err.message}"
             raise LaunchError(msg, at, hint=err.hint) from None

@@ -65,8 +65,8 @@ MAX_FORMAT_WIDTH: Final = 10_000
 
 HINT: Final = (
     "expressions may use numbers, strings, lists, tuples, dicts, arithmetic, comparisons, "
-    "conditions, indexing, comprehensions, lambdas, math.*, python.*, xacro.*, YAML data "
-    "(cfg.a.b) and string methods"
+    "conditions, indexing, comprehensions, lambdas, the listed builtins (python.*), math.*, "
+    "xacro.*, YAML data (cfg.a.b) and string methods"
 )
 
 
