@@ -27,7 +27,12 @@ def add_parser(
     )
     p.add_argument("input", metavar="FILE", help="URDF or xacro file")
     p.add_argument("--json", action="store_true", help="print a JSON report on stdout")
-    p.add_argument("--strict", action="store_true", help="warnings fail the check too")
+    p.add_argument(
+        "--strict",
+        action="store_true",
+        help="warnings fail the check too, and files outside the model's package roots are "
+        "not read",
+    )
     p.add_argument(
         "--sim",
         dest="simulated",
@@ -53,6 +58,7 @@ def run(args: argparse.Namespace) -> int:
         packages=packages,
         simulated=args.simulated,
         dialect=args.dialect,
+        strict=args.strict,
     )
     if args.json:
         sys.stdout.write(json.dumps(report.to_json(), indent=2) + "\n")

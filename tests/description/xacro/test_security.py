@@ -272,3 +272,80 @@ def test_entity_expansion_bombs_are_refused() -> None:
     )
     with pytest.raises(ParseError):
         process_string(bomb)
+
+
+# --- reading outside the model's packages ------------------------------------------------------
+
+
+def _package(root: Path, name: str) -> Path:
+    (root / name / "urdf").mkdir(parents=True)
+    (root / name / "package.xml").write_text(f"<package><name>{name}</name></package>")
+    return root / name
+
+
+def test_reads_outside_the_package_roots_are_named_and_strict_refuses(tmp_path: Path) -> None:
+    from belvedere.description.xacro import expand_file
+    from belvedere.packages import PackageIndex
+
+    pkg = _package(tmp_path / "ws", "robot_pkg")
+    other = _package(tmp_path / "ws", "parts_pkg")
+    (other / "urdf" / "part.xacro").write_text(f'<robot {NS}><link name="part"/></robot>')
+    (pkg / "config.yaml").write_text("n: 1\n")
+    secret = tmp_path / "secret.yaml"
+    secret.write_text("n: 2\n")
+    robot = pkg / "urdf" / "robot.xacro"
+    robot.write_text(
+        f'<robot name="r" {NS}>\n'
+        "  <xacro:property name=\"own\" value=\"${xacro.load_yaml('../config.yaml')}\"/>\n"
+        '  <xacro:include filename="$(find parts_pkg)/urdf/part.xacro"/>\n'
+        f"  <xacro:property name=\"s\" value=\"${{xacro.load_yaml('{secret}')}}\"/>\n"
+        '  <link name="l${own.n}${s.n}"/>\n'
+        "</robot>\n"
+    )
+    packages = PackageIndex([tmp_path / "ws"])
+    expansion = expand_file(robot, packages=packages, on_warning=lambda w: None)
+    assert '<link name="l12"/>' in expansion.to_xml()  # read, as xacro reads it
+    (warning,) = [w for w in expansion.warnings if "outside" in w.message]
+    assert str(warning).startswith(f"{robot}:4:3: warning: reads {secret}, outside the model")
+    assert str(pkg) in warning.message  # the roots it resolved are named
+    assert str(other) in warning.message
+
+    with pytest.raises(XacroError, match=rf"refusing to read {secret}: it is outside") as info:
+        expand_file(robot, packages=packages, strict=True)
+    assert info.value.location is not None
+    assert info.value.location.line == 4
+
+
+def test_includes_outside_the_package_roots_are_named(tmp_path: Path) -> None:
+    from belvedere.description.xacro import expand_file
+
+    pkg = _package(tmp_path, "robot_pkg")
+    (tmp_path / "loose.xacro").write_text(f'<robot {NS}><link name="loose"/></robot>')
+    robot = pkg / "urdf" / "robot.xacro"
+    robot.write_text(
+        f'<robot name="r" {NS}>\n  <xacro:include filename="../../loose.xacro"/>\n</robot>\n'
+    )
+    warnings = expand_file(robot, on_warning=lambda w: None).warnings
+    assert [str(w) for w in warnings if "outside" in w.message][0].startswith(
+        f"{robot}:2:3: warning: reads {tmp_path / 'loose.xacro'}, outside the model's package"
+    )
+    with pytest.raises(XacroError, match=r"robot\.xacro:2:3: error: refusing to read"):
+        expand_file(robot, strict=True)
+
+
+def test_strict_on_the_command_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from belvedere.cli import main
+
+    pkg = _package(tmp_path, "robot_pkg")
+    robot = pkg / "urdf" / "robot.xacro"
+    robot.write_text(
+        f'<robot name="r" {NS}>\n'
+        f"  <link name=\"${{xacro.load_yaml('{tmp_path / 'x.yaml'}')}}\"/>\n</robot>\n"
+    )
+    (tmp_path / "x.yaml").write_text("1\n")
+    assert main(["xacro", str(robot)]) == 0
+    assert "outside the model's package roots" in capsys.readouterr().err
+    assert main(["xacro", "--strict", str(robot)]) == 1
+    assert "error: refusing to read" in capsys.readouterr().err
+    assert main(["check", "--strict", str(robot)]) == 1
+    assert "error: refusing to read" in capsys.readouterr().err

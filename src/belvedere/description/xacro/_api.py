@@ -59,6 +59,7 @@ def _make_processor(
     root_dir: str | None = None,
     python2_floats: bool = False,
     on_warning: Callable[[XacroWarning], None] | None = None,
+    strict: bool = False,
 ) -> Processor:
     if packages is None:
         packages = PackageIndex.from_environment(near=near)
@@ -71,6 +72,7 @@ def _make_processor(
         root_dir=root_dir,
         python2_floats=python2_floats,
         warn=on_warning,
+        strict=strict,
     )
 
 
@@ -83,15 +85,19 @@ def expand_file(
     root_dir: str | None = None,
     python2_floats: bool = False,
     on_warning: Callable[[XacroWarning], None] | None = None,
+    strict: bool = False,
 ) -> Expansion:
     """Expand a xacro file. ``packages`` defaults to the environment's search path; the
     workspace of ``path`` is always searched last. Relative paths resolve against
     ``root_dir`` (default: the current directory), as xacro's ``--root-dir``.
     ``python2_floats`` prints floats as ROS 1 under Python 2 did (12 significant digits).
-    Warnings are logged unless ``on_warning`` takes them (they are in the result either way)."""
+    Warnings are logged unless ``on_warning`` takes them (they are in the result either way).
+    A file read outside the model's package roots is a warning, or an error when ``strict``."""
     name = os.fspath(path)
     full = os.path.join(root_dir, name) if root_dir else name
-    proc = _make_processor(mappings, dialect, packages, full, root_dir, python2_floats, on_warning)
+    proc = _make_processor(
+        mappings, dialect, packages, full, root_dir, python2_floats, on_warning, strict
+    )
     try:
         doc = parse_file(full, display=name)
     except XacroError:
@@ -113,9 +119,12 @@ def expand_string(
     packages: PackageIndex | None = None,
     root_dir: str | None = None,
     python2_floats: bool = False,
+    strict: bool = False,
 ) -> Expansion:
     """Expand xacro text held in memory (no banner; includes relative to ``root_dir``)."""
-    proc = _make_processor(mappings, dialect, packages, None, root_dir, python2_floats)
+    proc = _make_processor(
+        mappings, dialect, packages, None, root_dir, python2_floats, strict=strict
+    )
     try:
         doc = parse_string(text)
     except ParseError as err:
@@ -140,6 +149,7 @@ class XacroOptions(TypedDict, total=False):
     packages: PackageIndex | None
     root_dir: str | None
     python2_floats: bool
+    strict: bool
 
 
 def process_file(path: str | Path, **options: Unpack[XacroOptions]) -> str:

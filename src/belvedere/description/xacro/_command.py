@@ -63,6 +63,7 @@ class XacroCommand:
     fix: bool = False
     root_dir: str | None = None
     python2_floats: bool = False
+    strict: bool = False
     notices: list[str] = field(default_factory=list)
 
 
@@ -103,6 +104,11 @@ def add_xacro_arguments(p: argparse.ArgumentParser) -> None:
         help="print floats as ROS 1 did under Python 2: 12 significant digits (0.3, not "
         "0.30000000000000004)",
     )
+    p.add_argument(
+        "--strict",
+        action="store_true",
+        help="refuse to read files outside the model's package roots (default: warn)",
+    )
     p.add_argument("--xacro-ns", action="store_true", help=argparse.SUPPRESS)
     p.add_argument("--includes", action="store_true", help=argparse.SUPPRESS)
 
@@ -127,6 +133,7 @@ def command_from_namespace(ns: argparse.Namespace, mappings: dict[str, str]) -> 
         fix=ns.fix,
         root_dir=ns.root_dir,
         python2_floats=ns.python2_floats,
+        strict=ns.strict,
         notices=notices,
     )
 

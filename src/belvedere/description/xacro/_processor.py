@@ -19,6 +19,7 @@ import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, Final
 
 from belvedere.description.xacro._builtins import YamlDict
@@ -37,7 +38,7 @@ from belvedere.description.xacro._symbols import (
     make_global_symbols,
 )
 from belvedere.errors import ParseError, SourceLocation, pinpoint
-from belvedere.packages import PackageIndex
+from belvedere.packages import PackageIndex, find_package_root
 from belvedere.xmldom import Comment, Document, Element, Node, Text, parse_file
 
 __all__ = ["Dialect", "Processor", "XacroWarning"]
@@ -117,11 +118,16 @@ class Processor:
         root_dir: str | None = None,
         warn: Callable[[XacroWarning], None] | None = None,
         python2_floats: bool = False,
+        strict: bool = False,
     ) -> None:
         self.args: dict[str, str] = dict(mappings or {})
         self.dialect = dialect
         self.text: Callable[[Any], str] = _python2_str if python2_floats else str
         """How values become text (ROS 1 under Python 2 printed floats with 12 digits)."""
+        self.strict = strict
+        """Refuse to read files outside the model's package roots (else: a warning)."""
+        self.roots: list[str] = []
+        """The model's own package (or directory), as real paths; packages found are added."""
         self.legacy_tags = dialect is not Dialect.MODERN
         self.two_pass = dialect is Dialect.KINETIC
         self.boolean = kinetic_boolean if self.two_pass else boolean
@@ -215,8 +221,29 @@ class Processor:
         base = os.path.dirname(parent) if parent else "."
         return os.path.join(base, spec)
 
+    def check_readable(self, path: str, at: SourceLocation | None) -> None:
+        """Warn (or, when strict, refuse) when a model reads a file outside every package
+        root it resolved: xacro reads absolute paths, but a downloaded robot that reads
+        ``/etc/passwd`` or ``~/.ssh`` should not do so silently."""
+        real = os.path.realpath(os.path.join(self.root_dir, path))
+        roots = [*self.roots, *(os.path.realpath(r) for r in self.substitute.found)]
+        if any(real == r or real.startswith(r.rstrip(os.sep) + os.sep) for r in roots):
+            return
+        where = ", ".join(dict.fromkeys(roots)) or "none"
+        path = os.path.normpath(path)
+        if self.strict:
+            msg = f"refusing to read {path}: it is outside the model's package roots ({where})"
+            raise XacroError(msg, at, hint="without --strict it is read, with a warning")
+        self.warn_once(
+            "outside:" + real,
+            f"reads {path}, outside the model's package roots ({where}); xacro reads it too "
+            "(--strict refuses)",
+            at,
+        )
+
     def load_yaml(self, filename: str) -> Any:
         path = self.abs_filename(filename)
+        self.check_readable(path, self.origin or self.here())
         self.includes.append(path)
         try:
             with open(os.path.join(self.root_dir, path), encoding="utf-8") as f:
@@ -284,6 +311,11 @@ class Processor:
     # --- the walk ------------------------------------------------------------------------------
     def process_document(self, doc: Document, path: str | None) -> None:
         self.files = [path]
+        if path is None:
+            self.roots = [os.path.realpath(self.root_dir)]
+        else:
+            full = Path(self.root_dir, path).resolve()
+            self.roots = [str(find_package_root(full) or full.parent)]
         root = doc.root
         target = root.attrs.pop("xacro:targetNamespace", None)
         if target:
@@ -675,6 +707,7 @@ class Processor:
             reason = "is a directory" if os.path.isdir(path) else "no such file"
             msg = f"cannot include {filename}: {reason}"
             raise _MissingIncludeError(msg, at)
+        self.check_readable(filename, at)
         try:
             return parse_file(path, display=filename)
         except XacroError:

@@ -43,6 +43,7 @@ def run_command(cmd: XacroCommand, *, packages: PackageIndex | None = None) -> C
         packages=packages,
         root_dir=cmd.root_dir,
         python2_floats=cmd.python2_floats,
+        strict=cmd.strict,
     )
     if cmd.deps:
         return CommandResult(" ".join(dict.fromkeys(expansion.dependencies)))

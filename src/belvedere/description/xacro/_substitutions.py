@@ -34,6 +34,8 @@ class Substitutions:
         self.root_dir = root_dir
         self.current_file = current_file
         self.here = here
+        self.found: list[str] = []
+        """Every package directory ``$(find)`` resolved (the model's package roots)."""
 
     def __call__(self, inner: str) -> str:
         """The value of ``$(inner)``."""
@@ -82,7 +84,9 @@ class Substitutions:
             raise XacroError(msg, hint=hint) from None
 
     def find(self, package: str) -> str:
-        return str(self.packages.find(package, requested_at=self.here()))
+        root = str(self.packages.find(package, requested_at=self.here()))
+        self.found.append(root)
+        return root
 
     def dirname(self) -> str:
         current = self.current_file()
