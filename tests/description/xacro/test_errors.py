@@ -48,7 +48,7 @@ def test_undefined_property_suggests_near_names(tmp_path: Path) -> None:
         '  <xacro:property name="wheel_radius" value="1"/>\n  <a r="${wheel_radias}"/>\n',
     )
     err = expand_error(path)
-    assert f"{path}:4:3: error: name 'wheel_radias' is not defined" in str(err)
+    assert f"{path}:4:9: error: name 'wheel_radias' is not defined" in str(err)  # at its ${
     assert "did you mean 'wheel_radius'?" in str(err)
 
 
@@ -199,7 +199,7 @@ def test_error_inside_macro_points_at_body_and_call(tmp_path: Path) -> None:
         '  <xacro:m x="1"/>\n',
     )
     text = str(expand_error(path))
-    assert text.startswith(f"{path}:4:5: error: name 'undefined_y' is not defined")
+    assert text.startswith(f"{path}:4:17: error: name 'undefined_y' is not defined")
     assert f"in macro 'm' called from {path}:6:3" in text
 
 
@@ -208,3 +208,12 @@ def test_invalid_property_names(tmp_path: Path) -> None:
     assert "Property names must be valid python identifiers: 1abc" in str(expand_error(path))
     path = write(tmp_path, '  <xacro:property name="__x" value="1"/>\n')
     assert "must not start with double underscore" in str(expand_error(path))
+
+
+def test_errors_in_evaluated_comments_point_at_the_comment(tmp_path: Path) -> None:
+    path = write(
+        tmp_path,
+        '  <link name="a"/>\n  <!-- xacro:eval-comments -->\n  <!-- width ${1/0} -->\n',
+    )
+    text = str(expand_error(path))
+    assert text.startswith(f"{path}:5:14: error: ZeroDivisionError: division by zero")

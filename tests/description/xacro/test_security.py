@@ -68,10 +68,9 @@ def test_private_and_unlisted_attributes_are_refused(
     line = f'  <link name="${{{expr}}}"/>'
     text = refused(tmp_path, line)
     assert message in text
-    if message.startswith("name "):  # raised, not refused: the element's position
-        assert text.startswith("evil.xacro:2:3: error: "), text
-    else:  # the column of the construct itself
-        assert text.startswith(f"evil.xacro:2:{line.index(at) + 1}: error: "), text
+    # the column of the construct itself (of the expression's '${' for a raised error)
+    col = line.index("${") + 1 if message.startswith("name ") else line.index(at) + 1
+    assert text.startswith(f"evil.xacro:2:{col}: error: "), text
 
 
 @pytest.mark.parametrize(

@@ -299,9 +299,9 @@ class Processor:
                 name = getattr(err.cause, "name", None)
                 if isinstance(err.cause, NameError) and name:
                     err.hint = _did_you_mean(name, scope)
-                if err.offset is not None and err.location is None:
-                    near = self.origin or self.here()
-                    err.locate(pinpoint(near, "${" + payload + "}", 2 + err.offset))
+                if err.location is None:  # the construct's column, else the '${' itself
+                    offset = 0 if err.offset is None else 2 + err.offset
+                    err.locate(pinpoint(self.origin or self.here(), "${" + payload + "}", offset))
                 raise
         if kind == EXTENSION:
             inner = str(self.eval_text(payload, scope)) if "$" in payload else payload
@@ -403,7 +403,12 @@ class Processor:
                     eval_comments = "xacro:eval-comments:off" not in child.data
                     child.detach()
                 elif eval_comments:
-                    child.data = self.text(self.eval_text(child.data, scope))
+                    self.current = node
+                    try:
+                        child.data = self.text(self.eval_text(child.data, scope))
+                    except XacroError as err:
+                        err.locate(node.loc)
+                        raise
             child = nxt
 
     def keyword(self, el: Element) -> str | None:
