@@ -295,9 +295,9 @@ def test_reads_outside_the_package_roots_are_named_and_strict_refuses(tmp_path: 
     robot = pkg / "urdf" / "robot.xacro"
     robot.write_text(
         f'<robot name="r" {NS}>\n'
-        "  <xacro:property name=\"own\" value=\"${xacro.load_yaml('../config.yaml')}\"/>\n"
+        '  <xacro:property name="own" value="${xacro.load_yaml(\'../config.yaml\')}"/>\n'
         '  <xacro:include filename="$(find parts_pkg)/urdf/part.xacro"/>\n'
-        f"  <xacro:property name=\"s\" value=\"${{xacro.load_yaml('{secret}')}}\"/>\n"
+        f'  <xacro:property name="s" value="${{xacro.load_yaml(\'{secret}\')}}"/>\n'
         '  <link name="l${own.n}${s.n}"/>\n'
         "</robot>\n"
     )
@@ -325,7 +325,7 @@ def test_includes_outside_the_package_roots_are_named(tmp_path: Path) -> None:
         f'<robot name="r" {NS}>\n  <xacro:include filename="../../loose.xacro"/>\n</robot>\n'
     )
     warnings = expand_file(robot, on_warning=lambda w: None).warnings
-    assert [str(w) for w in warnings if "outside" in w.message][0].startswith(
+    assert next(str(w) for w in warnings if "outside" in w.message).startswith(
         f"{robot}:2:3: warning: reads {tmp_path / 'loose.xacro'}, outside the model's package"
     )
     with pytest.raises(XacroError, match=r"robot\.xacro:2:3: error: refusing to read"):
