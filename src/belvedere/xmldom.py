@@ -98,7 +98,9 @@ class Text(Node):
     __slots__ = ("data",)
 
     def __init__(self, data: str) -> None:
-        super().__init__()
+        # (Node's fields set here: trees have many nodes, a super() call each adds up)
+        self._siblings = None
+        self.prev = self.next = None
         self.data = data
 
     def clone(self) -> Text:
@@ -109,7 +111,9 @@ class CData(Node):
     __slots__ = ("data",)
 
     def __init__(self, data: str) -> None:
-        super().__init__()
+        # (Node's fields set here: trees have many nodes, a super() call each adds up)
+        self._siblings = None
+        self.prev = self.next = None
         self.data = data
 
     def clone(self) -> CData:
@@ -120,7 +124,9 @@ class Comment(Node):
     __slots__ = ("data",)
 
     def __init__(self, data: str) -> None:
-        super().__init__()
+        # (Node's fields set here: trees have many nodes, a super() call each adds up)
+        self._siblings = None
+        self.prev = self.next = None
         self.data = data
 
     def clone(self) -> Comment:
@@ -147,7 +153,8 @@ class Element(Node):
     def __init__(
         self, tag: str, attrs: dict[str, str] | None = None, loc: SourceLocation | None = None
     ) -> None:
-        super().__init__()
+        self._siblings = None
+        self.prev = self.next = None
         self.tag = tag
         self.attrs: dict[str, str] = {} if attrs is None else attrs
         self.first: Node | None = None

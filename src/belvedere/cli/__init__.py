@@ -8,39 +8,31 @@ Every verb is a module here with ``add_parser(subparsers)`` and ``run(args) -> i
 from __future__ import annotations
 
 import argparse
+import importlib
 import logging
 import sys
 from collections.abc import Sequence
 
 from belvedere import __version__
-from belvedere.cli import check as check_verb
-from belvedere.cli import display as display_verb
-from belvedere.cli import launch as launch_verb
-from belvedere.cli import node as node_verb
-from belvedere.cli import param as param_verb
-from belvedere.cli import service as service_verb
-from belvedere.cli import sim as sim_verb
-from belvedere.cli import teleop as teleop_verb
-from belvedere.cli import tf as tf_verb
-from belvedere.cli import topic as topic_verb
-from belvedere.cli import xacro as xacro_verb
 from belvedere.errors import BelvedereError
 
 __all__ = ["main"]
 
 _VERBS = (
-    xacro_verb,
-    check_verb,
-    display_verb,
-    sim_verb,
-    launch_verb,
-    teleop_verb,
-    topic_verb,
-    param_verb,
-    service_verb,
-    node_verb,
-    tf_verb,
+    "xacro",
+    "check",
+    "display",
+    "sim",
+    "launch",
+    "teleop",
+    "topic",
+    "param",
+    "service",
+    "node",
+    "tf",
 )
+"""The verbs, in the order ``--help`` lists them; each is the module ``belvedere.cli.VERB``.
+Only the verb being run is imported (``xacro`` need not load the simulator)."""
 
 
 class _Formatter(logging.Formatter):
@@ -89,7 +81,8 @@ def _common_options(*, suppress: bool) -> argparse.ArgumentParser:
     return common
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The command line; with ``only``, just that verb's options are built (and imported)."""
     common = _common_options(suppress=True)
     parser = argparse.ArgumentParser(
         prog="belvedere",
@@ -99,13 +92,21 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"belvedere {__version__}")
     sub = parser.add_subparsers(dest="verb", metavar="VERB", required=True)
     for verb in _VERBS:
-        verb.add_parser(sub, common)
+        if only is None or verb == only:
+            importlib.import_module(f"belvedere.cli.{verb}").add_parser(sub, common)
     return parser
+
+
+def _verb_of(argv: list[str]) -> str | None:
+    """The verb the command line names, if it names one we have."""
+    _, rest = _common_options(suppress=False).parse_known_args(argv)
+    first = next((a for a in rest if not a.startswith("-")), None)
+    return first if first in _VERBS else None
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     args_list = list(sys.argv[1:] if argv is None else argv)
-    parser = build_parser()
+    parser = build_parser(_verb_of(args_list))
     try:
         args, extra = parser.parse_known_args(args_list)
     except SystemExit as exc:  # argparse: --help/--version exit 0, usage errors exit 2

@@ -112,11 +112,26 @@ class ExpressionError(XacroError):
 class Compiled:
     """One compiled expression."""
 
-    __slots__ = ("code", "expr")
+    __slots__ = ("code", "expr", "metered")
 
-    def __init__(self, expr: str, code: Code) -> None:
+    def __init__(self, expr: str, code: Code, *, metered: bool) -> None:
         self.expr = expr
         self.code = code
+        self.metered = metered
+        """Whether it can iterate (calls, comprehensions, lambdas, ``*`` and ``**``): only
+        then is the evaluation's step budget kept."""
+
+
+_ITERATING: Final = (
+    ast.Call,
+    ast.ListComp,
+    ast.SetComp,
+    ast.DictComp,
+    ast.GeneratorExp,
+    ast.Lambda,
+    ast.Starred,
+    ast.Dict,
+)
 
 
 class _Compiler:
@@ -606,7 +621,8 @@ def compile_expr(expr: str) -> Compiled:
         code = _Compiler(source, lead).compile(tree.body)
     except RefusedError as r:
         raise ExpressionError(expr, r.message, offset=r.offset, hint=r.hint) from None
-    compiled = Compiled(expr, code)
+    metered = any(isinstance(n, _ITERATING) for n in ast.walk(tree))
+    compiled = Compiled(expr, code, metered=metered)
     if len(_cache) < 200_000:
         _cache[expr] = compiled
     return compiled
@@ -615,12 +631,10 @@ def compile_expr(expr: str) -> Compiled:
 def evaluate(expr: str | Compiled, scope: Lookup) -> Any:
     """Evaluate one expression in ``scope``; whatever it raises or is refused becomes an
     :class:`ExpressionError` naming the expression."""
-    compiled = expr if isinstance(expr, Compiled) else compile_expr(expr)
-    state = budget
-    if state.depth == 0:
-        state.steps = 0
-    state.depth += 1
+    compiled = expr if type(expr) is Compiled else compile_expr(expr)  # type: ignore[arg-type]
     try:
+        if compiled.metered:
+            return _run_metered(compiled.code, scope)
         return compiled.code(scope)
     except RefusedError as r:
         raise ExpressionError(compiled.expr, r.message, offset=r.offset, hint=r.hint) from None
@@ -628,5 +642,16 @@ def evaluate(expr: str | Compiled, scope: Lookup) -> Any:
         raise
     except Exception as err:  # noqa: BLE001 (user expressions may raise anything)
         raise ExpressionError.raised(compiled.expr, err) from None
+
+
+def _run_metered(code: Code, scope: Lookup) -> Any:
+    """Run with a fresh step budget, unless an evaluation that keeps one is already running
+    (a lazy property evaluated inside it shares its budget)."""
+    state = budget
+    if state.depth == 0:
+        state.steps = 0
+    state.depth += 1
+    try:
+        return code(scope)
     finally:
         state.depth -= 1

@@ -24,8 +24,13 @@ from typing import Any, Final
 
 from belvedere.description.xacro._builtins import YamlDict
 from belvedere.description.xacro._errors import XacroError
-from belvedere.description.xacro._expr import EXPR, EXTENSION, tokenize
-from belvedere.description.xacro._interpreter import ExpressionError, evaluate
+from belvedere.description.xacro._expr import EXPR, TEXT, tokenize
+from belvedere.description.xacro._interpreter import (
+    Compiled,
+    ExpressionError,
+    compile_expr,
+    evaluate,
+)
 from belvedere.description.xacro._macros import Macro, MacroTable, parse_macro_params
 from belvedere.description.xacro._substitutions import Substitutions
 from belvedere.description.xacro._symbols import (
@@ -267,10 +272,15 @@ class Processor:
         """Evaluate ``${}``/``$()`` in ``text``: one token keeps its type, more join as text."""
         if "$" not in text:
             return text
-        toks = tokenize(text)
-        if len(toks) == 1:
-            return self._eval_token(toks[0], scope)
-        return "".join([self.text(self._eval_token(t, scope)) for t in toks])
+        parts = _programs.get(text)
+        if parts is None:
+            parts = _program(text)
+        if len(parts) == 1:
+            return self._eval_part(parts[0], scope)
+        to_text = self.text
+        return "".join(
+            [p if type(p) is str else to_text(self._eval_part(p, scope)) for p in parts]
+        )
 
     def eval_property(
         self, text: str, scope: Scope, name: str, where: SourceLocation | None
@@ -289,24 +299,35 @@ class Processor:
         finally:
             self.origin = outer
 
-    def _eval_token(self, tok: tuple[int, str], scope: Scope) -> Any:
-        kind, payload = tok
-        if kind == EXPR:
+    def _eval_part(self, part: _Part, scope: Scope) -> Any:
+        if type(part) is Compiled:
+            try:
+                return evaluate(part, scope)
+            except ExpressionError as err:
+                self._expression_failed(err, part.expr, scope)
+                raise
+        if isinstance(part, str):
+            return part
+        assert isinstance(part, tuple)
+        kind, payload = part
+        if kind == EXPR:  # with a $() inside, or not compilable: evaluated as xacro does
             expr = payload if "$" not in payload else str(self.eval_text(payload, scope))
             try:
                 return evaluate(expr, scope)
             except ExpressionError as err:
-                name = getattr(err.cause, "name", None)
-                if isinstance(err.cause, NameError) and name:
-                    err.hint = _did_you_mean(name, scope)
-                if err.location is None:  # the construct's column, else the '${' itself
-                    offset = 0 if err.offset is None else 2 + err.offset
-                    err.locate(pinpoint(self.origin or self.here(), "${" + payload + "}", offset))
+                self._expression_failed(err, payload, scope)
                 raise
-        if kind == EXTENSION:
-            inner = str(self.eval_text(payload, scope)) if "$" in payload else payload
-            return self.substitute(inner)
-        return payload
+        inner = str(self.eval_text(payload, scope)) if "$" in payload else payload
+        return self.substitute(inner)
+
+    def _expression_failed(self, err: ExpressionError, payload: str, scope: Scope) -> None:
+        """Add what helps to an expression's error: near names, its place in the file."""
+        name = getattr(err.cause, "name", None)
+        if isinstance(err.cause, NameError) and name:
+            err.hint = _did_you_mean(name, scope)
+        if err.location is None:  # the construct's column, else the '${' itself
+            offset = 0 if err.offset is None else 2 + err.offset
+            err.locate(pinpoint(self.origin or self.here(), "${" + payload + "}", offset))
 
     # --- the walk ------------------------------------------------------------------------------
     def process_document(self, doc: Document, path: str | None) -> None:
@@ -444,6 +465,10 @@ class Processor:
         """Process one child element; True means it was renamed and must be processed again."""
         self.current = el
         kw = self.keyword(el)
+        if kw is None:  # most elements: a macro call or plain content
+            if not self.macro_call(el, macros, scope):
+                self.eval_all(el, macros, scope)
+            return False
         if kw == "insert_block":
             self.insert_block(el, macros, scope)
         elif kw == "include":
@@ -953,6 +978,32 @@ class Processor:
         self.remove_previous_comments(el)
         self.import_namespaces(el.parent, body.attrs)
         self.splice(el, body)
+
+
+_Part = str | Compiled | tuple[int, str]
+"""A piece of attribute or text content: literal text, a compiled ``${}``, or a token left
+to evaluate each time (a ``$()``, or a ``${}`` holding one)."""
+
+_programs: dict[str, tuple[_Part, ...]] = {}
+
+
+def _program(text: str) -> tuple[_Part, ...]:
+    """``text`` split into parts, its expressions compiled (cached: macro bodies repeat)."""
+    parts: list[_Part] = []
+    for kind, payload in tokenize(text):
+        if kind == TEXT:
+            parts.append(payload)
+        elif kind == EXPR and "$" not in payload:
+            try:
+                parts.append(compile_expr(payload))
+            except ExpressionError:  # reported when (and if) it is evaluated, in order
+                parts.append((kind, payload))
+        else:
+            parts.append((kind, payload))
+    program = tuple(parts)
+    if len(_programs) < 200_000:
+        _programs[text] = program
+    return program
 
 
 def _python2_str(value: Any) -> str:
