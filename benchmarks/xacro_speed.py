@@ -168,8 +168,8 @@ ROBOT_NESTED = """<?xml version="1.0"?>
           <box size="${{cfg.motor.size[0]}} ${{cfg.motor.size[1]}} ${{cfg.motor.size[2]}}"/>
         </geometry>
       </visual>
-      <xacro:box_inertia m="${{cfg.motor.mass}}" x="${{cfg.motor.size[0]}}" y="${{cfg.motor.size[1]}}"
-                     z="${{cfg.motor.size[2]}}">
+      <xacro:box_inertia m="${{cfg.motor.mass}}" x="${{cfg.motor.size[0]}}"
+                         y="${{cfg.motor.size[1]}}" z="${{cfg.motor.size[2]}}">
         <origin xyz="0 0 0" rpy="0 0 0"/>
       </xacro:box_inertia>
     </link>

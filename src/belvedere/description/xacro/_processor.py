@@ -278,9 +278,7 @@ class Processor:
         if len(parts) == 1:
             return self._eval_part(parts[0], scope)
         to_text = self.text
-        return "".join(
-            [p if type(p) is str else to_text(self._eval_part(p, scope)) for p in parts]
-        )
+        return "".join([p if type(p) is str else to_text(self._eval_part(p, scope)) for p in parts])
 
     def eval_property(
         self, text: str, scope: Scope, name: str, where: SourceLocation | None
