@@ -12,6 +12,8 @@ from typing import Any
 
 import pytest
 
+from tests.waiting import DEADLINE
+
 TESTS = Path(__file__).parent
 DATA = TESTS / "data"
 REPO = TESTS.parent
@@ -143,4 +145,4 @@ def peer(endpoint: str, tmp_path: Path) -> Any:
     yield proc
     assert proc.stdin is not None
     proc.stdin.close()
-    proc.wait(timeout=10)
+    proc.wait(timeout=DEADLINE)
