@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import io
+import logging
 import subprocess
 import sys
 from pathlib import Path
@@ -27,6 +29,22 @@ def test_usage_error_exits_2(capsys: pytest.CaptureFixture[str]) -> None:
     assert main([]) == 2
     assert main(["xacro"]) == 2
     assert "FILE" in capsys.readouterr().err
+
+
+def test_main_leaves_logging_as_it_found_it(
+    capsys: pytest.CaptureFixture[str], caplog: pytest.LogCaptureFixture
+) -> None:
+    """main() called in-process (as tests and scripts do) must not leave a handler on a
+    stream that is gone once it returns, nor keep records from the application's logging."""
+    for _ in range(2):
+        stderr = io.StringIO()  # like a test's capture: replaced, then closed
+        with pytest.MonkeyPatch.context() as mp:
+            mp.setattr(sys, "stderr", stderr)
+            assert main(["check", str(MBOT_WRAPPER)]) == 0
+        stderr.close()
+    logging.getLogger("belvedere.graph").warning("after main() returned")
+    assert "Logging error" not in capsys.readouterr().err
+    assert [r.getMessage() for r in caplog.records] == ["after main() returned"]
 
 
 def test_python_dash_m_works() -> None:

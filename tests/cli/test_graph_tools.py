@@ -4,54 +4,72 @@ from __future__ import annotations
 
 import subprocess
 import sys
-import time
 from pathlib import Path
 from typing import Any
 
+from belvedere.graph import Graph, ZenohTransport
+from tests.waiting import DEADLINE, wait_until
+
 BELVEDERE = [sys.executable, "-m", "belvedere"]
 SEED = "{linear: {x: 0.2, y: 0, z: 0}, angular: {x: 0, y: 0, z: 0.5}}"
+WAIT = str(DEADLINE / 2)
+"""--timeout for a tool that should get what it waits for (it may wait twice: for the topic
+to appear, then for a message)."""
 
 
-def run(*args: str, timeout: float = 20.0) -> subprocess.CompletedProcess[str]:
+def run(*args: str) -> subprocess.CompletedProcess[str]:
     return subprocess.run(
-        [*BELVEDERE, *args], capture_output=True, text=True, timeout=timeout, check=False
+        [*BELVEDERE, *args], capture_output=True, text=True, timeout=2 * DEADLINE, check=False
     )
+
+
+def _popen(*args: str) -> subprocess.Popen[str]:
+    return subprocess.Popen(
+        [*BELVEDERE, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
+
+
+def _finish(proc: subprocess.Popen[str]) -> tuple[str, str]:
+    """What a tool printed once it ended by itself (killed and failed if it does not)."""
+    try:
+        return proc.communicate(timeout=DEADLINE)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        out, err = proc.communicate()
+        msg = f"{proc.args!r} did not end within {DEADLINE:g} s; stdout {out!r}, stderr {err!r}"
+        raise AssertionError(msg) from None
 
 
 def test_echo_and_pub_find_each_other_without_a_central_process(endpoint: str) -> None:
-    echo = subprocess.Popen(
-        [*BELVEDERE, "topic", "echo", "/chatter", "-n", "2"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
-    time.sleep(1.0)
-    pub = run("topic", "pub", "/chatter", "std_msgs/String", "data: hi", "-r", "5", "--count", "6")
-    out, err = echo.communicate(timeout=20)
+    echo = _popen("topic", "echo", "/chatter", "-n", "2")
+    # A publisher that never publishes shows echo the topic's type; once echo's subscription
+    # reaches it, pub (started after) finds echo there too.
+    graph = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint, serve_params=False))
+    try:
+        typed = graph.create_node("typed").publisher("/chatter", "std_msgs/String")
+        graph.start(rtf=None)
+        wait_until(lambda: typed.topic.remote, what="topic echo to subscribe to /chatter")
+        pub = run(
+            "topic", "pub", "/chatter", "std_msgs/String", "data: hi", "-r", "5", "--count", "6"
+        )
+        out, err = _finish(echo)
+    finally:
+        if echo.poll() is None:
+            echo.kill()
+        graph.shutdown()
     assert pub.returncode == 0, pub.stderr
     assert echo.returncode == 0, err
     assert out == 'data: "hi"\n---\ndata: "hi"\n---\n'
 
 
 def test_the_seeds_command_against_a_running_graph(peer: Any) -> None:
-    echo = subprocess.Popen(
-        [*BELVEDERE, "topic", "echo", "/cmd_echo", "-n", "1", "--timeout", "15"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
-    time.sleep(1.0)
-    pub = subprocess.Popen(
-        [*BELVEDERE, "topic", "pub", "-r", "10", "/cmd_vel", "geometry_msgs/Twist", SEED],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
+    echo = _popen("topic", "echo", "/cmd_echo", "-n", "1")
+    pub = _popen("topic", "pub", "-r", "10", "/cmd_vel", "geometry_msgs/Twist", SEED)
     try:
-        out, err = echo.communicate(timeout=20)
+        out, err = _finish(echo)
     finally:
         pub.terminate()
-        pub.wait(timeout=10)
+        pub.wait(timeout=DEADLINE)
     assert echo.returncode == 0, err
     assert out.startswith("linear: \n  x: 0.2\n")
     assert "angular: \n  x: 0.0\n  y: 0.0\n  z: 0.5\n---\n" in out
@@ -110,20 +128,21 @@ def test_example_talker_reaches_other_processes(endpoint: str) -> None:
         stderr=subprocess.DEVNULL,
     )
     try:
-        echo = run("topic", "echo", "/chatter", "-n", "1", "--timeout", "10")
+        echo = run("topic", "echo", "/chatter", "-n", "1", "--timeout", WAIT)
     finally:
         talker.terminate()
-        talker.wait(timeout=10)
+        talker.wait(timeout=DEADLINE)
     assert echo.returncode == 0, echo.stderr
     assert echo.stdout.startswith('data: "hello world ')
 
 
 def test_tf_echo_and_tree(peer: Any) -> None:
-    echo = run("tf", "echo", "base_link", "camera", "-n", "1")
+    echo = run("tf", "echo", "base_link", "camera", "-n", "1", "--timeout", WAIT)
     assert echo.returncode == 0, echo.stderr
     assert echo.stdout.startswith("- Translation: [0.100, 0.000, 0.200]\n")
     assert "in RPY (degree) [0.000, 0.000, 90.000]" in echo.stdout
-    tree = run("tf", "tree", "--wait", "1")
+    # tree listens for a window (view_frames' 5 s) and shows what came: the latched transform
+    tree = run("tf", "tree", "--wait", "5")
     assert tree.stdout == "base_link\n  camera [static]\n"
     missing = run("tf", "echo", "base_link", "nowhere", "--timeout", "1")
     assert missing.returncode == 1

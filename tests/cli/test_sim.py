@@ -5,14 +5,15 @@ from __future__ import annotations
 import socket
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
 import yaml
 
 from belvedere.cli import main
+from belvedere.graph import Graph, ZenohTransport
 from tests.conftest import EXAMPLES
+from tests.waiting import DEADLINE, wait_until
 
 MBOT = str(EXAMPLES / "mbot_description/urdf/xacro/gazebo/mbot_gazebo.xacro")
 MBOT_YAML = str(EXAMPLES / "mbot_description/config/fake_mbot_arbotix.yaml")
@@ -109,33 +110,41 @@ def test_paced_run_with_the_viewer_and_tools(endpoint: str) -> None:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]
-    sim = subprocess.Popen(
-        [sys.executable, "-m", "belvedere", "sim", MBOT, "--port", str(port), "--duration", "30"],
+    sim = subprocess.Popen(  # paced, until we stop it
+        [sys.executable, "-m", "belvedere", "sim", MBOT, "--port", str(port)],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
     )
+    watcher = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint, serve_params=False))
+    speeds: list[float] = []
+    watcher.create_node("watcher").subscribe(
+        "/odom", "nav_msgs/Odometry", lambda m: speeds.append(m.twist.twist.linear.x)
+    )
+    watcher.start(rtf=None)
     try:
         assert sim.stderr is not None
-        deadline = time.monotonic() + 30
-        line = ""
-        while "viewer: http://127.0.0.1:" not in line and time.monotonic() < deadline:
+        line = sim.stderr.readline()
+        while line and "viewer: http://127.0.0.1:" not in line:
             line = sim.stderr.readline()
         assert f"viewer: http://127.0.0.1:{port}" in line
         pub = ["topic", "pub", "-1", "/cmd_vel", "geometry_msgs/Twist", "{linear: {x: 1.0}}"]
         assert main(pub) == 0
+        # The fake base keeps its last command: once odometry shows it, every message does.
+        wait_until(lambda: 1.0 in speeds, what="the sim's /odom to show the command")
         tool = subprocess.run(
             [sys.executable, "-m", "belvedere", "topic", "echo", "-n", "1", "/odom"],
             capture_output=True,
             text=True,
-            timeout=30,
+            timeout=DEADLINE,
             check=True,
         )
         (odom,) = _documents(tool.stdout)
         assert odom["twist"]["twist"]["linear"]["x"] == 1.0  # type: ignore[index]
     finally:
+        watcher.shutdown()
         sim.terminate()
-        sim.wait(timeout=10)
+        sim.wait(timeout=DEADLINE)
 
 
 def test_physics_scripted_run_in_a_world(endpoint: str, capsys: pytest.CaptureFixture[str]) -> None:

@@ -14,9 +14,10 @@ from typing import Any
 import pytest
 
 from belvedere.graph import Graph, ZenohTransport
+from tests.waiting import DEADLINE, wait_until
 
 
-def _read_until(fd: int, text: str, timeout: float = 20.0) -> str:
+def _read_until(fd: int, text: str, timeout: float = DEADLINE) -> str:
     seen = ""
     deadline = time.monotonic() + timeout
     while text not in seen:
@@ -33,11 +34,10 @@ def _read_until(fd: int, text: str, timeout: float = 20.0) -> str:
     return seen
 
 
-def _wait(got: list[Any], count: int, timeout: float = 10.0) -> None:
-    deadline = time.monotonic() + timeout
-    while len(got) < count and time.monotonic() < deadline:
-        time.sleep(0.01)
-    assert len(got) >= count, f"{len(got)} of {count} messages"
+def _wait(got: list[Any], count: int) -> None:
+    wait_until(
+        lambda: len(got) >= count, what=f"{count} messages on /cmd_vel", detail=lambda: len(got)
+    )
 
 
 @pytest.mark.parametrize("layout", ["twist_keyboard", "mbot"])
@@ -78,7 +78,7 @@ def test_drive_from_a_pseudo_terminal(endpoint: str, layout: str) -> None:
             assert ramp[:4] == pytest.approx([0.02, 0.04, 0.06, 0.08])
         count = len(got)
         os.write(master, b"\x03")
-        assert proc.wait(timeout=10) == 0
+        assert proc.wait(timeout=DEADLINE) == 0
         _wait(got, count + 1)
         assert (got[-1].linear.x, got[-1].linear.y, got[-1].angular.z) == (0.0, 0.0, 0.0)
         assert termios.tcgetattr(slave) == before  # the terminal is restored
@@ -96,7 +96,7 @@ def test_not_a_terminal_is_a_clear_error(endpoint: str) -> None:
         stdin=subprocess.DEVNULL,
         capture_output=True,
         text=True,
-        timeout=30,
+        timeout=DEADLINE,
         check=False,
     )
     assert result.returncode == 1

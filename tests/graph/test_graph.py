@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import hashlib
+import threading
 from typing import Any
 
 import pytest
@@ -11,6 +12,7 @@ from belvedere.errors import ParseError
 from belvedere.graph import Graph, GraphError, ParamError, ParamTree, parse_ros_args, resolve_name
 from belvedere.graph._names import GraphNameError
 from belvedere.msgs import message_from_data, types
+from tests.waiting import DEADLINE, wait_until
 
 
 def test_name_resolution() -> None:
@@ -196,29 +198,30 @@ def test_clock_is_published_in_simulated_time() -> None:
     assert Graph(sim_time=False).topics.get("/clock") is None
 
 
-def test_pause_step_and_rtf_while_running() -> None:
-    import time
+def _taken(g: Graph) -> None:
+    """Returns once the graph's thread has run everything posted to it so far."""
+    done = threading.Event()
+    g.executor.post(done.set)
+    assert done.wait(DEADLINE), "the graph's thread took nothing posted to it"
 
+
+def test_pause_step_and_rtf_while_running() -> None:
     g = Graph()
     ticks: list[int] = []
     g.create_node("ticker").timer(0.1, lambda: ticks.append(g.now_ns()))
     g.executor.pause(True)
     g.start(rtf=None)
     try:
-        time.sleep(0.05)
+        _taken(g)
         assert g.now_ns() == 0  # paused before it began: no time passes
         g.executor.step(0.5)
-        deadline = time.monotonic() + 5
-        while g.now_ns() < 500_000_000 and time.monotonic() < deadline:
-            time.sleep(0.005)
-        time.sleep(0.05)
+        wait_until(lambda: g.now_ns() >= 500_000_000, what="the end of a 0.5 s step")
+        _taken(g)
         assert g.now_ns() == 500_000_000  # exactly one step, then paused again
         assert len(ticks) == 5
         g.executor.set_rtf(1000.0)
         g.executor.pause(False)
-        while g.now_ns() < 2_000_000_000 and time.monotonic() < deadline:
-            time.sleep(0.005)
-        assert g.now_ns() >= 2_000_000_000
+        wait_until(lambda: g.now_ns() >= 2_000_000_000, what="2 s of simulated time")
         assert ticks == sorted(ticks)
     finally:
         g.shutdown()

@@ -2,22 +2,13 @@
 
 from __future__ import annotations
 
-import time
 from typing import Any
 
 import pytest
 
 from belvedere.graph import Graph, GraphError, ZenohTransport
 from belvedere.graph._zenoh import open_session
-
-
-def _wait(condition: Any, timeout: float = 5.0) -> bool:
-    deadline = time.monotonic() + timeout
-    while not condition():
-        if time.monotonic() > deadline:
-            return False
-        time.sleep(0.02)
-    return True
+from tests.waiting import DEADLINE, wait_until
 
 
 def test_traffic_between_processes(peer: Any, endpoint: str) -> None:
@@ -34,14 +25,16 @@ def test_traffic_between_processes(peer: Any, endpoint: str) -> None:
     cmd = n.publisher("/cmd_vel", "geometry_msgs/Twist")
     g.start(rtf=None)
     try:
-        assert _wait(lambda: len(ticks) >= 3)
-        assert _wait(lambda: latched == ["office"])  # latched: we subscribed after it was sent
-        assert _wait(lambda: cmd.topic.remote)
+        wait_until(lambda: len(ticks) >= 3, what="3 messages on /chatter from the peer")
+        # latched: we subscribed after it was sent
+        wait_until(lambda: latched, what="the latched /map_name")
+        assert latched == ["office"]
+        wait_until(lambda: cmd.topic.remote, what="the peer to subscribe to /cmd_vel")
         for i in range(20):
             cmd.publish_data({"linear": {"x": float(i)}})
-        assert _wait(lambda: len(echoed) == 20), echoed
+        wait_until(lambda: len(echoed) >= 20, what="20 echoes on /cmd_echo", detail=lambda: echoed)
         assert echoed == [float(i) for i in range(20)]  # BLOCK: nothing lost, in order
-        response = n.call_service("/trigger", "std_srvs/Trigger", timeout=3.0)
+        response = n.call_service("/trigger", "std_srvs/Trigger", timeout=DEADLINE)
         assert (response.success, response.message) == (True, "done")
         assert transport.param_request({"op": "get", "name": "/robot/speed"}) == 0.5
         transport.param_request({"op": "set", "name": "/robot/mode", "value": {"a": [1, 2]}})

@@ -15,6 +15,7 @@ from belvedere.launch._runtime import LaunchRuntime
 from belvedere.msgs import types
 from belvedere.packages import PackageIndex
 from tests.conftest import EXAMPLES
+from tests.waiting import DEADLINE
 
 DESCRIPTION = EXAMPLES / "mbot_description/launch"
 GAZEBO = EXAMPLES / "mbot_gazebo/launch"
@@ -225,6 +226,7 @@ def test_required_script_ends_the_launch_and_params_are_dumped(
           <node pkg="mypkg" type="quick.py" name="quick" required="true"/>
         </launch>"""
     )
-    assert main(["launch", str(launch), "--headless", "--duration", "20"]) == 0
+    # paced at real time; the duration only bounds the run should the script never end it
+    assert main(["launch", str(launch), "--headless", "--duration", str(DEADLINE)]) == 0
     assert "required node /quick exited: shutting down" in capsys.readouterr().err
     assert "speed: 0.3" in dump.read_text()

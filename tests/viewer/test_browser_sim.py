@@ -3,8 +3,6 @@ says so, and the viewer's Reset button brings it back."""
 
 from __future__ import annotations
 
-import time
-
 import pytest
 
 from belvedere.description.urdf import RobotModel
@@ -18,19 +16,17 @@ from belvedere.world import read_world
 from tests.conftest import EXAMPLES
 from tests.viewer.test_browser import (
     MBOT,
+    RGB,
     _free_port,
     _pixel,
-    _wait,
     browser_page,
+    is_base_yellow,
     project,
+    wait_for_pixel,
 )
+from tests.waiting import wait_until
 
 pytestmark = pytest.mark.browser
-
-
-def _is_base_yellow(rgb: tuple[int, int, int]) -> bool:
-    r, _, b = rgb
-    return r > 200 and r - b > 100
 
 
 def test_robot_drives_in_the_viewer_and_resets() -> None:
@@ -45,18 +41,18 @@ def test_robot_drives_in_the_viewer_and_resets() -> None:
     try:
         with browser_page(viewer.url) as page:
             top = 0.19  # the top of the base above base_footprint
-            assert _wait(lambda: _is_base_yellow(_pixel(page, project((0.0, 0.0, top)))))
+            wait_for_pixel(page, project((0.0, 0.0, top)), is_base_yellow, what="the base")
             # Backwards: away from the GUI panel on the right of the page.
             cmd.publish_data({"linear": {"x": -0.5}})
-            assert _wait(lambda: base.x < -0.6)
+            wait_until(lambda: base.x < -0.6, what="the base past x = -0.6", detail=lambda: base.x)
             cmd.publish_data({})  # a zero Twist stops a fake ArbotiX base
-            time.sleep(0.3)
-            x = base.x
-            assert _wait(lambda: _is_base_yellow(_pixel(page, project((x, 0.0, top)))))
-            assert not _is_base_yellow(_pixel(page, project((0.0, 0.0, top))))
+            wait_until(lambda: base.dx == 0.0, what="the base to take the stop command")
+            x = base.x  # the graph's thread moves it no further
+            wait_for_pixel(page, project((x, 0.0, top)), is_base_yellow, what="the moved base")
+            assert not is_base_yellow(_pixel(page, project((0.0, 0.0, top))))
             page.get_by_role("button", name="Reset").click()
-            assert _wait(lambda: base.x == 0.0)
-            assert _wait(lambda: _is_base_yellow(_pixel(page, project((0.0, 0.0, top)))))
+            wait_until(lambda: base.x == 0.0, what="the base reset to x = 0", detail=lambda: base.x)
+            wait_for_pixel(page, project((0.0, 0.0, top)), is_base_yellow, what="the reset base")
     finally:
         viewer.close()
         graph.shutdown()
@@ -88,12 +84,13 @@ def test_physics_world_and_robot_in_the_viewer() -> None:
     try:
         with browser_page(viewer.url) as page:
 
-            def orange(xy: tuple[float, float]) -> bool:
-                r, g, b = _pixel(page, xy)
+            def orange(rgb: RGB) -> bool:
+                r, g, b = rgb
                 return r > 180 and 60 < g < 200 and b < 80
 
-            assert _wait(lambda: orange(project((-1.0, 2.0, 0.5))))  # post_2, Gazebo/Orange
-            assert _wait(lambda: bool(viewer.displays[0].handles))  # the scan arrived
+            post_2 = project((-1.0, 2.0, 0.5))
+            wait_for_pixel(page, post_2, orange, what="post_2 (Gazebo/Orange)")
+            wait_until(lambda: viewer.displays[0].handles, what="the scan in the viewer's scene")
     finally:
         viewer.close()
         graph.shutdown()

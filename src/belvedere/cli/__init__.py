@@ -8,10 +8,12 @@ Every verb is a module here with ``add_parser(subparsers)`` and ``run(args) -> i
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import logging
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from typing import TextIO
 
 from belvedere import __version__
 from belvedere.errors import BelvedereError
@@ -46,16 +48,39 @@ class _Formatter(logging.Formatter):
         return msg
 
 
-def _setup_logging(verbosity: int) -> None:
+class _StderrHandler(logging.StreamHandler):  # type: ignore[type-arg]
+    """Writes to whatever ``sys.stderr`` is when a record comes, never to a stream that was
+    replaced (and perhaps closed) since, as a test's capture is."""
+
+    @property
+    def stream(self) -> TextIO:
+        return sys.stderr
+
+    @stream.setter
+    def stream(self, _: TextIO) -> None:
+        pass  # StreamHandler sets it; the property decides
+
+
+@contextlib.contextmanager
+def _logging_to_stderr(verbosity: int) -> Iterator[None]:
+    """The library's records on stderr while a command runs; as before once it returns
+    (``main()`` is called in-process too, by tests and scripts)."""
     level = {-1: logging.ERROR, 0: logging.INFO, 1: logging.DEBUG}.get(
         max(-1, min(verbosity, 1)), logging.INFO
     )
-    handler = logging.StreamHandler(sys.stderr)
+    handler = _StderrHandler()
     handler.setFormatter(_Formatter())
     root = logging.getLogger("belvedere")
+    handlers, old_level, propagate = root.handlers[:], root.level, root.propagate
     root.handlers[:] = [handler]
     root.setLevel(level)
     root.propagate = False
+    try:
+        yield
+    finally:
+        root.handlers[:] = handlers
+        root.setLevel(old_level)
+        root.propagate = propagate
 
 
 def _common_options(*, suppress: bool) -> argparse.ArgumentParser:
@@ -112,18 +137,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SystemExit as exc:  # argparse: --help/--version exit 0, usage errors exit 2
         return int(exc.code or 0)
     args.extra = extra
-    _setup_logging(args.verbose - args.quiet)
-    try:
-        code: int = args.run(args)
-        return code
-    except BelvedereError as err:
-        if args.debug:
-            import traceback
+    with _logging_to_stderr(args.verbose - args.quiet):
+        try:
+            code: int = args.run(args)
+            return code
+        except BelvedereError as err:
+            if args.debug:
+                import traceback
 
-            traceback.print_exc()
-        sys.stderr.write(err.describe() + "\n")
-        return 1
-    except KeyboardInterrupt:
-        return 130
-    except BrokenPipeError:
-        return 1
+                traceback.print_exc()
+            sys.stderr.write(err.describe() + "\n")
+            return 1
+        except KeyboardInterrupt:
+            return 130
+        except BrokenPipeError:
+            return 1

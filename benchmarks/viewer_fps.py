@@ -1,0 +1,115 @@
+"""The viewer's frame rate in a real browser, against its 30 Hz target (rviz's default).
+
+The course's mbot drives in a circle (kinematic engine, real time) while Debian's Chromium,
+headless with software WebGL, shows the viewer. Measured over a window of wall time:
+
+1. how long the browser takes to draw the robot first (shaders compiled on the CPU), seen in
+   a screenshot: the camera looks at the robot, so the page's centre turns the base's yellow;
+2. viewer updates per second: scene updates the viewer sends (its render loop, target 30 Hz);
+3. browser frames per second: ``requestAnimationFrame`` callbacks in the page.
+
+    python benchmarks/viewer_fps.py [--seconds 10]
+"""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+import socket
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+from belvedere.description.urdf import RobotModel
+from belvedere.graph import Graph
+from belvedere.sim.kinematic import KinematicSimulation
+from belvedere.viewer import Viewer
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+MBOT = EXAMPLES / "mbot_description/urdf/xacro/gazebo/mbot_gazebo.xacro"
+TARGET_HZ = 30.0
+VIEWPORT = (1000, 700)
+CHROMIUM_ARGS = [  # as the browser tests run it: headless, software WebGL
+    "--no-sandbox",
+    "--disable-gpu",
+    "--enable-unsafe-swiftshader",
+    "--use-angle=swiftshader",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
+COUNT_FRAMES = """() => {
+    window.__frames = 0;
+    const tick = () => { window.__frames += 1; requestAnimationFrame(tick); };
+    requestAnimationFrame(tick);
+}"""
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port: int = s.getsockname()[1]
+    return port
+
+
+def _robot_drawn(page: Any) -> bool:
+    from io import BytesIO
+
+    from PIL import Image
+
+    w, h = VIEWPORT
+    shot = page.screenshot(clip={"x": w // 2, "y": h // 2, "width": 1, "height": 1})
+    r, _, b = Image.open(BytesIO(shot)).convert("RGB").getpixel((0, 0))  # type: ignore[misc]
+    return bool(r > 200 and r - b > 100)  # URDF "yellow" (rgba 1 0.4 0), lit
+
+
+def measure(seconds: float) -> None:
+    from playwright.sync_api import sync_playwright
+
+    chromium = shutil.which("chromium")
+    if chromium is None:
+        sys.exit("Debian's chromium is not installed (apt-get install chromium)")
+    model = RobotModel.from_path(MBOT)
+    graph = Graph()
+    sim = KinematicSimulation(graph, model)
+    viewer = Viewer(graph, model=model, port=_free_port(), fixed_frame=sim.odom_frame, sim=sim)
+    cmd = graph.create_node("driver").publisher("/cmd_vel", "geometry_msgs/Twist", latch=True)
+    cmd.publish_data({"linear": {"x": 0.2}, "angular": {"z": 0.5}})
+    graph.start(rtf=1.0)
+    try:
+        with sync_playwright() as p:
+            browser = p.chromium.launch(executable_path=chromium, headless=True, args=CHROMIUM_ARGS)
+            page = browser.new_page(viewport={"width": VIEWPORT[0], "height": VIEWPORT[1]})
+            page.set_default_timeout(300_000)
+            started = time.perf_counter()
+            page.goto(viewer.url)
+            page.wait_for_selector("canvas")
+            while not _robot_drawn(page):
+                time.sleep(0.1)
+            first = time.perf_counter() - started
+            page.evaluate(COUNT_FRAMES)
+            sent0, drawn0, t0 = viewer.frames_rendered, 0, time.perf_counter()
+            time.sleep(seconds)
+            sent1, drawn1 = viewer.frames_rendered, page.evaluate("() => window.__frames")
+            wall = time.perf_counter() - t0
+            browser.close()
+    finally:
+        viewer.close()
+        graph.shutdown()
+    sent, drawn = (sent1 - sent0) / wall, (drawn1 - drawn0) / wall
+    print(f"robot first drawn in the browser: {first:.1f} s after loading the page")
+    print(f"viewer updates:  {sent:5.1f} Hz (target {TARGET_HZ:g} Hz; {sent / TARGET_HZ:.0%})")
+    print(f"browser frames:  {drawn:5.1f} fps (target {TARGET_HZ:g}; {drawn / TARGET_HZ:.0%})")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--seconds", type=float, default=10.0, help="measuring window")
+    args = parser.parse_args()
+    measure(args.seconds)
+
+
+if __name__ == "__main__":
+    main()
