@@ -213,12 +213,12 @@ def write_robot(directory: Path, arms: int, segments: int, *, nested: bool = Fal
     return robot
 
 
-def run(code: str, robot: Path) -> tuple[float, float, subprocess.CompletedProcess[str]]:
+def run(command: list[str], robot: Path) -> tuple[float, float, subprocess.CompletedProcess[str]]:
     """(cpu seconds, wall seconds, result) of one expansion in a fresh interpreter."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     proc = subprocess.run(
-        [sys.executable, "-c", code, robot.name],
+        [sys.executable, *command, robot.name],
         cwd=robot.parent,
         capture_output=True,
         text=True,
@@ -230,8 +230,9 @@ def run(code: str, robot: Path) -> tuple[float, float, subprocess.CompletedProce
     return cpu, wall, proc
 
 
-OURS = "import sys; from belvedere.cli import main; sys.exit(main(['xacro', sys.argv[1]]))"
-REFERENCE = "import xacro; xacro.main()"
+OURS = ["-m", "belvedere", "xacro"]
+"""``belvedere xacro FILE``, as the installed command runs it."""
+REFERENCE = ["-c", "import xacro; xacro.main()"]
 
 
 def main() -> int:

@@ -1,7 +1,5 @@
 """``python -m belvedere``."""
 
-import sys
+from belvedere.cli import console
 
-from belvedere.cli import main
-
-sys.exit(main())
+console()

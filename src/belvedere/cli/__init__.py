@@ -9,16 +9,17 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import gc
 import importlib
 import logging
 import sys
 from collections.abc import Iterator, Sequence
-from typing import TextIO
+from typing import NoReturn, TextIO
 
 from belvedere import __version__
 from belvedere.errors import BelvedereError
 
-__all__ = ["main"]
+__all__ = ["console", "main"]
 
 _VERBS = (
     "xacro",
@@ -127,6 +128,18 @@ def _verb_of(argv: list[str]) -> str | None:
     _, rest = _common_options(suppress=False).parse_known_args(argv)
     first = next((a for a in rest if not a.startswith("-")), None)
     return first if first in _VERBS else None
+
+
+def console() -> NoReturn:
+    """The ``belvedere`` command: :func:`main`, then exit without collecting the run's garbage.
+
+    A large expansion leaves a few hundred thousand nodes in reference cycles; collecting
+    them at interpreter exit costs a tenth of a second that the operating system saves by
+    freeing the process at once. (Exit handlers still run; only the cycle collection of
+    what is already garbage is skipped.)"""
+    code = main()
+    gc.freeze()
+    sys.exit(code)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
