@@ -25,8 +25,8 @@ from belvedere.description.xacro._command import (
     parse_xacro_argv,
     parse_xacro_command,
 )
+from belvedere.description.xacro._dialects import Dialect, XacroWarning
 from belvedere.description.xacro._errors import XacroError
-from belvedere.description.xacro._processor import Dialect, XacroWarning
 from belvedere.description.xacro._run import CommandResult, run_command
 
 __all__ = [

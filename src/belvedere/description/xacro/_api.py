@@ -9,8 +9,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TypedDict, Unpack
 
+from belvedere.description.xacro._dialects import Dialect, XacroWarning
 from belvedere.description.xacro._errors import XacroError
-from belvedere.description.xacro._processor import Dialect, Processor, XacroWarning
+from belvedere.description.xacro._processor import Processor
 from belvedere.errors import ParseError, SourceLocation
 from belvedere.packages import PackageIndex
 from belvedere.xmldom import Comment, Document, parse_file, parse_string, write_pretty

@@ -11,8 +11,8 @@ import os
 import shlex
 from dataclasses import dataclass, field
 
+from belvedere.description.xacro._dialects import Dialect
 from belvedere.description.xacro._errors import XacroError
-from belvedere.description.xacro._processor import Dialect
 
 __all__ = [
     "XacroCommand",

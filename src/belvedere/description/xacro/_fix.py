@@ -17,8 +17,8 @@ from pathlib import Path
 from xml.parsers import expat
 
 from belvedere.description.xacro._api import expand_file
+from belvedere.description.xacro._dialects import Dialect
 from belvedere.description.xacro._errors import XacroError
-from belvedere.description.xacro._processor import Dialect
 from belvedere.errors import SourceLocation
 from belvedere.packages import PackageIndex
 

@@ -8,7 +8,6 @@ costs O(1). Legacy dialects change what an unprefixed tag means and how macros a
 from __future__ import annotations
 
 import difflib
-import enum
 import gc
 import glob
 import keyword
@@ -18,19 +17,20 @@ import re
 import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Final
+from typing import Any
 
 from belvedere.description.xacro._builtins import YamlDict
-from belvedere.description.xacro._errors import XacroError
-from belvedere.description.xacro._expr import EXPR, TEXT, tokenize
-from belvedere.description.xacro._interpreter import (
-    Compiled,
-    ExpressionError,
-    compile_expr,
-    evaluate,
+from belvedere.description.xacro._calls import MAX_MACRO_DEPTH, MacroCalls
+from belvedere.description.xacro._dialects import (
+    FIX_SED,
+    LEGACY_KEYWORDS,
+    Dialect,
+    XacroWarning,
 )
+from belvedere.description.xacro._errors import XacroError
+from belvedere.description.xacro._expr import EXPR
+from belvedere.description.xacro._interpreter import Compiled, ExpressionError, evaluate
 from belvedere.description.xacro._macros import Macro, MacroTable, parse_macro_params
 from belvedere.description.xacro._substitutions import Substitutions
 from belvedere.description.xacro._symbols import (
@@ -42,6 +42,7 @@ from belvedere.description.xacro._symbols import (
     literal,
     make_global_symbols,
 )
+from belvedere.description.xacro._text import Part, program, programs, python2_str
 from belvedere.errors import ParseError, SourceLocation, pinpoint
 from belvedere.packages import PackageIndex, find_package_root
 from belvedere.xmldom import Comment, Document, Element, Node, Text, parse_file
@@ -49,55 +50,6 @@ from belvedere.xmldom import Comment, Document, Element, Node, Text, parse_file
 __all__ = ["Dialect", "Processor", "XacroWarning"]
 
 logger = logging.getLogger("belvedere.xacro")
-
-
-class Dialect(enum.Enum):
-    """Which xacro the input was written for."""
-
-    AUTO = "auto"
-    """Modern semantics; legacy unprefixed tags and macro calls expanded, with a warning."""
-    MODERN = "modern"
-    """Exactly xacro 2.1.1 (ROS Noetic and later)."""
-    MELODIC = "melodic"
-    """xacro 1.13 in-order: unprefixed tags and calls, macros defined in macros leak."""
-    KINETIC = "kinetic"
-    """xacro 1.11 default: two passes (includes, macros, properties first), literal typing."""
-
-
-LEGACY_KEYWORDS: Final = frozenset(
-    {"property", "macro", "include", "arg", "if", "unless", "insert_block"}
-)
-
-# Tags of URDF, SDF and Gazebo extensions: an unprefixed tag of these names that also names a
-# macro is ambiguous (melodic swallowed it into the macro, ros/xacro#41).
-KNOWN_ELEMENTS: Final = frozenset(
-    """
-    robot link joint inertial origin mass inertia visual collision geometry box cylinder sphere
-    mesh material color texture parent child axis calibration dynamics limit mimic
-    safety_controller transmission type hardwareInterface actuator mechanicalReduction gazebo
-    plugin sensor camera ray scan horizontal vertical range noise image clip update_rate
-    visualize always_on topic pose model world include uri name static light physics scene
-    state contact friction surface ode bounce kp kd mu mu1 mu2 fdir1 minDepth maxVel
-    selfCollide gravity turnGravityOff provideFeedback implicitSpringDamper frame imu
-    force_torque lidar gpu_ray depth_camera
-    """.split()  # noqa: SIM905 (a word list reads better than a literal)
-)
-
-_FIX_SED: Final = (
-    'find . -iname "*.xacro" | xargs sed -i \'s#<\\([/]\\?\\)\\(if\\|unless\\|include'
-    "\\|arg\\|property\\|macro\\|insert_block\\)\\([ >]\\)#<\\1xacro:\\2\\3#g'"
-)
-
-
-@dataclass(frozen=True, slots=True)
-class XacroWarning:
-    """A warning the processor gave, with where it applies."""
-
-    message: str
-    location: SourceLocation | None = None
-
-    def __str__(self) -> str:
-        return f"{self.location}: warning: {self.message}" if self.location else self.message
 
 
 def _is_valid_name(name: str) -> bool:
@@ -108,10 +60,7 @@ class _MissingIncludeError(XacroError):
     """An include whose file does not exist (skipped when the include is optional)."""
 
 
-MAX_MACRO_DEPTH: Final = 2000
-
-
-class Processor:
+class Processor(MacroCalls):
     """One run of xacro over one document."""
 
     def __init__(
@@ -127,7 +76,7 @@ class Processor:
     ) -> None:
         self.args: dict[str, str] = dict(mappings or {})
         self.dialect = dialect
-        self.text: Callable[[Any], str] = _python2_str if python2_floats else str
+        self.text: Callable[[Any], str] = python2_str if python2_floats else str
         """How values become text (ROS 1 under Python 2 printed floats with 12 digits)."""
         self.strict = strict
         """Refuse to read files outside the model's package roots (else: a warning)."""
@@ -272,9 +221,9 @@ class Processor:
         """Evaluate ``${}``/``$()`` in ``text``: one token keeps its type, more join as text."""
         if "$" not in text:
             return text
-        parts = _programs.get(text)
+        parts = programs.get(text)
         if parts is None:
-            parts = _program(text)
+            parts = program(text)
         if len(parts) == 1:
             return self._eval_part(parts[0], scope)
         to_text = self.text
@@ -297,7 +246,7 @@ class Processor:
         finally:
             self.origin = outer
 
-    def _eval_part(self, part: _Part, scope: Scope) -> Any:
+    def _eval_part(self, part: Part, scope: Scope) -> Any:
         if type(part) is Compiled:
             try:
                 return evaluate(part, scope)
@@ -453,7 +402,7 @@ class Processor:
                     "melodic-deprecated",
                     f"Deprecated: xacro tag '{tag}' w/o 'xacro:' xml namespace prefix "
                     f"(will be forbidden in Noetic)\nUse the following command to fix "
-                    f"incorrect tag usage:\n{_FIX_SED}",
+                    f"incorrect tag usage:\n{FIX_SED}",
                     el.loc,
                 )
             return tag
@@ -742,277 +691,6 @@ class Processor:
             raise
         except ParseError as err:
             raise XacroError(err.message, err.location, hint=err.hint) from None
-
-    # --- macro calls -------------------------------------------------------------------------
-    def resolve_macro(
-        self, name: str, macros: MacroTable, scope: Scope
-    ) -> tuple[MacroTable, Scope, Macro] | None:
-        found = macros.get(name)
-        if isinstance(found, Macro):
-            return macros, scope, found
-        parts = name.split(".")
-        if len(parts) < 2:
-            return None
-        m_tab: MacroTable | Macro | None = macros
-        s_tab: Any = scope
-        for ns in parts[:-1]:
-            if not isinstance(m_tab, MacroTable):
-                return None
-            m_tab = m_tab.get(ns)
-            try:
-                s_tab = s_tab[ns]
-            except (KeyError, TypeError):
-                return None
-        if not isinstance(m_tab, MacroTable) or not isinstance(s_tab, Scope):
-            return None
-        found = m_tab.get(parts[-1])
-        if isinstance(found, Macro):
-            return m_tab, s_tab, found
-        return None
-
-    def macro_call(self, el: Element, macros: MacroTable, scope: Scope) -> bool:
-        tag = el.tag
-        if tag == "xacro:call":
-            if "macro" not in el.attrs:
-                msg = "xacro:call: missing attribute 'macro'"
-                raise XacroError(msg, el.loc)
-            name = str(self.eval_text(el.attrs.pop("macro"), scope))
-            if not name:
-                msg = "xacro:call is missing the 'macro' attribute"
-                raise XacroError(msg, el.loc)
-            el.tag = "xacro:" + name
-            tag = el.tag
-        if tag.startswith("xacro:"):
-            name = tag[6:]
-            resolved = self.resolve_macro(name, macros, scope)
-            if resolved is None:
-                msg = f"unknown macro name: {tag}"
-                raise XacroError(msg, el.loc, hint=self._near_macros(name, macros))
-        else:
-            if tag not in self.macro_names:
-                return False
-            resolved = self.resolve_macro(tag, macros, scope)
-            if resolved is None:
-                return False
-            if not self._expand_unprefixed(el, resolved[2]):
-                return False
-            if el.loc is not None:
-                self.legacy_sites.append((el.loc, tag))
-        self.expand(el, *resolved, caller_macros=macros, caller_scope=scope)
-        return True
-
-    def _expand_unprefixed(self, el: Element, macro: Macro) -> bool:
-        tag = el.tag
-        if self.dialect is Dialect.MODERN:
-            self.warn_once(
-                f"call:{tag}",
-                f"<{tag}> names a macro but has no 'xacro:' prefix: modern xacro leaves it "
-                f"unexpanded (write <xacro:{tag}>, or use --dialect auto)",
-                el.loc,
-            )
-            return False
-        if self.dialect is Dialect.AUTO:
-            if tag in KNOWN_ELEMENTS:
-                self.warn_once(
-                    f"call:{tag}",
-                    f"<{tag}> is both a macro and a URDF/SDF element: kept as the element. "
-                    f"If you meant the macro, write <xacro:{tag}>",
-                    el.loc,
-                )
-                return False
-            if any(m.name == tag for m, _ in self.calls):
-                self.warn_once(
-                    f"call:{tag}",
-                    f"<{tag}> inside the expansion of macro '{tag}' is kept as an element "
-                    f"(as a call it would recurse). If it is a call, write <xacro:{tag}>",
-                    el.loc,
-                )
-                return False
-            unknown = [a for a in el.attrs if a not in macro.params]
-            if unknown:
-                self.warn_once(
-                    f"call:{tag}",
-                    f"<{tag}> has the name of a macro but attributes it does not take "
-                    f"({', '.join(unknown)}): kept as an element. If it is a call, write "
-                    f"<xacro:{tag}>",
-                    el.loc,
-                )
-                return False
-            self.warn_once(
-                f"call:{tag}",
-                f"deprecated macro call <{tag}> without the 'xacro:' prefix: expanded as ROS "
-                f"Melodic did (modern xacro leaves it unexpanded and the robot loses it). "
-                f"Write <xacro:{tag}>, or run 'belvedere xacro --fix FILE'",
-                el.loc,
-            )
-        else:
-            self.warn_once(
-                "melodic-deprecated",
-                f"Deprecated: xacro tag '{tag}' w/o 'xacro:' xml namespace prefix "
-                f"(will be forbidden in Noetic)\nUse the following command to fix incorrect "
-                f"tag usage:\n{_FIX_SED}",
-                el.loc,
-            )
-        return True
-
-    def _near_macros(self, name: str, macros: MacroTable) -> str | None:
-        if name in self.nested_definitions:
-            return (
-                f"'{name}' was defined inside macro '{self.nested_definitions[name]}', so it "
-                "exists only there; ROS Melodic and Kinetic made such macros global "
-                "(--dialect melodic)"
-            )
-        known: list[str] = []
-        t: MacroTable | None = macros
-        while t is not None:
-            known.extend(k for k, v in t.macros.items() if isinstance(v, Macro))
-            t = t.parent
-        close = difflib.get_close_matches(name, known, n=3)
-        if close:
-            return "did you mean " + ", ".join(f"xacro:{c}" for c in close) + "?"
-        if known:
-            return "defined macros: " + ", ".join(sorted(set(known))[:12])
-        return "no macros are defined at this point (macros must be defined before use)"
-
-    def expand(
-        self,
-        el: Element,
-        macro_tab: MacroTable,
-        macro_scope: Scope,
-        m: Macro,
-        *,
-        caller_macros: MacroTable,
-        caller_scope: Scope,
-    ) -> None:
-        if len(self.calls) >= MAX_MACRO_DEPTH:
-            chain = " -> ".join(c[0].name for c in self.calls[-6:])
-            msg = (
-                f"macro nesting deeper than {MAX_MACRO_DEPTH} levels (… {chain} -> {m.name}): "
-                "a macro that calls itself without end?"
-            )
-            raise XacroError(msg, el.loc, hint="guard the recursive call with xacro:if")
-        body = m.body.clone()
-        self.calls.append((m, el.loc))
-        try:
-            self._expand(el, body, macro_tab, macro_scope, m, caller_macros, caller_scope)
-        except XacroError as err:
-            err.add_trail(f"in macro '{m.name}' called from", el.loc or SourceLocation("?"))
-            raise
-        finally:
-            self.calls.pop()
-
-    def _expand(
-        self,
-        el: Element,
-        body: Element,
-        macro_tab: MacroTable,
-        macro_scope: Scope,
-        m: Macro,
-        caller_macros: MacroTable,
-        caller_scope: Scope,
-    ) -> None:
-        scope = Scope(macro_scope)
-        # Melodic evaluated bodies with the caller's macro table, so definitions leaked.
-        local_macros = (
-            macro_tab
-            if self.dialect in (Dialect.MELODIC, Dialect.KINETIC)
-            else MacroTable(macro_tab)
-        )
-        remaining = list(m.params)
-        root = scope.root
-        for name, value in list(el.attrs.items()):
-            if name not in remaining:
-                msg = f'Invalid parameter "{name}" of macro {m.name!r}'
-                expected = ", ".join(p for p in m.params if not p.startswith("*"))
-                raise XacroError(msg, el.loc, hint=f"parameters: {expected or '(none)'}")
-            remaining.remove(name)
-            if name in root:
-                self.warn(f"redefining global symbol: {name}")
-            scope.define(name, self.eval_text(value, caller_scope), lazy=False)
-            el.attrs[name] = ""
-        self.eval_all(el, caller_macros, caller_scope)
-
-        block = el.first_element()
-        for param in list(remaining):
-            if param.startswith("*"):
-                if block is None:
-                    msg = f"Not enough blocks for macro {m.name!r} (missing {param})"
-                    raise XacroError(msg, el.loc)
-                remaining.remove(param)
-                scope.vars[param] = block
-                nxt = block.next
-                while nxt is not None and not isinstance(nxt, Element):
-                    nxt = nxt.next
-                block = nxt
-        if block is not None:
-            msg = f'Unused block "{block.tag}" in call of macro {m.name!r}'
-            raise XacroError(msg, block.loc)
-
-        for param in list(remaining):
-            if param.startswith("*"):
-                continue
-            forward, default = m.defaults.get(param, (None, None))
-            if forward is None and default is None:
-                continue
-            if forward is None:
-                assert default is not None
-                value = self.eval_text(default, caller_scope)
-            elif forward in caller_scope:
-                value = caller_scope[forward]
-            elif default is not None:
-                value = self.eval_text(default, caller_scope)
-            else:
-                msg = f"Undefined property to forward: {forward}"
-                raise XacroError(msg, el.loc)
-            if param in root:
-                self.warn(f"redefining global symbol: {param}")
-            scope.define(param, value, lazy=False)
-            remaining.remove(param)
-        if remaining:
-            msg = f"Undefined parameters [{','.join(remaining)}] of macro {m.name!r}"
-            raise XacroError(msg, el.loc)
-
-        self.eval_all(body, local_macros, scope)
-        self.remove_previous_comments(el)
-        self.import_namespaces(el.parent, body.attrs)
-        self.splice(el, body)
-
-
-_Part = str | Compiled | tuple[int, str]
-"""A piece of attribute or text content: literal text, a compiled ``${}``, or a token left
-to evaluate each time (a ``$()``, or a ``${}`` holding one)."""
-
-_programs: dict[str, tuple[_Part, ...]] = {}
-
-
-def _program(text: str) -> tuple[_Part, ...]:
-    """``text`` split into parts, its expressions compiled (cached: macro bodies repeat)."""
-    parts: list[_Part] = []
-    for kind, payload in tokenize(text):
-        if kind == TEXT:
-            parts.append(payload)
-        elif kind == EXPR and "$" not in payload:
-            try:
-                parts.append(compile_expr(payload))
-            except ExpressionError:  # reported when (and if) it is evaluated, in order
-                parts.append((kind, payload))
-        else:
-            parts.append((kind, payload))
-    program = tuple(parts)
-    if len(_programs) < 200_000:
-        _programs[text] = program
-    return program
-
-
-def _python2_str(value: Any) -> str:
-    """``str()`` as Python 2 printed a float: 12 significant digits (``0.3``, not
-    ``0.30000000000000004``); everything else as Python 3 prints it."""
-    if type(value) is not float:
-        return str(value)
-    text = f"{value:.12g}"
-    if text.lstrip("-").isdigit():
-        text += ".0"
-    return text
 
 
 def _is_xacro_include(el: Element) -> bool:

@@ -7,9 +7,9 @@ from dataclasses import dataclass
 
 from belvedere.description.xacro._api import expand_file
 from belvedere.description.xacro._command import XacroCommand
+from belvedere.description.xacro._dialects import Dialect
 from belvedere.description.xacro._errors import XacroError
 from belvedere.description.xacro._fix import fix_file
-from belvedere.description.xacro._processor import Dialect
 from belvedere.packages import PackageIndex
 
 __all__ = ["CommandResult", "run_command"]
