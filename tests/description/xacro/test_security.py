@@ -146,6 +146,7 @@ def test_no_builtins_beyond_the_exposed_ones(name: str) -> None:
         ("math.factorial(20)", "2432902008176640000"),
         ("2**100", "1267650600228229401496703205376"),
         ("'-' * 3", "---"),
+        ("xacro.dotify(python.dict(a=python.dict(b=3))).a.b", "3"),
     ],
 )
 def test_what_xacro_documents_still_works(expr: str, result: str) -> None:
@@ -176,6 +177,7 @@ def test_what_xacro_documents_still_works(expr: str, result: str) -> None:
         ("'a'.ljust(10**9)", "a width of 1,000,000,000 is more than 10,000,000 characters"),
         ("('a' * 1000).replace('a', 'b' * 100000)", "replace() would give more than"),
         ("python.sum([[1], [2]], [])", "sum() adds numbers only"),
+        ("int('9' * 6000)", "int() of a 6,000-character string is too large"),
         ("-" * 6000 + "1", "nested too deeply to parse"),
         ("(" * 250 + "1" + ")" * 250, "too many nested parentheses"),
         ("[" * 99 + "]" * 99 + " + " + "-" * 200 + "1", "nested more than 100 levels deep"),

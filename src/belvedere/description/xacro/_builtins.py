@@ -287,6 +287,14 @@ def _range(*args: int) -> range:
     return r
 
 
+def _int(value: Any = 0, *base: int) -> int:
+    # Python caps digit strings at 4300 digits, but PYTHONINTMAXSTRDIGITS=0 lifts the cap and
+    # the conversion is quadratic: the bound is ours.
+    if isinstance(value, str | bytes) and len(value) > 5000:
+        refuse(f"int() of a {len(value):,}-character string is too large", hint=None)
+    return int(value, *base)
+
+
 def _sum(items: Iterable[Any], start: Any = 0) -> Any:
     if not isinstance(start, int | float | complex):
         refuse("sum() adds numbers only (its start value is not a number)", hint=None)
@@ -321,7 +329,7 @@ def _make_python_functions() -> dict[str, Any]:
         "len": len,
         "str": str,
         "float": float,
-        "int": int,
+        "int": _int,
         "bool": bool,
         "True": True,
         "False": False,

@@ -20,7 +20,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
-from belvedere.description.xacro._builtins import YamlDict
+from belvedere.description.xacro._builtins import to_yaml_value
 from belvedere.description.xacro._calls import MAX_MACRO_DEPTH, MacroCalls
 from belvedere.description.xacro._dialects import (
     FIX_SED,
@@ -118,7 +118,7 @@ class Processor(MacroCalls):
             xacro_functions={
                 "load_yaml": self.load_yaml,
                 "abs_filename": self.abs_filename,
-                "dotify": YamlDict,
+                "dotify": to_yaml_value,
                 "arg": lambda name: self.args[name],
                 "message": self._message("message"),
                 "warning": self._message("warning"),
