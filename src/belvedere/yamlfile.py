@@ -37,6 +37,14 @@ def _angle(factor: float) -> Any:
     return construct
 
 
+def _int(loader: yaml.SafeLoader, node: yaml.Node) -> int:
+    try:
+        return loader.construct_yaml_int(node)  # type: ignore[no-any-return]
+    except ValueError as err:  # Python's limit on the digits of an int (4300)
+        raise yaml.constructor.ConstructorError(None, None, str(err), node.start_mark) from None
+
+
+_Loader.add_constructor("tag:yaml.org,2002:int", _int)
 _Loader.add_constructor("!degrees", _angle(math.pi / 180.0))
 _Loader.add_constructor("!radians", _angle(1.0))
 
@@ -96,11 +104,12 @@ def load_yaml(text: str, *, path: str = "<yaml>") -> YamlDocument:
     return YamlDocument(data, path, root)
 
 
-def load_yaml_file(path: str | Path) -> YamlDocument:
-    """Read and parse a YAML file (a missing or unreadable file is a clear error)."""
+def load_yaml_file(path: str | Path, *, requested_at: SourceLocation | None = None) -> YamlDocument:
+    """Read and parse a YAML file (a missing or unreadable file is a clear error, at
+    ``requested_at`` when a file names it)."""
     try:
         text = Path(path).read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as err:
         msg = f"cannot read YAML file {str(path)!r}: {getattr(err, 'strerror', None) or err}"
-        raise ParseError(msg) from None
+        raise ParseError(msg, requested_at) from None
     return load_yaml(text, path=str(path))

@@ -202,7 +202,7 @@ def lint(
                         part.source,
                     )
                     continue
-                if not file.is_file():
+                if not os.path.isfile(file):
                     warn(
                         f"mesh {part.geometry.filename!r} does not resolve: no file {file}",
                         part.source,

@@ -11,6 +11,8 @@ the ``<state>`` block Gazebo writes when it saves a world; lights. What is not s
 from __future__ import annotations
 
 import math
+import os
+import sys
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
@@ -91,6 +93,10 @@ def _floats(el: Element, count: int | None = None) -> tuple[float, ...]:
     except ValueError:
         msg = f"<{el.tag}> expects numbers, got {el.text_content().strip()!r}"
         raise SDFError(msg, el.loc) from None
+    for token, value in zip(text, values, strict=True):
+        if not math.isfinite(value):
+            msg = f"<{el.tag}> expects finite numbers, got {token!r}"
+            raise SDFError(msg, el.loc, hint=f"the largest double is ±{sys.float_info.max:.17g}")
     if count is not None and len(values) != count:
         msg = f"<{el.tag}> expects {count} numbers, got {len(values)}"
         raise SDFError(msg, el.loc)
@@ -255,7 +261,7 @@ class _Reader:
             path = Path(uri.removeprefix("file://"))
             if not path.is_absolute():
                 path = Path(self.path).parent / path
-            directory: Path | None = path if path.is_dir() else None
+            directory: Path | None = path if os.path.isdir(path) else None
         else:
             directory = self.paths.find(name)
         if directory is None:
@@ -273,7 +279,7 @@ class _Reader:
         if key in self.including:
             msg = f"include cycle: {uri} includes itself"
             raise SDFError(msg, uri_el.loc)
-        if not sdf_file.is_file():
+        if not os.path.isfile(sdf_file):
             msg = f"model {uri!r}: {sdf_file} does not exist"
             raise SDFError(msg, uri_el.loc)
         self.including.append(key)
