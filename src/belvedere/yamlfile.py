@@ -38,8 +38,9 @@ def _angle(factor: float) -> Any:
 
 
 def _int(loader: yaml.SafeLoader, node: yaml.Node) -> int:
+    assert isinstance(node, yaml.ScalarNode)  # the resolver tags only scalars as int
     try:
-        return loader.construct_yaml_int(node)  # type: ignore[no-any-return]
+        return loader.construct_yaml_int(node)
     except ValueError as err:  # Python's limit on the digits of an int (4300)
         raise yaml.constructor.ConstructorError(None, None, str(err), node.start_mark) from None
 
