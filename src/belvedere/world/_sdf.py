@@ -19,14 +19,16 @@ from pathlib import Path
 
 from belvedere.description.gazebo_materials import gazebo_material_rgba
 from belvedere.description.urdf import Box, Cylinder, Inertial, Mesh, Pose, Sphere
-from belvedere.errors import ParseError, SourceLocation
+from belvedere.errors import SourceLocation
 from belvedere.packages import PackageIndex
+from belvedere.world._frames import Frame, resolve_frames
 from belvedere.world._model import (
     RGBA,
     Light,
     Physics,
     Plane,
     Polyline,
+    SDFError,
     Shape,
     Surface,
     WorldGeometry,
@@ -49,10 +51,6 @@ EMPTY_WORLD = """<sdf version="1.6"><world name="default">
 _IGNORED_WORLD = {"scene", "gui", "spherical_coordinates", "magnetic_field", "atmosphere", "wind"}
 _IGNORED_WORLD |= {"audio", "gravity", "physics", "model", "include", "light", "state", "plugin"}
 _UNSUPPORTED = {"actor", "population", "road"}
-
-
-class SDFError(ParseError):
-    """A world or model file that cannot be read."""
 
 
 def read_world(
@@ -347,7 +345,7 @@ class _Reader:
         pose, _ = self.pose(el)
         links: list[WorldLink] = []
         joints: list[WorldJoint] = []
-        frames: dict[str, tuple[Pose, str | None, SourceLocation | None]] = {}
+        frames: dict[str, Frame] = {}
         for child in el.elements():
             if child.tag == "link":
                 link = self.link(child)
@@ -379,7 +377,7 @@ class _Reader:
                         )
                         for j in nested.joints
                     ]
-        resolved = self._resolve_frames(frames)
+        resolved = resolve_frames(frames)
         links = [replace(lk, pose=resolved.get(lk.name, lk.pose)) for lk in links]
         link_poses = {lk.name: lk.pose for lk in links}
         for child in el.elements():
@@ -399,34 +397,6 @@ class _Reader:
             joints=tuple(joints),
             source=el.loc,
         )
-
-    def _resolve_frames(
-        self, frames: dict[str, tuple[Pose, str | None, SourceLocation | None]]
-    ) -> dict[str, Pose]:
-        """Every frame's pose in the model frame, following ``relative_to`` chains."""
-        done: dict[str, Pose] = {}
-
-        def resolve(name: str, chain: tuple[str, ...]) -> Pose:
-            if name in done:
-                return done[name]
-            pose, rel, loc = frames[name]
-            if rel in (None, "", "__model__"):
-                result = pose
-            elif rel == name or rel in chain:
-                msg = f"pose of {name!r} is relative to itself through {' -> '.join(chain)}"
-                raise SDFError(msg, loc)
-            elif rel in frames:
-                result = compose(resolve(rel, (*chain, name)), pose)
-            else:
-                known = ", ".join(sorted(frames)) or "none"
-                msg = f"pose of {name!r} is relative_to {rel!r}, which is not a frame here"
-                raise SDFError(msg, loc, hint=f"frames of this model: {known}")
-            done[name] = result
-            return result
-
-        for name in frames:
-            resolve(name, ())
-        return done
 
     def link(self, el: Element) -> WorldLink:
         name = el.attrs.get("name")
