@@ -11,17 +11,37 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Final
 
 import yaml
 
 from belvedere.errors import ParseError, SourceLocation
 
-__all__ = ["YamlDocument", "load_yaml", "load_yaml_file"]
+__all__ = ["MAX_DEPTH", "Loader", "YamlDocument", "load_yaml", "load_yaml_file"]
 
 
-class _Loader(yaml.SafeLoader):
-    """SafeLoader plus rosparam's angle tags."""
+MAX_DEPTH: Final = 128
+"""The deepest YAML collections may nest (PyYAML composes them recursively)."""
+
+
+class Loader(yaml.SafeLoader):
+    """SafeLoader plus rosparam's angle tags, a nesting limit, and Python's digit limit on
+    integers as a YAML error (both would otherwise escape as Python errors)."""
+
+    def __init__(self, stream: str) -> None:
+        super().__init__(stream)
+        self._depth = 0
+
+    def compose_node(self, parent: yaml.Node | None, index: int) -> yaml.Node | None:
+        self._depth += 1
+        try:
+            if self._depth > MAX_DEPTH:
+                msg = f"collections nest more than {MAX_DEPTH} levels deep (the nesting limit)"
+                mark = self.peek_event().start_mark  # type: ignore[no-untyped-call]
+                raise yaml.composer.ComposerError(None, None, msg, mark)
+            return super().compose_node(parent, index)
+        finally:
+            self._depth -= 1
 
 
 def _angle(factor: float) -> Any:
@@ -45,9 +65,9 @@ def _int(loader: yaml.SafeLoader, node: yaml.Node) -> int:
         raise yaml.constructor.ConstructorError(None, None, str(err), node.start_mark) from None
 
 
-_Loader.add_constructor("tag:yaml.org,2002:int", _int)
-_Loader.add_constructor("!degrees", _angle(math.pi / 180.0))
-_Loader.add_constructor("!radians", _angle(1.0))
+Loader.add_constructor("tag:yaml.org,2002:int", _int)
+Loader.add_constructor("!degrees", _angle(math.pi / 180.0))
+Loader.add_constructor("!radians", _angle(1.0))
 
 
 @dataclass(frozen=True)
@@ -90,7 +110,7 @@ class YamlDocument:
 
 def load_yaml(text: str, *, path: str = "<yaml>") -> YamlDocument:
     """Parse one YAML document; errors name ``path:line:col``."""
-    loader = _Loader(text)
+    loader = Loader(text)
     try:
         root = loader.get_single_node()
         data = loader.construct_document(root) if root is not None else None
