@@ -2,8 +2,10 @@
 into it with their Gazebo plugins, as ``gzserver`` + gazebo_ros do.
 
 One physics step per ``max_step_size`` of simulated time (1 kHz unless the world says
-otherwise), each followed by every plugin's update. A step that leaves NaN or absurd speeds
-stops the physics with one error naming the likely cause (or resets the world, if asked).
+otherwise), each followed by every plugin's update. A step that leaves NaN or absurd speeds,
+or that MuJoCo itself gives up on (its warnings counted in MjData, read after every step: it
+resets a state it cannot integrate to the start, mid-run), stops the physics with one error
+naming the likely cause (or resets the world, if asked).
 """
 
 from __future__ import annotations
@@ -92,6 +94,8 @@ class PhysicsSimulation:
         self.node = node or graph.create_node("gazebo")
         self.stopped_reason: str | None = None
         self.steps = 0
+        self.warned: set[int] = set()
+        """MuJoCo's warnings already logged (each once per run)."""
         self.after_step: list[Callable[[], None]] = []
         self.engine.compile()
         self.engine.on_recompile.append(self._bind_all)
@@ -196,6 +200,13 @@ class PhysicsSimulation:
         engine = self.engine
         mujoco.mj_step(engine.m, engine.d)
         self.steps += 1
+        for warning in engine.take_warnings():
+            if warning.broken:
+                self._diverged(warning.text)
+                return
+            if warning.kind not in self.warned:
+                self.warned.add(warning.kind)
+                logger.warning("physics at t=%.3f s: %s", self.graph.now_ns() / 1e9, warning.text)
         if self.steps % 10 == 0:
             problem = engine.healthy()
             if problem is not None:
