@@ -240,7 +240,7 @@ def test_sensor_variants_carry_their_sensors() -> None:
     ids=["inertia", "joint-origin", "visual", "colour"],
 )
 def test_numbers_too_large_for_a_double_are_one_error(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str], body: str, expected: str
+    endpoint: str, tmp_path: Path, capsys: pytest.CaptureFixture[str], body: str, expected: str
 ) -> None:
     path = write(tmp_path, body)
     assert main(["check", str(path)]) == 1

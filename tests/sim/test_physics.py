@@ -5,10 +5,12 @@ from __future__ import annotations
 
 import logging
 import math
+from pathlib import Path
 from typing import Any
 
 import pytest
 
+from belvedere.cli import main
 from belvedere.description.urdf import Pose, RobotModel
 from belvedere.graph import Graph, Node
 from belvedere.msgs import types
@@ -290,3 +292,33 @@ def test_gazebo_services() -> None:
     )
     assert not bad.success
     assert "malformed XML" in bad.status_message
+
+
+def _wheeled(mass: str) -> str:
+    inertia = '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>'
+    return f"""<robot name="w">
+  <link name="base"><inertial><mass value="1"/>{inertia}</inertial></link>
+  <link name="wheel">
+    <inertial><mass value="{mass}"/>{inertia}</inertial>
+  </link>
+  <joint name="axle" type="continuous"><parent link="base"/><child link="wheel"/></joint>
+</robot>"""
+
+
+def test_a_massless_moving_link_is_one_warning_at_its_line(
+    endpoint: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = tmp_path / "w.urdf"
+    path.write_text(_wheeled("0"))
+    args = ["sim", str(path), "--engine", "physics", "--headless", "--duration", "0.1"]
+    assert main([*args, "--rtf", "max"]) == 0
+    err = capsys.readouterr().err
+    assert (
+        f"{path}:4:5: warning: link 'wheel' (and the links fixed to it) has no mass; "
+        "simulating it with 0.001 kg\n"
+    ) in err
+    path.write_text(_wheeled("-20"))
+    assert main(args) == 1
+    assert capsys.readouterr().err.endswith(
+        f"{path}:4:5: error: the mass of link 'wheel' is -20 kg: no body has less than 0\n"
+    )

@@ -272,11 +272,19 @@ class _RobotBuilder:
         moving: bool,
     ) -> None:
         body.explicitinertial = True
+        own = self.model.link(start).inertial
+        source = (own.source.best if own else None) or self.model.link(start).source.best
+        for inertial, _ in inertials:
+            if inertial.mass < 0:
+                msg = f"the mass of link {start!r} is {inertial.mass:g} kg: no body has less than 0"
+                raise ModelError(msg, inertial.source.best or source)
         total = sum(i.mass for i, _ in inertials)
         if total <= 0:
             if moving:
                 logger.warning(
-                    "link %r (and the links fixed to it) has no mass; simulating it with %g kg",
+                    "%s: warning: link %r (and the links fixed to it) has no mass; simulating "
+                    "it with %g kg",
+                    source or self.model.path,
                     start,
                     MIN_MASS,
                 )
@@ -294,9 +302,10 @@ class _RobotBuilder:
             d = frame[:3, 3] - com
             tensor += _tensor_in(inertial, frame[:3, :3])
             tensor += inertial.mass * (float(d @ d) * np.eye(3) - np.outer(d, d))
+        if not (np.all(np.isfinite(tensor)) and np.all(np.isfinite(com))):
+            msg = f"the inertia of link {start!r} (with the links fixed to it) overflows a double"
+            raise ModelError(msg, source, hint="check its <mass> and <inertia> values")
         eigen = np.linalg.eigvalsh(tensor)
-        own = self.model.link(start).inertial
-        source = (own.source.best if own else None) or self.model.link(start).source.best
         bad = eigen[0] <= 0 or eigen[0] + eigen[1] < eigen[2] * (1 - 1e-6)
         if bad:
             msg = (
