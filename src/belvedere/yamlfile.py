@@ -25,8 +25,8 @@ MAX_DEPTH: Final = 128
 
 
 class Loader(yaml.SafeLoader):
-    """SafeLoader plus rosparam's angle tags, a nesting limit, and Python's digit limit on
-    integers as a YAML error (both would otherwise escape as Python errors)."""
+    """SafeLoader plus rosparam's angle tags, a nesting limit, and YAML errors (at their
+    line) for what PyYAML lets escape as Python errors."""
 
     def __init__(self, stream: str) -> None:
         super().__init__(stream)
@@ -43,10 +43,23 @@ class Loader(yaml.SafeLoader):
         finally:
             self._depth -= 1
 
+    def construct_object(self, node: yaml.Node, deep: bool = False) -> Any:
+        """PyYAML's scalar constructors raise Python errors for values its resolver let
+        through (``2001-13-45`` as a date, ``!!float x``, an int of 5000 digits)."""
+        try:
+            return super().construct_object(node, deep)
+        except (ValueError, OverflowError) as err:
+            raise yaml.constructor.ConstructorError(None, None, str(err), node.start_mark) from None
+        except (KeyError, AttributeError, TypeError):
+            msg = f"not a valid {node.tag.rsplit(':', 1)[-1]} value"
+            raise yaml.constructor.ConstructorError(None, None, msg, node.start_mark) from None
+
 
 def _angle(factor: float) -> Any:
     def construct(loader: yaml.SafeLoader, node: yaml.Node) -> float:
-        assert isinstance(node, yaml.ScalarNode)
+        if not isinstance(node, yaml.ScalarNode):
+            msg = f"{node.tag} needs a number, not a collection"
+            raise yaml.constructor.ConstructorError(None, None, msg, node.start_mark)
         text = str(loader.construct_scalar(node))
         try:
             return float(text) * factor
@@ -57,15 +70,6 @@ def _angle(factor: float) -> Any:
     return construct
 
 
-def _int(loader: yaml.SafeLoader, node: yaml.Node) -> int:
-    assert isinstance(node, yaml.ScalarNode)  # the resolver tags only scalars as int
-    try:
-        return loader.construct_yaml_int(node)
-    except ValueError as err:  # Python's limit on the digits of an int (4300)
-        raise yaml.constructor.ConstructorError(None, None, str(err), node.start_mark) from None
-
-
-Loader.add_constructor("tag:yaml.org,2002:int", _int)
 Loader.add_constructor("!degrees", _angle(math.pi / 180.0))
 Loader.add_constructor("!radians", _angle(1.0))
 

@@ -131,6 +131,17 @@ def _flag(el: Element, tag: str, default: bool) -> bool:
     raise SDFError(msg, c.loc)
 
 
+def _unique_names(kind: str, model: str, parts: list[WorldLink] | list[WorldJoint]) -> None:
+    """SDF names siblings uniquely; a copied link would otherwise be simulated twice."""
+    seen: dict[str, SourceLocation | None] = {}
+    for part in parts:
+        if part.name in seen:
+            first = seen[part.name]
+            msg = f"two {kind}s of model {model!r} are named {part.name!r} (the first at {first})"
+            raise SDFError(msg, part.source)
+        seen[part.name] = part.source
+
+
 class _Reader:
     def __init__(self, model_paths: ModelPaths, path: str) -> None:
         self.paths = model_paths
@@ -175,6 +186,7 @@ class _Reader:
             if not alone:
                 msg = "no <world> or <model> in this SDF file"
                 raise SDFError(msg, root.loc)
+            self._unique(alone)
             return WorldModel(
                 models=tuple(alone),
                 path=self.path,
@@ -377,6 +389,7 @@ class _Reader:
                         )
                         for j in nested.joints
                     ]
+        _unique_names("link", name, links)
         resolved = resolve_frames(frames)
         links = [replace(lk, pose=resolved.get(lk.name, lk.pose)) for lk in links]
         link_poses = {lk.name: lk.pose for lk in links}
@@ -389,6 +402,7 @@ class _Reader:
                     f"model plugin {child.attrs.get('filename', '?')!r} in {name!r} "
                     "is not supported; ignored",
                 )
+        _unique_names("joint", name, joints)
         return WorldModelEntry(
             name=name,
             pose=compose(parent_pose, pose),
