@@ -35,7 +35,7 @@ def no_programs(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
         os.environ["PATH"] = saved
 
 
-@fuzz_settings(40)
+@fuzz_settings(200)
 @given(st.sampled_from(SEEDS), mutations())
 def test_launch_mutants(
     examples_copy: Path, no_programs: None, seed: str, edits: list[Mutation]

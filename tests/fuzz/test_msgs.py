@@ -67,7 +67,7 @@ TOKENS = (
 )
 
 
-@fuzz_settings(150)
+@fuzz_settings(600)
 @given(st.sampled_from(SEEDS), mutations(max_edits=4))
 def test_message_yaml_mutants(seed: tuple[str, str], edits: list[Mutation]) -> None:
     type_name, text = seed

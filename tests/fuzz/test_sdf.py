@@ -29,7 +29,7 @@ TAGS = (
 )
 
 
-@fuzz_settings(30)
+@fuzz_settings(200)
 @given(st.sampled_from(SEEDS), mutations())
 def test_sdf_mutants(examples_copy: Path, seed: str, edits: list[Mutation]) -> None:
     original = examples_copy / seed

@@ -39,7 +39,7 @@ def seeds() -> tuple[str, ...]:
     return (urdf, *(process_file(EXAMPLES / x, packages=packages) for x in XACROS))
 
 
-@fuzz_settings(40)
+@fuzz_settings(200)
 @given(st.integers(0, 3), mutations())
 def test_urdf_mutants(examples_copy: Path, seed: int, edits: list[Mutation]) -> None:
     text = xml_mutant(seeds()[seed], edits, TAGS)

@@ -39,7 +39,7 @@ TAGS = tuple(
 )
 
 
-@fuzz_settings(40)
+@fuzz_settings(200)
 @given(st.sampled_from(SEEDS), mutations())
 def test_xacro_mutants(examples_copy: Path, seed: str, edits: list[Mutation]) -> None:
     original = examples_copy / seed
