@@ -44,9 +44,9 @@ def read_package_name(package_xml: Path) -> str:
 
 def find_package_root(path: Path) -> Path | None:
     """The nearest directory at or above ``path`` holding a ``package.xml``."""
-    here = path if path.is_dir() else path.parent
+    here = path if os.path.isdir(path) else path.parent
     for d in (here, *here.parents):
-        if (d / "package.xml").is_file():
+        if os.path.isfile(d / "package.xml"):
             return d
     return None
 
@@ -131,7 +131,7 @@ class PackageIndex:
         while name not in self._found:
             if not self._index_next():
                 builtin = BUILTIN_PACKAGES / name
-                if (builtin / "package.xml").is_file():
+                if os.path.isfile(builtin / "package.xml"):
                     return builtin
                 searched = (
                     "\n".join(f"    {d}" for d in self.search_path) or "    (nothing to search)"

@@ -7,7 +7,10 @@ O(n). Every element remembers the file, line and column it came from.
 
 Safety: a DOCTYPE may declare internal entities (expat expands them, with its built-in
 amplification limits), but external entities and DTDs are never loaded, and nothing touches
-the network.
+the network. Elements nest at most :data:`MAX_DEPTH` deep: every reader of these trees walks
+them recursively, and a deeper file stops here with an error at the element too deep, instead
+of a ``RecursionError`` in whichever reader meets it first. Real files nest a few levels (a
+Gazebo world about eight); a hundred levels is already no hand-written file.
 """
 
 from __future__ import annotations
@@ -22,6 +25,7 @@ from xml.parsers import expat
 from belvedere.errors import ParseError, SourceLocation
 
 __all__ = [
+    "MAX_DEPTH",
     "CData",
     "Comment",
     "Document",
@@ -29,10 +33,15 @@ __all__ = [
     "Node",
     "ProcessingInstruction",
     "Text",
+    "check_depth",
     "parse_file",
     "parse_string",
     "write_pretty",
 ]
+
+
+MAX_DEPTH: Final = 256
+"""The deepest element nesting a parsed document may have (the root is at depth 1)."""
 
 
 class _Siblings:
@@ -121,16 +130,18 @@ class CData(Node):
 
 
 class Comment(Node):
-    __slots__ = ("data",)
+    __slots__ = ("data", "loc")
 
-    def __init__(self, data: str) -> None:
+    def __init__(self, data: str, loc: SourceLocation | None = None) -> None:
         # (Node's fields set here: trees have many nodes, a super() call each adds up)
         self._siblings = None
         self.prev = self.next = None
         self.data = data
+        self.loc = loc
+        """Where the comment was written (None for one made in code)."""
 
     def clone(self) -> Comment:
-        return Comment(self.data)
+        return Comment(self.data, self.loc)
 
 
 class ProcessingInstruction(Node):
@@ -287,6 +298,22 @@ class Document(Element):
         return root
 
 
+def _too_deep(at: SourceLocation | None) -> ParseError:
+    msg = f"elements nest more than {MAX_DEPTH} levels deep (the nesting limit)"
+    return ParseError(msg, at, hint="no robot, world or launch file needs as many")
+
+
+def check_depth(top: Element) -> None:
+    """Raise the parser's nesting-limit error for a tree built in code (a xacro expansion)
+    that nests deeper than :data:`MAX_DEPTH`, at the first element too deep."""
+    todo = [(el, 1) for el in reversed(list(top.elements()))]
+    while todo:
+        el, depth = todo.pop()
+        if depth > MAX_DEPTH:
+            raise _too_deep(el.loc)
+        todo.extend((child, depth + 1) for child in reversed(list(el.elements())))
+
+
 # --- parsing -------------------------------------------------------------------------------
 
 
@@ -320,6 +347,7 @@ class _Builder:
         p.StartDoctypeDeclHandler = self.doctype
         self.pending_ns: list[tuple[str, str]] = []
         self.in_dtd = False
+        self.depth = 0
 
     def loc(self) -> SourceLocation:
         return SourceLocation(
@@ -339,6 +367,9 @@ class _Builder:
         self.pending_ns.append((prefix or "", uri or ""))
 
     def start(self, name: str, attributes: list[str]) -> None:
+        self.depth += 1
+        if self.depth > MAX_DEPTH:
+            raise _too_deep(self.loc())
         attrs: dict[str, str] = {}
         if self.pending_ns:
             for prefix, uri in self.pending_ns:
@@ -358,6 +389,9 @@ class _Builder:
 
     def start_plain(self, name: str, attributes: list[str]) -> None:
         """``start`` without namespace processing (names arrive as written)."""
+        self.depth += 1
+        if self.depth > MAX_DEPTH:
+            raise _too_deep(self.loc())
         p = self.parser
         el = Element(
             name,
@@ -380,6 +414,7 @@ class _Builder:
         cur.last = node
 
     def end(self, name: str) -> None:
+        self.depth -= 1
         parent = self.cur.parent
         self.cur = parent if parent is not None else self.doc
 
@@ -406,7 +441,7 @@ class _Builder:
 
     def comment(self, data: str) -> None:
         if not self.in_dtd:
-            self._add(Comment(data))
+            self._add(Comment(data, self.loc()))
 
     def pi(self, target: str, data: str) -> None:
         if not self.in_dtd:
@@ -510,19 +545,17 @@ def _escape_attr(s: str) -> str:
     return s
 
 
-def _write_node(out: list[str], node: Node, indent: str, step: str) -> None:
+def _write_leaf(out: list[str], node: Node, indent: str) -> None:
+    """Anything but an element."""
     kind = type(node)
-    if kind is Element:
-        assert isinstance(node, Element)
-        _write_element(out, node, indent, step)
-    elif kind is Text:
+    if kind is Text:
         assert isinstance(node, Text)
         out.append(_escape_text(indent + node.data + "\n"))
     elif kind is Comment:
         assert isinstance(node, Comment)
-        if "--" in node.data:
-            msg = f"a comment cannot contain '--': {node.data!r}"
-            raise ParseError(msg)
+        if "--" in node.data or node.data.endswith("-"):
+            msg = f"a comment cannot contain '--' or end in '-': {node.data!r}"
+            raise ParseError(msg, node.loc, hint="XML comments end at the first '--'")
         out.append(f"{indent}<!--{node.data}-->\n")
     elif kind is CData:
         assert isinstance(node, CData)
@@ -535,34 +568,47 @@ def _write_node(out: list[str], node: Node, indent: str, step: str) -> None:
         out.append(f"{indent}<?{node.target} {node.data}?>\n")
 
 
-def _write_element(out: list[str], el: Element, indent: str, step: str) -> None:
-    attrs = el.attrs
-    if attrs:
-        parts = [indent, "<", el.tag]
-        for name in sorted(attrs):
-            parts.append(f' {name}="{_escape_attr(attrs[name])}"')
-        out.append("".join(parts))
-    else:
-        out.append(f"{indent}<{el.tag}")
-    first = el.first
-    if first is None:
-        out.append("/>\n")
-        return
-    if first.next is None and type(first) is Text:
-        out.append(f">{_escape_text(first.data)}</{el.tag}>\n")
-        return
-    out.append(">\n")
-    inner = indent + step
-    child: Node | None = first
-    while child is not None:
-        if type(child) is Text:
-            data = child.data
-            if data and not data.isspace():
-                out.append(_escape_text(inner + data + "\n"))
+def _write_tree(out: list[str], top: Node, indent: str, step: str) -> None:
+    """Write ``top`` and everything under it, with a stack of its own: output trees (a xacro
+    macro that recurses) may nest deeper than Python recursion goes."""
+    todo: list[tuple[Node, str] | str] = [(top, indent)]
+    while todo:
+        item = todo.pop()
+        if isinstance(item, str):  # an end tag, or text ready to write
+            out.append(item)
+            continue
+        el, indent = item
+        if type(el) is not Element:
+            _write_leaf(out, el, indent)
+            continue
+        assert isinstance(el, Element)
+        attrs = el.attrs
+        if attrs:
+            parts = [indent, "<", el.tag]
+            for name in sorted(attrs):
+                parts.append(f' {name}="{_escape_attr(attrs[name])}"')
+            out.append("".join(parts))
         else:
-            _write_node(out, child, inner, step)
-        child = child.next
-    out.append(f"{indent}</{el.tag}>\n")
+            out.append(f"{indent}<{el.tag}")
+        first = el.first
+        if first is None:
+            out.append("/>\n")
+            continue
+        if first.next is None and type(first) is Text:
+            out.append(f">{_escape_text(first.data)}</{el.tag}>\n")
+            continue
+        out.append(">\n")
+        todo.append(f"{indent}</{el.tag}>\n")
+        inner = indent + step
+        child = el.last
+        while child is not None:  # pushed last first, so written in order
+            if type(child) is Text:
+                data = child.data
+                if data and not data.isspace():
+                    todo.append(_escape_text(inner + data + "\n"))
+            else:
+                todo.append((child, inner))
+            child = child.prev
 
 
 def write_pretty(doc: Document | Element, *, indent: str = "  ") -> str:
@@ -571,7 +617,7 @@ def write_pretty(doc: Document | Element, *, indent: str = "  ") -> str:
     if isinstance(doc, Document):
         out.append('<?xml version="1.0" ?>\n')
         for node in doc.children():
-            _write_node(out, node, "", indent)
+            _write_tree(out, node, "", indent)
     else:
-        _write_node(out, doc, "", indent)
+        _write_tree(out, doc, "", indent)
     return "".join(out)

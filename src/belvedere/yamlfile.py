@@ -5,9 +5,10 @@ reported at its line. :func:`load_yaml` keeps PyYAML's node tree beside the data
 can be located later; a syntax error is a :class:`~belvedere.errors.ParseError` at its line.
 ``!degrees``/``!radians`` tags are understood, as ``rosparam`` does.
 
-Aliases are bounded: a document whose aliases would expand to more than
-:data:`MAX_EXPANDED_NODES` values (a "billion laughs" bomb), or an alias that refers to the
-value containing it, is refused before anything is built.
+Every YAML belvedere reads goes through :class:`Loader`, which bounds what a document can
+cost: collections nest at most :data:`MAX_DEPTH` levels, and aliases may expand to at most
+:data:`MAX_EXPANDED_NODES` values (a "billion laughs" bomb is refused at the alias's line
+before anything is built), and an alias may not refer to the value that contains it.
 """
 
 from __future__ import annotations
@@ -21,10 +22,21 @@ import yaml
 
 from belvedere.errors import ParseError, SourceLocation
 
-__all__ = ["MAX_EXPANDED_NODES", "YamlDocument", "check_expansion", "load_yaml", "load_yaml_file"]
+__all__ = [
+    "MAX_DEPTH",
+    "MAX_EXPANDED_NODES",
+    "Loader",
+    "YamlDocument",
+    "load_yaml",
+    "load_yaml_file",
+]
 
 MAX_EXPANDED_NODES: Final = 1_000_000
 """Most values a YAML document may hold once its aliases are expanded."""
+
+
+MAX_DEPTH: Final = 128
+"""The deepest YAML collections may nest (PyYAML composes them recursively)."""
 
 
 def _children(node: yaml.Node) -> list[yaml.Node]:
@@ -35,11 +47,9 @@ def _children(node: yaml.Node) -> list[yaml.Node]:
     return []
 
 
-def check_expansion(root: yaml.Node | None, path: str) -> None:
+def _check_expansion(root: yaml.Node) -> None:
     """Refuse a node graph whose aliases expand to more than :data:`MAX_EXPANDED_NODES`
-    values, or that contains itself. Linear in the number of distinct nodes."""
-    if root is None:
-        return
+    values, or that contains itself: linear in the distinct nodes, before any is built."""
     size: dict[int, int] = {}
     on_path: set[int] = set()
     stack: list[tuple[yaml.Node, bool]] = [(root, False)]
@@ -48,34 +58,64 @@ def check_expansion(root: yaml.Node | None, path: str) -> None:
         key = id(node)
         if children_done:
             on_path.discard(key)
-            total = 1 + sum(size[id(c)] for c in _children(node))
-            size[key] = total
+            size[key] = total = 1 + sum(size[id(c)] for c in _children(node))
             if total > MAX_EXPANDED_NODES:
-                mark = node.start_mark
                 msg = (
                     f"YAML aliases here expand to more than {MAX_EXPANDED_NODES:,} values "
                     "(an alias bomb?)"
                 )
-                raise ParseError(msg, SourceLocation(path, mark.line + 1, mark.column + 1))
+                raise yaml.composer.ComposerError(None, None, msg, node.start_mark)
             continue
         if key in size:
             continue
         if key in on_path:
-            mark = node.start_mark
             msg = "a YAML alias refers to the value that contains it (a recursive structure)"
-            raise ParseError(msg, SourceLocation(path, mark.line + 1, mark.column + 1))
+            raise yaml.composer.ComposerError(None, None, msg, node.start_mark)
         on_path.add(key)
         stack.append((node, True))
         stack.extend((c, False) for c in _children(node) if id(c) not in size)
 
 
-class _Loader(yaml.SafeLoader):
-    """SafeLoader plus rosparam's angle tags."""
+class Loader(yaml.SafeLoader):
+    """SafeLoader plus rosparam's angle tags, a nesting limit, and YAML errors (at their
+    line) for what PyYAML lets escape as Python errors."""
+
+    def __init__(self, stream: str) -> None:
+        super().__init__(stream)
+        self._depth = 0
+
+    def compose_node(self, parent: yaml.Node | None, index: int) -> yaml.Node | None:
+        self._depth += 1
+        try:
+            if self._depth > MAX_DEPTH:
+                msg = f"collections nest more than {MAX_DEPTH} levels deep (the nesting limit)"
+                mark = self.peek_event().start_mark  # type: ignore[no-untyped-call]
+                raise yaml.composer.ComposerError(None, None, msg, mark)
+            return super().compose_node(parent, index)
+        finally:
+            self._depth -= 1
+
+    def construct_document(self, node: yaml.Node) -> Any:
+        _check_expansion(node)
+        return super().construct_document(node)
+
+    def construct_object(self, node: yaml.Node, deep: bool = False) -> Any:
+        """PyYAML's scalar constructors raise Python errors for values its resolver let
+        through (``2001-13-45`` as a date, ``!!float x``, an int of 5000 digits)."""
+        try:
+            return super().construct_object(node, deep)
+        except (ValueError, OverflowError) as err:
+            raise yaml.constructor.ConstructorError(None, None, str(err), node.start_mark) from None
+        except (KeyError, AttributeError, TypeError):
+            msg = f"not a valid {node.tag.rsplit(':', 1)[-1]} value"
+            raise yaml.constructor.ConstructorError(None, None, msg, node.start_mark) from None
 
 
 def _angle(factor: float) -> Any:
     def construct(loader: yaml.SafeLoader, node: yaml.Node) -> float:
-        assert isinstance(node, yaml.ScalarNode)
+        if not isinstance(node, yaml.ScalarNode):
+            msg = f"{node.tag} needs a number, not a collection"
+            raise yaml.constructor.ConstructorError(None, None, msg, node.start_mark)
         text = str(loader.construct_scalar(node))
         try:
             return float(text) * factor
@@ -86,8 +126,8 @@ def _angle(factor: float) -> Any:
     return construct
 
 
-_Loader.add_constructor("!degrees", _angle(math.pi / 180.0))
-_Loader.add_constructor("!radians", _angle(1.0))
+Loader.add_constructor("!degrees", _angle(math.pi / 180.0))
+Loader.add_constructor("!radians", _angle(1.0))
 
 
 @dataclass(frozen=True)
@@ -130,14 +170,10 @@ class YamlDocument:
 
 def load_yaml(text: str, *, path: str = "<yaml>") -> YamlDocument:
     """Parse one YAML document; errors name ``path:line:col``."""
-    loader = _Loader(text)
+    loader = Loader(text)
     try:
         root = loader.get_single_node()
-        check_expansion(root, path)
         data = loader.construct_document(root) if root is not None else None
-    except RecursionError:
-        msg = "invalid YAML: nested too deeply"
-        raise ParseError(msg, SourceLocation(path)) from None
     except yaml.YAMLError as err:
         mark = getattr(err, "problem_mark", None) or getattr(err, "context_mark", None)
         where = SourceLocation(path, mark.line + 1, mark.column + 1) if mark else None
@@ -149,11 +185,12 @@ def load_yaml(text: str, *, path: str = "<yaml>") -> YamlDocument:
     return YamlDocument(data, path, root)
 
 
-def load_yaml_file(path: str | Path) -> YamlDocument:
-    """Read and parse a YAML file (a missing or unreadable file is a clear error)."""
+def load_yaml_file(path: str | Path, *, requested_at: SourceLocation | None = None) -> YamlDocument:
+    """Read and parse a YAML file (a missing or unreadable file is a clear error, at
+    ``requested_at`` when a file names it)."""
     try:
         text = Path(path).read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as err:
         msg = f"cannot read YAML file {str(path)!r}: {getattr(err, 'strerror', None) or err}"
-        raise ParseError(msg) from None
+        raise ParseError(msg, requested_at) from None
     return load_yaml(text, path=str(path))

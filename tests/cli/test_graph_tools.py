@@ -7,6 +7,9 @@ import sys
 from pathlib import Path
 from typing import Any
 
+import pytest
+
+from belvedere.cli import main
 from belvedere.graph import Graph, ZenohTransport
 from tests.waiting import DEADLINE, wait_until
 
@@ -147,3 +150,66 @@ def test_tf_echo_and_tree(peer: Any) -> None:
     missing = run("tf", "echo", "base_link", "nowhere", "--timeout", "1")
     assert missing.returncode == 1
     assert "frame 'nowhere' does not exist" in missing.stderr
+
+
+@pytest.mark.parametrize(
+    ("msg_type", "value", "error"),
+    [
+        (
+            "std_msgs/Float32",
+            "9" * 321,
+            "field 'data': a 321-digit integer does not fit float32 (±3.4028235e+38)",
+        ),
+        (
+            "std_msgs/Time",
+            "9" * 321,
+            "field 'data': a 321-digit integer does not fit a time (0 to 2147483647 s: int32 "
+            "seconds on the wire)",
+        ),
+        (
+            "std_msgs/Float32",
+            "1.0e+300",
+            "field 'data': 1e+300 does not fit float32 (±3.4028235e+38)",
+        ),
+    ],
+)
+def test_values_that_do_not_fit_stop_at_the_publisher(
+    endpoint: str, capsys: pytest.CaptureFixture[str], msg_type: str, value: str, error: str
+) -> None:
+    # A subscriber in another process: what it would have received must be serialized.
+    echo = subprocess.Popen(
+        [*BELVEDERE, "topic", "echo", "/t", "-n", "1"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        assert main(["topic", "pub", "-1", "/t", msg_type, value]) == 1
+        assert capsys.readouterr().err == f"error: {error}\n"
+    finally:
+        echo.kill()
+        out, err = echo.communicate(timeout=10)
+    assert out == ""
+    assert "Traceback" not in err
+
+
+def test_a_duration_with_negative_nanoseconds_reaches_another_process(endpoint: str) -> None:
+    echo = subprocess.Popen(
+        [*BELVEDERE, "topic", "echo", "/d", "-n", "1"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    graph = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint, serve_params=False))
+    try:
+        typed = graph.create_node("typed").publisher("/d", "std_msgs/Duration")
+        graph.start(rtf=None)
+        wait_until(lambda: typed.topic.remote, what="topic echo to subscribe to /d")
+        pub = run("topic", "pub", "/d", "std_msgs/Duration", "{data: {secs: 1, nsecs: -1}}", "-1")
+        out, err = _finish(echo)
+    finally:
+        if echo.poll() is None:
+            echo.kill()
+        graph.shutdown()
+    assert pub.returncode == 0, pub.stderr
+    assert out == "data: \n  secs: 0\n  nsecs: 999999999\n---\n", err

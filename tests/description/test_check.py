@@ -210,3 +210,79 @@ def test_sensor_variants_carry_their_sensors() -> None:
     plugin = laser.child("plugin")
     assert plugin is not None
     assert plugin.child_text("topicName") == "/scan"
+
+
+@pytest.mark.parametrize(
+    ("body", "expected"),
+    [
+        (
+            '<link name="a"><inertial><mass value="1"/>'
+            '<inertia ixx="1" ixy="0" ixz="1e309" iyy="1" iyz="0" izz="1"/></inertial></link>\n',
+            ":3:16: error: link [a] inertial: inertia ixz [1e309] is too large for a double "
+            "(the limit is ±1.7976931348623157e+308)",
+        ),
+        (
+            '<link name="a"/><link name="b"/>\n<joint name="j" type="fixed"><parent link="a"/>'
+            '<child link="b"/><origin rpy="1e309 0 0"/></joint>\n',
+            ":4:1: error: malformed origin for joint [j]: joint [j] origin rpy: component "
+            "[1e309] of [1e309 0 0] is too large for a double",
+        ),
+        (
+            '<link name="a"><visual><geometry><sphere radius="1e999"/></geometry></visual>'
+            "</link>\n",
+            ":3:16: error: link [a] visual: sphere radius [1e999] is too large for a double",
+        ),
+        (
+            '<material name="m"><color rgba="1 1 1e400 1"/></material><link name="a"/>\n',
+            ":3:20: error: material [m] color: material [m] color rgba: component [1e400]",
+        ),
+    ],
+    ids=["inertia", "joint-origin", "visual", "colour"],
+)
+def test_numbers_too_large_for_a_double_are_one_error(
+    endpoint: str, tmp_path: Path, capsys: pytest.CaptureFixture[str], body: str, expected: str
+) -> None:
+    path = write(tmp_path, body)
+    assert main(["check", str(path)]) == 1
+    out = capsys.readouterr()
+    assert out.err == f"{path}{expected}" + out.err.split(expected, 1)[1]
+    assert out.err.count("error:") == 1
+    assert "Traceback" not in out.err
+    assert out.out == ""
+    # The simulators read the same model: the same error, before anything runs.
+    for verb in (["sim", "--headless"], ["display"]):
+        assert main([*verb, str(path), "--duration", "0.1"]) == 1
+        err = capsys.readouterr().err
+        assert err.startswith(f"{path}{expected}")
+        assert "Traceback" not in err
+
+
+def test_lint_survives_inertia_near_the_largest_double(tmp_path: Path) -> None:
+    body = f'<link name="a">{inertial(1, 1e308, 1e308, 1e308)}</link>\n'
+    body = body.replace('ixy="0"', 'ixy="1e308"')
+    text = "\n".join(_messages(write(tmp_path, body)))
+    assert "link 'a': inertia tensor is not positive definite" in text
+
+
+def test_diff_drive_wheel_on_a_cycle_apart_from_the_tree(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    body = (
+        '<link name="base"/><link name="a"/><link name="b"/>\n'
+        '<joint name="left" type="continuous"><parent link="a"/><child link="b"/></joint>\n'
+        '<joint name="right" type="continuous"><parent link="b"/><child link="a"/></joint>\n'
+        '<gazebo><plugin name="dd" filename="libgazebo_ros_diff_drive.so">'
+        "<leftJoint>left</leftJoint><rightJoint>right</rightJoint></plugin></gazebo>\n"
+    )
+    path = write(tmp_path, body)
+    assert main(["check", "--strict", str(path)]) == 1
+    err = capsys.readouterr().err
+    assert (
+        f"{path}:3:20: warning: links 'a', 'b' cannot be reached from the root link 'base': "
+        "their joints form a cycle apart from the tree"
+    ) in err
+    assert (
+        f"{path}:6:9: warning: diff-drive plugin 'dd': leftJoint 'left' is not connected to "
+        "the root link 'base', so it cannot drive the robot"
+    ) in err
+    assert "Traceback" not in err

@@ -164,6 +164,37 @@ def test_xacro_command_runs_in_process(tmp_path: Path) -> None:
         ),
         ("<launch>\n  <node pkg='a' type='b'/>\n</launch>", {}, ":2:", "<node> needs a name"),
         ("<robot/>", {}, ":1:", "root must be <launch>"),
+        (
+            "<launch>\n  <param name='p' value='1e309'/>\n</launch>",
+            {},
+            ":2:3:",
+            "param value '1e309' is not a finite number\n  hint: the largest double is "
+            '±1.7976931348623157e+308; for text, add type="str"',
+        ),
+        (
+            "<launch>\n  <param name='p' type='double' value='-inf'/>\n</launch>",
+            {},
+            ":2:3:",
+            "param value '-inf' is not a finite number",
+        ),
+        (
+            "<launch>\n  <node pkg='a' type='b' name='c' respawn_delay='soon'/>\n</launch>",
+            {},
+            ":2:3:",
+            "param value 'soon' is not a valid double",
+        ),
+        (
+            "<launch>\n  <rosparam file='/no/such.yaml'/>\n</launch>",
+            {},
+            ":2:3:",
+            "cannot read YAML file '/no/such.yaml': No such file or directory",
+        ),
+        (
+            "<launch>\n  <rosparam>\n    a: " + "9" * 5000 + "\n  </rosparam>\n</launch>",
+            {},
+            ":3:8:",
+            "invalid YAML: Exceeds the limit (4300 digits) for integer string conversion",
+        ),
     ],
 )
 def test_errors_name_file_and_line(
@@ -230,3 +261,21 @@ def test_eval_runs_in_the_sandbox(tmp_path: Path, expr: str, message: str, at: s
     assert message in described
     col = 3 if at is None else line.index(at) + 1
     assert described.startswith(f"{path}:2:{col}: error: $(eval "), described
+
+
+def test_groups_nested_beyond_the_limit_are_one_error(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from belvedere.cli import main
+
+    ok = _launch(tmp_path, "<launch>" + "<group>" * 255 + "</group>" * 255 + "</launch>")
+    assert _load(ok) is not None
+    text = "<launch>" + "<group>" * 496 + "<param name='a' value='1'/>" + "</group>" * 496
+    path = _launch(tmp_path, text + "</launch>", "deep.launch")
+    assert main(["launch", str(path)]) == 1
+    err = capsys.readouterr().err
+    column = len("<launch>") + 255 * len("<group>") + 1
+    assert err == (
+        f"{path}:1:{column}: error: elements nest more than 256 levels deep (the nesting limit)\n"
+        "  hint: no robot, world or launch file needs as many\n"
+    )

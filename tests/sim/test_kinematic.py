@@ -10,7 +10,7 @@ from typing import Any
 import pytest
 
 from belvedere.description.urdf import RobotModel
-from belvedere.errors import ParseError
+from belvedere.errors import BelvedereError, ParseError
 from belvedere.graph import ActionClient, GoalStatus, Graph, Node, Publisher
 from belvedere.msgs import types
 from belvedere.sim.kinematic import (
@@ -140,15 +140,44 @@ def test_non_finite_commands_are_rejected_and_the_state_kept(
     pub = _drive(graph, probe, 0.1, 0.0)
     graph.run(duration=1.0)
     caplog.set_level(logging.WARNING, logger="belvedere.arbotix")
-    for bad in (float("nan"), float("inf"), float("nan")):
+    # 1e308 m/s used to overflow the pose after 1.7 s; 351 m/s is just beyond the bound.
+    for bad in (float("nan"), float("inf"), 1e308, 351.0):
         pub.publish_data({"linear": {"x": bad}})
         graph.run(duration=1.0)
     base = sim.driver.base
     assert base is not None
     assert base.dx == 0.1
-    assert base.x == pytest.approx(0.4)
-    warnings = [r for r in caplog.records if "not finite" in r.getMessage()]
-    assert len(warnings) == 1
+    assert base.x == pytest.approx(0.5)
+    assert [r.getMessage() for r in caplog.records if r.levelno >= logging.WARNING] == [
+        "/cmd_vel: ignored a command with linear.x=nan (not finite); keeping the last one"
+    ]
+    pub.publish_data({"linear": {"x": 0.2}, "angular": {"z": -350.0}})  # at the bounds: fine
+    graph.run(duration=0.2)
+    assert (base.dx, base.dr) == (0.2, -350.0)
+    warnings = [r.getMessage() for r in caplog.records if r.levelno >= logging.WARNING]
+    assert warnings[-1] == "/cmd_vel: 4 commands were ignored"
+
+
+def test_the_command_bounds_are_parameters(caplog: pytest.LogCaptureFixture) -> None:
+    graph = Graph()
+    graph.params.set("/belvedere/max_speed", 1.0)
+    graph.params.set("/belvedere/max_turn_rate", 2.0)
+    sim = KinematicSimulation(graph, RobotModel.from_path(MBOT))
+    probe = graph.create_node("probe")
+    caplog.set_level(logging.WARNING, logger="belvedere.arbotix")
+    _drive(graph, probe, 0.5, 2.5)
+    graph.run(duration=0.5)
+    base = sim.driver.base
+    assert base is not None
+    assert (base.dx, base.dr) == (0.0, 0.0)
+    assert [r.getMessage() for r in caplog.records if r.levelno >= logging.WARNING] == [
+        "/cmd_vel: ignored a command with angular.z=2.5 (beyond ±2 rad/s, "
+        "/belvedere/max_turn_rate); keeping the last one"
+    ]
+    graph = Graph()
+    graph.params.set("/belvedere/max_speed", -1)
+    with pytest.raises(BelvedereError, match=r"/belvedere/max_speed must be a positive number"):
+        KinematicSimulation(graph, RobotModel.from_path(MBOT))
 
 
 def test_joint_states_and_diagnostics_as_the_original() -> None:

@@ -5,10 +5,12 @@ from __future__ import annotations
 
 import logging
 import math
+from pathlib import Path
 from typing import Any
 
 import pytest
 
+from belvedere.cli import main
 from belvedere.description.urdf import Pose, RobotModel
 from belvedere.graph import Graph, Node
 from belvedere.msgs import types
@@ -134,11 +136,42 @@ def test_non_finite_commands_keep_the_last_one(caplog: pytest.LogCaptureFixture)
     scene.drive(x=0.2)
     scene.graph.run(duration=1.0)
     caplog.set_level(logging.WARNING, logger="belvedere.physics")
-    scene.cmd.publish_data({"linear": {"x": float("nan")}})
-    scene.cmd.publish_data({"angular": {"z": float("inf")}})
-    scene.graph.run(duration=1.0)
+    # 1e154 m/s used to make MuJoCo reset the robot to the origin mid-run, unreported.
+    for bad in ({"linear": {"x": float("nan")}}, {"angular": {"z": float("inf")}}):
+        scene.cmd.publish_data(bad)
+        scene.graph.run(duration=0.1)
+    scene.cmd.publish_data({"linear": {"x": 1e154}})
+    scene.graph.run(duration=0.8)
     assert scene.odom[-1].twist.twist.linear.x == pytest.approx(0.2, rel=0.02)
-    assert len([r for r in caplog.records if "ignored a command" in r.getMessage()]) == 1
+    assert [r.getMessage() for r in caplog.records if r.levelno >= logging.WARNING] == [
+        "differential_drive_controller: ignored a command with linear.x=nan (not finite); "
+        "keeping the last one"
+    ]
+    assert scene.sim.stopped_reason is None
+
+
+def test_a_state_mujoco_gives_up_on_is_reported_as_divergence(
+    caplog: pytest.LogCaptureFixture, capfd: pytest.CaptureFixture[str]
+) -> None:
+    scene = Scene()
+    scene.drive(x=0.2)
+    scene.graph.run(duration=1.0)
+    engine = scene.sim.engine
+    assert scene.robot.build.free_joint is not None
+    base = engine.joint(scene.robot.build.free_joint)
+    engine.d.qvel[base.dof] = 1e12  # beyond what MuJoCo integrates: it resets the world
+    caplog.set_level(logging.ERROR, logger="belvedere.physics")
+    scene.graph.run(duration=0.5)
+    reason = scene.sim.stopped_reason
+    assert reason is not None
+    assert reason.startswith(
+        "MuJoCo found a NaN, infinite or huge velocity of body 'mbot/base_footprint' and reset "
+        "the world to its start; the inertia of link "
+    )
+    [record] = [r for r in caplog.records if r.levelno >= logging.ERROR]
+    assert record.getMessage().startswith("physics diverged at t=1.001 s: MuJoCo found")
+    # MuJoCo's own printout (and its MUJOCO_LOG.TXT) stay out of the user's output.
+    assert capfd.readouterr().out == ""
 
 
 UNPHYSICAL = """<robot name="bad">
@@ -259,3 +292,33 @@ def test_gazebo_services() -> None:
     )
     assert not bad.success
     assert "malformed XML" in bad.status_message
+
+
+def _wheeled(mass: str) -> str:
+    inertia = '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>'
+    return f"""<robot name="w">
+  <link name="base"><inertial><mass value="1"/>{inertia}</inertial></link>
+  <link name="wheel">
+    <inertial><mass value="{mass}"/>{inertia}</inertial>
+  </link>
+  <joint name="axle" type="continuous"><parent link="base"/><child link="wheel"/></joint>
+</robot>"""
+
+
+def test_a_massless_moving_link_is_one_warning_at_its_line(
+    endpoint: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = tmp_path / "w.urdf"
+    path.write_text(_wheeled("0"))
+    args = ["sim", str(path), "--engine", "physics", "--headless", "--duration", "0.1"]
+    assert main([*args, "--rtf", "max"]) == 0
+    err = capsys.readouterr().err
+    assert (
+        f"{path}:4:5: warning: link 'wheel' (and the links fixed to it) has no mass; "
+        "simulating it with 0.001 kg\n"
+    ) in err
+    path.write_text(_wheeled("-20"))
+    assert main(args) == 1
+    assert capsys.readouterr().err.endswith(
+        f"{path}:4:5: error: the mass of link 'wheel' is -20 kg: no body has less than 0\n"
+    )

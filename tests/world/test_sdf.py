@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 
 from belvedere.description.urdf import Box, Cylinder
+from belvedere.errors import ParseError
 from belvedere.packages import PackageIndex
 from belvedere.world import (
     ModelPaths,
@@ -202,3 +203,70 @@ def test_malformed_xml_and_not_sdf() -> None:
         read_world_string("<sdf><world>", "w.world", model_paths=_paths())
     with pytest.raises(SDFError, match="expected an <sdf> document"):
         read_world_string("<gazebo version='1.0'/>", "w.world", model_paths=_paths())
+
+
+@pytest.mark.parametrize("token", ["1e309", "Infinity", "-inf", "nan"])
+def test_non_finite_numbers_are_errors_at_their_line(token: str) -> None:
+    with pytest.raises(SDFError) as info:
+        read_world_string(
+            f"<sdf version='1.6'><world name='w'><model name='m'>\n<pose>{token} 0 0 0 0 0</pose>"
+            "<link name='l'/></model></world></sdf>",
+            "bad.world",
+            model_paths=_paths(),
+        )
+    assert info.value.describe() == (
+        f"bad.world:2:1: error: <pose> expects finite numbers, got {token!r}\n"
+        "  hint: the largest double is ±1.7976931348623157e+308"
+    )
+
+
+def test_a_model_name_too_long_for_the_file_system_is_not_found() -> None:
+    uri = "model://" + "x" * 300
+    with pytest.raises(SDFError, match=r"model 'model://x{300}' not found \(searched: ") as info:
+        read_world_string(
+            f"<sdf version='1.6'><world name='w'><include>\n<uri>{uri}</uri></include>"
+            "</world></sdf>",
+            "long.world",
+            model_paths=_paths(),
+        )
+    assert str(info.value.location) == "long.world:2:1"
+
+
+def test_nesting_beyond_the_limit_is_one_error_at_the_element() -> None:
+    def world(depth: int) -> str:
+        models = "".join(f"<model name='m{i}'>" for i in range(depth))
+        return f"<sdf version='1.6'><world name='w'>{models}<link name='l'/>" + (
+            "</model>" * depth + "</world></sdf>"
+        )
+
+    # <sdf>, <world> and the <link> are three levels: 253 models still fit, 990 do not.
+    inner = read_world_string(world(253), model_paths=_paths()).models[0].links[-1]
+    assert inner.name == "::".join(f"m{i}" for i in range(1, 253)) + "::l"
+    text = world(990)
+    with pytest.raises(ParseError, match="elements nest more than 256 levels deep") as info:
+        read_world_string(text, "deep.world", model_paths=_paths())
+    column = text.index("<model name='m254'>") + 1
+    assert str(info.value.location) == f"deep.world:1:{column}"
+
+
+def test_a_long_chain_of_frames_declared_backwards() -> None:
+    frames = [
+        f"<frame name='f{i}'><pose relative_to='f{i - 1}'>1 0 0 0 0 0</pose></frame>"
+        for i in range(1, 2000)
+    ]
+    world = read_world_string(
+        "<sdf version='1.7'><world name='w'><model name='m'>"
+        + "".join(reversed(frames))
+        + "<frame name='f0'/><link name='l'><pose relative_to='f1999'>1 0 0 0 0 0</pose></link>"
+        "</model></world></sdf>",
+        model_paths=_paths(),
+    )
+    assert world.models[0].links[0].pose.xyz == pytest.approx((2000.0, 0.0, 0.0))
+    with pytest.raises(SDFError, match=r"pose of 'a' is relative to itself through a -> b -> a"):
+        read_world_string(
+            "<sdf version='1.7'><world name='w'><model name='m'>"
+            "<frame name='a'><pose relative_to='b'>0 0 0 0 0 0</pose></frame>"
+            "<frame name='b'><pose relative_to='a'>0 0 0 0 0 0</pose></frame><link name='l'/>"
+            "</model></world></sdf>",
+            model_paths=_paths(),
+        )

@@ -65,10 +65,8 @@ def run(args: argparse.Namespace) -> int:
     else:
         for d in report.diagnostics:
             sys.stderr.write(f"{d}\n")
-        if report.model is not None:
+        if report.model is not None:  # otherwise the errors above say why
             sys.stdout.write(format_tree(report.model))
-        else:
-            sys.stderr.write("error: the model does not parse (check_urdf rejects it)\n")
     if not report.ok or (args.strict and report.warnings):
         return 1
     return 0

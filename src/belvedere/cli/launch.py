@@ -4,6 +4,7 @@ every node in this process on one graph."""
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from pathlib import Path
@@ -55,15 +56,15 @@ def _launch_file(args: argparse.Namespace, packages: PackageIndex) -> Path:
     args.extra = extra
     if args.file is None:
         path = Path(args.target)
-        if not path.is_file():
+        if not os.path.isfile(path):
             msg = f"launch file {args.target!r} does not exist"
             raise BelvedereError(msg, hint="or give a package and a file: launch PKG FILE")
         return path
     root = packages.find(args.target)
     direct: Path = root / str(args.file)
-    if direct.is_file():
+    if os.path.isfile(direct):
         return direct
-    found = sorted(p for p in root.rglob(Path(args.file).name) if p.is_file())
+    found = sorted(p for p in root.rglob(Path(args.file).name) if os.path.isfile(p))
     if not found:
         msg = f"no launch file {args.file!r} in package {args.target!r} ({root})"
         raise BelvedereError(msg)
@@ -73,7 +74,7 @@ def _launch_file(args: argparse.Namespace, packages: PackageIndex) -> Path:
 
 def run(args: argparse.Namespace) -> int:
     packages = PackageIndex.from_environment(
-        package_path=args.package_path, near=args.target if Path(args.target).exists() else None
+        package_path=args.package_path, near=args.target if os.path.exists(args.target) else None
     )
     path = _launch_file(args, packages)
     packages = packages.with_workspace_of(path)

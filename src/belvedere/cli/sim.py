@@ -21,6 +21,12 @@ from belvedere.description.urdf import Pose, RobotModel
 from belvedere.errors import BelvedereError
 from belvedere.graph import Graph, ZenohTransport
 from belvedere.packages import PackageIndex
+from belvedere.sim import (
+    DEFAULT_MAX_SPEED,
+    DEFAULT_MAX_TURN_RATE,
+    MAX_SPEED_PARAM,
+    MAX_TURN_RATE_PARAM,
+)
 from belvedere.sim.kinematic import ArbotixConfig, KinematicSimulation
 from belvedere.sim.physics import GazeboRos, PhysicsSimulation
 from belvedere.tf import JointStatePublisher, RobotStatePublisher
@@ -61,6 +67,20 @@ def add_parser(
         type=float,
         metavar="SECONDS",
         help="stop the base after SECONDS without a command (default: never, as ArbotiX)",
+    )
+    p.add_argument(
+        "--max-speed",
+        type=float,
+        metavar="M/S",
+        help=f"ignore velocity commands faster than this (default: {DEFAULT_MAX_SPEED:g}; "
+        f"the parameter {MAX_SPEED_PARAM})",
+    )
+    p.add_argument(
+        "--max-turn-rate",
+        type=float,
+        metavar="RAD/S",
+        help=f"ignore angular velocity commands beyond this (default: {DEFAULT_MAX_TURN_RATE:g};"
+        f" the parameter {MAX_TURN_RATE_PARAM})",
     )
     p.add_argument("--seed", type=int, default=0, help="seed of the simulation's randomness")
     p.add_argument("--world", metavar="FILE", help="physics: a Gazebo .world file (default: empty)")
@@ -111,6 +131,12 @@ def run(args: argparse.Namespace) -> int:
         sys.stderr.write(f"{warning}\n")
     world = _read_world(args, packages) if args.engine == "physics" else None
     graph = Graph(sim_time=True, seed=args.seed, transport=ZenohTransport(endpoint=args.endpoint))
+    for param, value in (
+        (MAX_SPEED_PARAM, args.max_speed),
+        (MAX_TURN_RATE_PARAM, args.max_turn_rate),
+    ):
+        if value is not None:
+            graph.params.set(param, value)
     viewer: Viewer | None = None
     try:
         if world is not None:

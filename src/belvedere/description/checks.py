@@ -202,7 +202,7 @@ def lint(
                         part.source,
                     )
                     continue
-                if not file.is_file():
+                if not os.path.isfile(file):
                     warn(
                         f"mesh {part.geometry.filename!r} does not resolve: no file {file}",
                         part.source,
@@ -231,6 +231,16 @@ def lint(
                 "or, on a cycle, crash",
                 model.link(child).source,
             )
+    placed = model.forward_kinematics()
+    unplaced = [link for link in model.links if link.name not in placed]
+    if unplaced:
+        warn(
+            f"link{'s' if len(unplaced) > 1 else ''} "
+            f"{', '.join(repr(link.name) for link in unplaced)} cannot be reached from the root "
+            f"link {model.root_link.name!r}: their joints form a cycle apart from the tree "
+            "(check_urdf accepts it; TF and simulators cannot place them)",
+            unplaced[0].source,
+        )
     names = {link.name for link in model.links} | {j.name for j in model.joints}
     for g in model.gazebo:
         if g.reference is not None and g.reference not in names:
@@ -249,7 +259,10 @@ def _inertia_problems(i: Inertial) -> list[str]:
     if i.mass <= 0:
         problems.append(f"mass {i.mass} is not positive")
     tensor = np.array([[i.ixx, i.ixy, i.ixz], [i.ixy, i.iyy, i.iyz], [i.ixz, i.iyz, i.izz]])
-    moments = np.linalg.eigvalsh(tensor)
+    # Scaled to 1 first: moments near the largest double would overflow inside the solver.
+    scale = float(np.abs(tensor).max()) or 1.0
+    with np.errstate(over="ignore"):  # a moment beyond the largest double prints as inf
+        moments = np.linalg.eigvalsh(tensor / scale) * scale
     if moments.min() <= 0:
         problems.append(
             "inertia tensor is not positive definite (principal moments "
@@ -285,6 +298,13 @@ def _diff_drive(model: RobotModel, plugin: Any) -> list[Diagnostic]:
     frames = model.forward_kinematics()
     if base not in frames:
         base = model.root_link.name
+    for role, name in (("leftJoint", left), ("rightJoint", right)):
+        if joints[name].child not in frames:
+            message = (
+                f"diff-drive plugin '{plugin.name}': {role} '{name}' is not connected to the "
+                f"root link '{base}', so it cannot drive the robot"
+            )
+            return [*out, Diagnostic("warning", message, plugin.source.best)]
     t_base_inv = np.linalg.inv(frames[base])
     y_left = float((t_base_inv @ frames[joints[left].child])[1, 3])
     y_right = float((t_base_inv @ frames[joints[right].child])[1, 3])

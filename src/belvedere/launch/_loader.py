@@ -9,10 +9,12 @@ file and line.
 
 from __future__ import annotations
 
+import math
 import os
 import re
 import shlex
 import subprocess
+import sys
 import uuid
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
@@ -82,7 +84,7 @@ class _Loader:
             chain = " -> ".join([*self.including, key])
             msg = f"include cycle: {chain}"
             raise LaunchError(msg, at)
-        if not path.is_file():
+        if not os.path.isfile(path):
             msg = f"launch file {str(path)!r} does not exist"
             raise LaunchError(msg, at)
         try:
@@ -342,7 +344,7 @@ class _Loader:
                     raise LaunchError(msg, el.loc) from None
                 doc = load_yaml(self.subst(text, scope, el.loc), path=file)
             else:
-                doc = load_yaml_file(file)
+                doc = load_yaml_file(file, requested_at=el.loc)
             self.config.files.append(file)
         else:
             text = el.text_content()
@@ -418,7 +420,9 @@ class _Loader:
                 args=self.attr(el, "args", scope, "") or "",
                 output=self.attr(el, "output", scope, "log") or "log",
                 respawn=self.boolean(el, "respawn", scope, False),
-                respawn_delay=float(self.attr(el, "respawn_delay", scope, "0") or 0),
+                respawn_delay=_typed(
+                    self.attr(el, "respawn_delay", scope, "0") or "0", "double", el.loc
+                ),
                 required=self.boolean(el, "required", scope, False),
                 cwd=self.attr(el, "cwd", scope),
                 launch_prefix=prefix,
@@ -513,7 +517,7 @@ def _typed(raw: str, kind: str, at: SourceLocation | None) -> Any:
         if kind == "int":
             return int(raw.strip())
         if kind == "double":
-            return float(raw.strip())
+            return _finite(float(raw.strip()), raw, at)
         if kind in ("bool", "boolean"):
             return _bool(raw, f"bool value {raw!r}", at)
         if kind == "yaml":
@@ -527,12 +531,25 @@ def _typed(raw: str, kind: str, at: SourceLocation | None) -> Any:
     stripped = raw.strip()
     if stripped.lower() in ("true", "false"):
         return stripped.lower() == "true"
-    for convert in (int, float):
-        try:
-            return convert(stripped)
-        except ValueError:
-            pass
-    return raw
+    try:
+        return int(stripped)
+    except ValueError:
+        pass
+    try:
+        number = float(stripped)
+    except ValueError:
+        return raw
+    return _finite(number, raw, at)
+
+
+def _finite(value: float, raw: str, at: SourceLocation | None) -> float:
+    """roslaunch would pass ``nan``/``inf``/``1e309`` on as a float; we refuse it here, where
+    the line is known, rather than let a node meet it."""
+    if not math.isfinite(value):
+        msg = f"param value {raw!r} is not a finite number"
+        hint = f'the largest double is ±{sys.float_info.max:.17g}; for text, add type="str"'
+        raise LaunchError(msg, at, hint=hint)
+    return value
 
 
 def _with_conflict_hint(err: ParseError, path: Path) -> ParseError:

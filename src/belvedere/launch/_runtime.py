@@ -115,7 +115,7 @@ class LaunchRuntime:
             root / "nodes" / spec.type,
             root / spec.type,
         ):
-            if candidate.is_file():
+            if os.path.isfile(candidate):
                 return candidate
         return next(iter(sorted(root.rglob(spec.type))), None)
 
@@ -241,11 +241,11 @@ def _gzserver(rt: LaunchRuntime, spec: LaunchNode, node: Node) -> None:
     world = empty_world()
     if files:
         path = Path(files[-1])
-        if not path.is_absolute() and not path.exists():
+        if not path.is_absolute() and not os.path.exists(path):
             resource = os.environ.get("GAZEBO_RESOURCE_PATH", "")
             candidates = [Path(d) / path for d in resource.split(":") if d]
             candidates.append(BUILTIN_PACKAGES / "gazebo_ros" / path)
-            path = next((c for c in candidates if c.is_file()), path)
+            path = next((c for c in candidates if os.path.isfile(c)), path)
         world = read_world(path, packages=rt.packages)
         for warning in world.warnings:
             sys.stderr.write(f"{warning}\n")

@@ -9,6 +9,8 @@ the field path, the expected type and the value given.
 from __future__ import annotations
 
 import math
+import struct
+import sys
 from collections.abc import Callable, Sequence
 from typing import Any, Final
 
@@ -17,6 +19,7 @@ import yaml
 
 from belvedere.errors import BelvedereError
 from belvedere.msgs._types import TypeRegistry, short, types
+from belvedere.yamlfile import Loader
 
 __all__ = [
     "MessageValueError",
@@ -56,7 +59,16 @@ _DTYPES: Final = {
     "float32": np.float32,
     "float64": np.float64,
 }
+_FLOAT_LIMITS: Final = {
+    "float32": f"±{np.finfo(np.float32).max!s}",
+    "float64": f"±{sys.float_info.max}",
+}
 _TIME: Final = ("builtin_interfaces/msg/Time", "builtin_interfaces/msg/Duration")
+_TIME_SECONDS: Final = {
+    "builtin_interfaces/msg/Time": (0, 2**31 - 1),
+    "builtin_interfaces/msg/Duration": (-(2**31), 2**31 - 1),
+}
+NS: Final = 1_000_000_000
 _HEADER: Final = "std_msgs/msg/Header"
 
 Clock = Callable[[], tuple[int, int]]
@@ -69,7 +81,27 @@ class MessageValueError(BelvedereError):
 
 def _fail(path: str, expected: str, value: Any) -> MessageValueError:
     where = f"field {path!r}" if path else "message"
-    return MessageValueError(f"{where}: expected {expected}, got {value!r}")
+    return MessageValueError(f"{where}: expected {expected}, got {_show(value)}")
+
+
+def _misfit(path: str, value: Any, typ: str, limits: str) -> MessageValueError:
+    where = f"field {path!r}" if path else "message"
+    return MessageValueError(f"{where}: {_show(value)} does not fit {typ} ({limits})")
+
+
+def _is_int(value: Any) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _show(value: Any) -> str:
+    """``repr``, but a huge integer by its size (its digits say nothing, and Python refuses
+    to print more than 4300 of them)."""
+    if _is_int(value) and abs(value) >= 10**30:
+        digits = int(abs(value).bit_length() * math.log10(2)) + 1
+        if 10 ** (digits - 1) > abs(value):
+            digits -= 1
+        return f"a {digits}-digit integer"
+    return repr(value)
 
 
 class _Builder:
@@ -122,24 +154,32 @@ class _Builder:
             return cls(*self.now(path))
         if isinstance(value, bool):
             raise _fail(path, "a time (seconds, 'now', or {secs, nsecs})", value)
-        if isinstance(value, int | float):
+        given = value
+        if isinstance(value, int):
+            total_ns = value * NS
+        elif isinstance(value, float):
             if not math.isfinite(value):
                 raise _fail(path, "a finite time", value)
             sec = math.floor(value)
-            return cls(int(sec), round((value - sec) * 1e9))
-        if isinstance(value, list | tuple) and len(value) == 2:
-            value = {"sec": value[0], "nanosec": value[1]}
-        if isinstance(value, dict):
-            stamp = (
-                value.get("sec", value.get("secs", 0)),
-                value.get("nanosec", value.get("nsecs", 0)),
-            )
+            total_ns = int(sec) * NS + round((value - sec) * 1e9)
+        else:
+            if isinstance(value, list | tuple) and len(value) == 2:
+                value = {"sec": value[0], "nanosec": value[1]}
+            if not isinstance(value, dict):
+                raise _fail(path, "a time (seconds, 'now', or {secs, nsecs})", value)
+            secs: Any = value.get("sec", value.get("secs", 0))
+            nsecs: Any = value.get("nanosec", value.get("nsecs", 0))
             extra = set(value) - {"sec", "secs", "nanosec", "nsecs"}
-            whole = all(isinstance(v, int) and not isinstance(v, bool) for v in stamp)
-            if extra or not whole:
+            if extra or not all(_is_int(v) for v in (secs, nsecs)):
                 raise _fail(path, "{secs: int, nsecs: int}", value)
-            return cls(*stamp)
-        raise _fail(path, "a time (seconds, 'now', or {secs, nsecs})", value)
+            total_ns = secs * NS + nsecs
+        # As rospy does: nanoseconds carried into seconds (1 s - 1 ns is 0 s + 999999999 ns).
+        sec, nanosec = divmod(total_ns, NS)
+        low, high = _TIME_SECONDS[cls.__msgtype__]
+        if not low <= sec <= high:
+            what = "a time" if low == 0 else "a duration"
+            raise _misfit(path, given, what, f"{low} to {high} s: int32 seconds on the wire")
+        return cls(sec, nanosec)
 
     # --- fields --------------------------------------------------------------------------------
     def field(self, kind: int, detail: Any, value: Any, path: str) -> Any:
@@ -170,12 +210,20 @@ class _Builder:
                 raise _fail(path, typ, value)
             lo, hi = _INT_RANGES[typ]
             if not lo <= value <= hi:
-                raise _fail(path, f"{typ} in [{lo}, {hi}]", value)
+                raise _misfit(path, value, typ, f"{lo} to {hi}")
             return value
         if typ in ("float32", "float64"):
             if isinstance(value, bool) or not isinstance(value, int | float):
                 raise _fail(path, typ, value)
-            return float(value)
+            # NaN and infinities are floats too (LaserScan ranges use them); a finite value
+            # must round to a finite one, as the wire format packs it.
+            try:
+                number = float(value)
+                if typ == "float32":
+                    struct.pack("<f", number)
+            except OverflowError:
+                raise _misfit(path, value, typ, _FLOAT_LIMITS[typ]) from None
+            return number
         raise _fail(path, f"a value of type {typ}", value)
 
     def array(self, kind: int, detail: Any, size: int | None, value: Any, path: str) -> Any:
@@ -233,11 +281,12 @@ def message_from_args(
     values = []
     for arg in args:
         try:
-            values.append(yaml.safe_load(arg))
+            values.append(yaml.load(arg, Loader=Loader))  # a SafeLoader
         except yaml.YAMLError as err:
             mark = getattr(err, "problem_mark", None)
             where = f" at column {mark.column + 1}" if mark is not None else ""
-            msg = f"argument {arg!r} is not valid YAML{where}: {getattr(err, 'problem', err)}"
+            shown = repr(arg if len(arg) <= 60 else arg[:50] + "…")
+            msg = f"argument {shown} is not valid YAML{where}: {getattr(err, 'problem', err)}"
             raise MessageValueError(msg) from None
     if not values:
         data: Any = None

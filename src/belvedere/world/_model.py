@@ -9,13 +9,14 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from belvedere.description.urdf import Box, Cylinder, Inertial, Mesh, Pose, Sphere, Vec3
-from belvedere.errors import SourceLocation
+from belvedere.errors import ParseError, SourceLocation
 
 __all__ = [
     "Light",
     "Physics",
     "Plane",
     "Polyline",
+    "SDFError",
     "Shape",
     "Surface",
     "WorldGeometry",
@@ -26,6 +27,10 @@ __all__ = [
 ]
 
 RGBA = tuple[float, float, float, float]
+
+
+class SDFError(ParseError):
+    """A world or model file that cannot be read."""
 
 
 @dataclass(frozen=True, slots=True)

@@ -54,7 +54,9 @@ class ModelPaths:
         """The directory of model ``name`` (holding ``model.config`` or ``model.sdf``)."""
         for base in self.directories:
             candidate = base / name
-            if (candidate / "model.config").is_file() or (candidate / "model.sdf").is_file():
+            if os.path.isfile(candidate / "model.config") or os.path.isfile(
+                candidate / "model.sdf"
+            ):
                 return candidate
         return None
 
@@ -75,7 +77,7 @@ def _exported_model_dirs(package_root: Path) -> list[Path]:
                 value = el.attrs.get("gazebo_model_path") if el.tag == "gazebo_ros" else None
                 if value:
                     found.append(Path(value.replace("${prefix}", str(package_root))))
-    if (package_root / "models").is_dir():
+    if os.path.isdir(package_root / "models"):
         found.append(package_root / "models")
     return found
 
@@ -83,7 +85,7 @@ def _exported_model_dirs(package_root: Path) -> list[Path]:
 def model_sdf_file(directory: Path) -> Path:
     """The SDF file of a model directory: the newest ``<sdf version>`` in ``model.config``."""
     config = directory / "model.config"
-    if config.is_file():
+    if os.path.isfile(config):
         doc = parse_file(config, namespaces=False, keep_blank=False)
         best: tuple[tuple[int, ...], str] | None = None
         for el in doc.root.elements():

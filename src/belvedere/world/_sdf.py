@@ -11,20 +11,24 @@ the ``<state>`` block Gazebo writes when it saves a world; lights. What is not s
 from __future__ import annotations
 
 import math
+import os
+import sys
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
 
 from belvedere.description.gazebo_materials import gazebo_material_rgba
 from belvedere.description.urdf import Box, Cylinder, Inertial, Mesh, Pose, Sphere
-from belvedere.errors import ParseError, SourceLocation
+from belvedere.errors import SourceLocation
 from belvedere.packages import PackageIndex
+from belvedere.world._frames import Frame, resolve_frames
 from belvedere.world._model import (
     RGBA,
     Light,
     Physics,
     Plane,
     Polyline,
+    SDFError,
     Shape,
     Surface,
     WorldGeometry,
@@ -47,10 +51,6 @@ EMPTY_WORLD = """<sdf version="1.6"><world name="default">
 _IGNORED_WORLD = {"scene", "gui", "spherical_coordinates", "magnetic_field", "atmosphere", "wind"}
 _IGNORED_WORLD |= {"audio", "gravity", "physics", "model", "include", "light", "state", "plugin"}
 _UNSUPPORTED = {"actor", "population", "road"}
-
-
-class SDFError(ParseError):
-    """A world or model file that cannot be read."""
 
 
 def read_world(
@@ -91,6 +91,10 @@ def _floats(el: Element, count: int | None = None) -> tuple[float, ...]:
     except ValueError:
         msg = f"<{el.tag}> expects numbers, got {el.text_content().strip()!r}"
         raise SDFError(msg, el.loc) from None
+    for token, value in zip(text, values, strict=True):
+        if not math.isfinite(value):
+            msg = f"<{el.tag}> expects finite numbers, got {token!r}"
+            raise SDFError(msg, el.loc, hint=f"the largest double is ±{sys.float_info.max:.17g}")
     if count is not None and len(values) != count:
         msg = f"<{el.tag}> expects {count} numbers, got {len(values)}"
         raise SDFError(msg, el.loc)
@@ -125,6 +129,17 @@ def _flag(el: Element, tag: str, default: bool) -> bool:
         return False
     msg = f"<{tag}> expects true or false, got {text!r}"
     raise SDFError(msg, c.loc)
+
+
+def _unique_names(kind: str, model: str, parts: list[WorldLink] | list[WorldJoint]) -> None:
+    """SDF names siblings uniquely; a copied link would otherwise be simulated twice."""
+    seen: dict[str, SourceLocation | None] = {}
+    for part in parts:
+        if part.name in seen:
+            first = seen[part.name]
+            msg = f"two {kind}s of model {model!r} are named {part.name!r} (the first at {first})"
+            raise SDFError(msg, part.source)
+        seen[part.name] = part.source
 
 
 class _Reader:
@@ -171,6 +186,7 @@ class _Reader:
             if not alone:
                 msg = "no <world> or <model> in this SDF file"
                 raise SDFError(msg, root.loc)
+            self._unique(alone)
             return WorldModel(
                 models=tuple(alone),
                 path=self.path,
@@ -255,7 +271,7 @@ class _Reader:
             path = Path(uri.removeprefix("file://"))
             if not path.is_absolute():
                 path = Path(self.path).parent / path
-            directory: Path | None = path if path.is_dir() else None
+            directory: Path | None = path if os.path.isdir(path) else None
         else:
             directory = self.paths.find(name)
         if directory is None:
@@ -273,7 +289,7 @@ class _Reader:
         if key in self.including:
             msg = f"include cycle: {uri} includes itself"
             raise SDFError(msg, uri_el.loc)
-        if not sdf_file.is_file():
+        if not os.path.isfile(sdf_file):
             msg = f"model {uri!r}: {sdf_file} does not exist"
             raise SDFError(msg, uri_el.loc)
         self.including.append(key)
@@ -341,7 +357,7 @@ class _Reader:
         pose, _ = self.pose(el)
         links: list[WorldLink] = []
         joints: list[WorldJoint] = []
-        frames: dict[str, tuple[Pose, str | None, SourceLocation | None]] = {}
+        frames: dict[str, Frame] = {}
         for child in el.elements():
             if child.tag == "link":
                 link = self.link(child)
@@ -373,7 +389,8 @@ class _Reader:
                         )
                         for j in nested.joints
                     ]
-        resolved = self._resolve_frames(frames)
+        _unique_names("link", name, links)
+        resolved = resolve_frames(frames)
         links = [replace(lk, pose=resolved.get(lk.name, lk.pose)) for lk in links]
         link_poses = {lk.name: lk.pose for lk in links}
         for child in el.elements():
@@ -385,6 +402,7 @@ class _Reader:
                     f"model plugin {child.attrs.get('filename', '?')!r} in {name!r} "
                     "is not supported; ignored",
                 )
+        _unique_names("joint", name, joints)
         return WorldModelEntry(
             name=name,
             pose=compose(parent_pose, pose),
@@ -393,34 +411,6 @@ class _Reader:
             joints=tuple(joints),
             source=el.loc,
         )
-
-    def _resolve_frames(
-        self, frames: dict[str, tuple[Pose, str | None, SourceLocation | None]]
-    ) -> dict[str, Pose]:
-        """Every frame's pose in the model frame, following ``relative_to`` chains."""
-        done: dict[str, Pose] = {}
-
-        def resolve(name: str, chain: tuple[str, ...]) -> Pose:
-            if name in done:
-                return done[name]
-            pose, rel, loc = frames[name]
-            if rel in (None, "", "__model__"):
-                result = pose
-            elif rel == name or rel in chain:
-                msg = f"pose of {name!r} is relative to itself through {' -> '.join(chain)}"
-                raise SDFError(msg, loc)
-            elif rel in frames:
-                result = compose(resolve(rel, (*chain, name)), pose)
-            else:
-                known = ", ".join(sorted(frames)) or "none"
-                msg = f"pose of {name!r} is relative_to {rel!r}, which is not a frame here"
-                raise SDFError(msg, loc, hint=f"frames of this model: {known}")
-            done[name] = result
-            return result
-
-        for name in frames:
-            resolve(name, ())
-        return done
 
     def link(self, el: Element) -> WorldLink:
         name = el.attrs.get("name")

@@ -5,12 +5,16 @@ links, a joint that does not parse, duplicate names, links a joint names but nob
 two roots or none. What urdfdom only logs and skips (a visual without a usable geometry, a
 material without a colour, an unparsable inertial), we skip too — with a warning that says
 so and where. Numbers follow urdfdom: leading spaces are fine, anything after the number is
-not, and ``inf``/``nan``/hex are not numbers.
+not, and ``inf``/``nan``/hex are not numbers. One verdict is stricter than urdfdom's: a number
+too large for a double (``1e309``) is an error wherever it is, where urdfdom drops the
+inertial or visual holding it and carries on — a silently massless link is worse than a stop.
 """
 
 from __future__ import annotations
 
+import math
 import re
+import sys
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Final, Literal, TypeVar
@@ -51,6 +55,7 @@ __all__ = ["Diagnostic", "ParsedRobot", "parse_robot"]
 
 _T = TypeVar("_T")
 _DOUBLE: Final = re.compile(r"\s*[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?\Z")
+_MAX_DOUBLE: Final = sys.float_info.max
 
 
 @dataclass(frozen=True, slots=True)
@@ -68,6 +73,10 @@ class Diagnostic:
 
 class _InvalidError(Exception):
     """A part that does not parse (urdfdom returns false for it)."""
+
+
+class _NonFiniteError(_InvalidError):
+    """A number that overflows a double: an error wherever it is (see the module docstring)."""
 
 
 class _FatalError(Exception):
@@ -105,7 +114,14 @@ def _number(text: str | None, what: str) -> float:
     if text is None or not _DOUBLE.match(text):
         msg = f"{what} [{text}] is not a valid number"
         raise _InvalidError(msg)
-    return float(text)
+    return _finite(float(text), f"{what} [{text.strip()}]")
+
+
+def _finite(value: float, what: str) -> float:
+    if not math.isfinite(value):
+        msg = f"{what} is too large for a double (the limit is ±{_MAX_DOUBLE:.17g})"
+        raise _NonFiniteError(msg)
+    return value
 
 
 def _vector(text: str, what: str, n: int = 3) -> tuple[float, ...]:
@@ -115,7 +131,7 @@ def _vector(text: str, what: str, n: int = 3) -> tuple[float, ...]:
         if not _DOUBLE.match(p):
             msg = f"{what}: unable to parse component [{p}] to a number in [{text}]"
             raise _InvalidError(msg)
-        values.append(float(p))
+        values.append(_finite(float(p), f"{what}: component [{p}] of [{text}]"))
     if len(values) != n:
         msg = f"{what}: found {len(values)} numbers but {n} expected in [{text}]"
         raise _InvalidError(msg)
@@ -218,6 +234,8 @@ class _Parser:
             try:
                 r, g, b, a = _vector(color.attrs["rgba"], f"material [{name}] color rgba", 4)
                 rgba = (r, g, b, a)
+            except _NonFiniteError as err:
+                self.report("error", f"material [{name}] color: {err}", color)
             except _InvalidError as err:
                 self.report("warning", f"{err} (urdfdom ignores the colour)", color)
         if rgba is None and texture is None and not only_name_ok:
@@ -255,16 +273,18 @@ class _Parser:
         visuals: list[Visual] = []
         collisions: list[Collision] = []
         stage = "inertial"
+        part = self.first(el, "inertial")
         try:
-            i = self.first(el, "inertial")
-            if i is not None:
-                inertial = self.inertial(i)
+            if part is not None:
+                inertial = self.inertial(part)
             stage = "visual"
-            for v in self.all(el, "visual"):
-                visuals.append(self.visual(v))
+            for part in self.all(el, "visual"):
+                visuals.append(self.visual(part))
             stage = "collision"
-            for c in self.all(el, "collision"):
-                collisions.append(self.collision(c))
+            for part in self.all(el, "collision"):
+                collisions.append(self.collision(part))
+        except _NonFiniteError as err:
+            self.report("error", f"link [{name}] {stage}: {err}", part or el)
         except _InvalidError as err:
             rest = {
                 "inertial": "its inertial, visuals and collisions",
@@ -522,7 +542,10 @@ class _Parser:
                 try:
                     reduction = _number(_text(reduction_el).strip(), "mechanicalReduction")
                 except _InvalidError as err:
-                    self.report("warning", f"transmission [{name}]: {err}", reduction_el)
+                    severity: Literal["error", "warning"] = (
+                        "error" if isinstance(err, _NonFiniteError) else "warning"
+                    )
+                    self.report(severity, f"transmission [{name}]: {err}", reduction_el)
             interfaces = tuple(_text(h).strip() for h in self.all(a, "hardwareInterface"))
             actuators.append(Actuator(a.attrs.get("name", ""), reduction, interfaces))
         if not name:

@@ -24,7 +24,7 @@ from belvedere.description.urdf._model import (
 )
 from belvedere.description.urdf._parse import Diagnostic, ParsedRobot, parse_robot
 from belvedere.errors import ParseError
-from belvedere.xmldom import Element, parse_file, parse_string
+from belvedere.xmldom import Element, check_depth, parse_file, parse_string
 
 __all__ = ["RobotModel", "URDFError", "load_robot", "rpy_to_matrix", "transform"]
 
@@ -277,6 +277,7 @@ def load_robot(
     from belvedere.description.xacro import expand_file
 
     expansion = expand_file(name, mappings=mappings, on_warning=lambda _: None, **xacro_options)
+    check_depth(expansion.document)  # here, where elements still know their xacro lines
     text = expansion.to_xml()
     urdf = parse_string(text, f"{name} (expanded)", namespaces=False, keep_blank=False)
     # The printed URDF has the expanded tree's elements in the same order: pair them up so

@@ -12,8 +12,8 @@ from belvedere.description.xacro._builtins import to_yaml_value
 from belvedere.description.xacro._errors import XacroError
 from belvedere.description.xacro._interpreter import evaluate
 from belvedere.description.xacro._symbols import Scope
-from belvedere.errors import ParseError
-from belvedere.yamlfile import check_expansion
+from belvedere.errors import SourceLocation
+from belvedere.yamlfile import Loader
 
 __all__ = ["parse_yaml"]
 
@@ -27,10 +27,11 @@ UNITS: Final = {
 }
 
 
-def _loader(unit_scope: Scope) -> type[yaml.SafeLoader]:
-    """A SafeLoader whose unit tags evaluate their value as an expression (``!degrees 2*45``)."""
+def _loader(unit_scope: Scope) -> type[Loader]:
+    """belvedere's bounded loader, its unit tags evaluating their value as an expression
+    (``!degrees 2*45``)."""
 
-    class Loader(yaml.SafeLoader):
+    class UnitLoader(Loader):
         pass
 
     def constructor(factor: float) -> Callable[[yaml.SafeLoader, yaml.Node], float]:
@@ -41,28 +42,24 @@ def _loader(unit_scope: Scope) -> type[yaml.SafeLoader]:
         return construct
 
     for tag, factor in UNITS.items():
-        Loader.add_constructor(tag, constructor(factor))
-    return Loader
+        UnitLoader.add_constructor(tag, constructor(factor))
+    return UnitLoader
 
 
 def parse_yaml(text: str, *, path: str, unit_scope: Scope) -> Any:
     """Parse YAML text; mappings come back with dotted access (``cfg.arm.length``).
 
-    Aliases that would expand to more than a million values, or that refer to themselves,
-    are refused before anything is built."""
+    The shared :class:`~belvedere.yamlfile.Loader` bounds nesting and alias expansion."""
     loader = _loader(unit_scope)(text)
     try:
         root = loader.get_single_node()
-        check_expansion(root, path)
         data = loader.construct_document(root) if root is not None else None
     except yaml.YAMLError as err:
-        msg = f"invalid YAML in {path}: {err}"
-        raise XacroError(msg) from None
-    except ParseError as err:
-        raise XacroError(err.message, err.location, hint=err.hint) from None
-    except RecursionError:
-        msg = f"invalid YAML in {path}: nested too deeply"
-        raise XacroError(msg) from None
+        mark = getattr(err, "problem_mark", None) or getattr(err, "context_mark", None)
+        where = SourceLocation(path, mark.line + 1, mark.column + 1) if mark else None
+        problem = getattr(err, "problem", None) or str(err)
+        msg = f"invalid YAML: {problem}"
+        raise XacroError(msg, where) from None
     finally:
         loader.dispose()
     return to_yaml_value(data)

@@ -15,6 +15,7 @@ from typing import Any
 
 from belvedere.graph import NS, Node
 from belvedere.msgs import build
+from belvedere.sim._commands import CommandGate
 from belvedere.sim.kinematic._config import DiffControllerConfig
 from belvedere.tf import TransformBroadcaster
 
@@ -43,7 +44,7 @@ class DiffController:
         now = node.now_ns()
         self.then_ns = now
         self.last_cmd_ns = now
-        self._rejected = 0
+        self.gate = CommandGate(node.resolve("cmd_vel"), node.graph, logger)
         node.subscribe("cmd_vel", "geometry_msgs/Twist", self.on_cmd_vel, queue_size=10)
         self.odom_pub = node.publisher("odom", "nav_msgs/Odometry", queue_size=5)
         self.tf = TransformBroadcaster(node)
@@ -66,20 +67,8 @@ class DiffController:
     def on_cmd_vel(self, msg: Any) -> None:
         dx = float(msg.linear.x)
         dr = float(msg.angular.z)
-        if not (math.isfinite(dx) and math.isfinite(dr)):
-            self._rejected += 1
-            if self._rejected == 1:  # one line per burst, not a flood
-                logger.warning(
-                    "%s: ignored cmd_vel with linear.x=%r angular.z=%r (not finite); "
-                    "the base keeps its last command",
-                    self.node.resolve("cmd_vel"),
-                    dx,
-                    dr,
-                )
+        if not self.gate.accept(linear={"linear.x": dx}, angular={"angular.z": dr}):
             return
-        if self._rejected > 1:
-            logger.warning("%s: %d non-finite commands ignored", self.name, self._rejected)
-        self._rejected = 0
         self.last_cmd_ns = self.node.now_ns()
         self.dx = dx
         self.dr = dr

@@ -10,10 +10,10 @@ controller drives the joint) or from a controller. Dynamixels also offer ``<join
 from __future__ import annotations
 
 import logging
-import math
 from typing import Any, Protocol
 
 from belvedere.graph import NS, Node
+from belvedere.sim._commands import CommandGate
 from belvedere.sim.kinematic._config import ServoConfig
 
 __all__ = ["Servo", "ServoGroup"]
@@ -42,6 +42,7 @@ class Servo:
         self.active = not self.dynamixel  # hobby servos have no torque state
         self.controller: _Controller | None = None
         self.last_ns = node.now_ns()
+        self.gate = CommandGate(node.resolve(f"{self.name}/command"), node.graph, logger)
         node.subscribe(f"{self.name}/command", "std_msgs/Float64", self.on_command)
         if self.dynamixel:
             node.service(f"{self.name}/relax", "arbotix_msgs/Relax", lambda _: self.relax())
@@ -50,8 +51,7 @@ class Servo:
 
     def on_command(self, msg: Any) -> None:
         value = float(msg.data)
-        if not math.isfinite(value):
-            logger.warning("%s/command: ignored non-finite position %r", self.name, value)
+        if not self.gate.accept(other={"data": value}):
             return
         if not self.enabled:
             return

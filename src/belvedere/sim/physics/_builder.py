@@ -272,11 +272,19 @@ class _RobotBuilder:
         moving: bool,
     ) -> None:
         body.explicitinertial = True
+        own = self.model.link(start).inertial
+        source = (own.source.best if own else None) or self.model.link(start).source.best
+        for inertial, _ in inertials:
+            if inertial.mass < 0:
+                msg = f"the mass of link {start!r} is {inertial.mass:g} kg: no body has less than 0"
+                raise ModelError(msg, inertial.source.best or source)
         total = sum(i.mass for i, _ in inertials)
         if total <= 0:
             if moving:
                 logger.warning(
-                    "link %r (and the links fixed to it) has no mass; simulating it with %g kg",
+                    "%s: warning: link %r (and the links fixed to it) has no mass; simulating "
+                    "it with %g kg",
+                    source or self.model.path,
                     start,
                     MIN_MASS,
                 )
@@ -294,17 +302,9 @@ class _RobotBuilder:
             d = frame[:3, 3] - com
             tensor += _tensor_in(inertial, frame[:3, :3])
             tensor += inertial.mass * (float(d @ d) * np.eye(3) - np.outer(d, d))
-        eigen = np.linalg.eigvalsh(tensor)
-        own = self.model.link(start).inertial
-        source = (own.source.best if own else None) or self.model.link(start).source.best
-        bad = eigen[0] <= 0 or eigen[0] + eigen[1] < eigen[2] * (1 - 1e-6)
-        if bad:
-            msg = (
-                f"the inertia of link {start!r} (with the links fixed to it) is not physical: "
-                f"principal moments {', '.join(f'{e:.6g}' for e in eigen)} must be positive "
-                "and no one larger than the sum of the other two"
-            )
-            raise ModelError(msg, source, hint="check its <inertia> ixx/iyy/izz values")
+        if not np.all(np.isfinite(com)):
+            tensor[:] = np.inf  # a centre of mass beyond the doubles: reported as below
+        _check_physical(tensor, f"link {start!r} (with the links fixed to it)", source)
         body.mass = total
         body.ipos = [float(v) for v in com]
         body.fullinertia = [
@@ -527,7 +527,8 @@ def add_world(spec: mujoco.MjSpec, world: WorldModel) -> dict[str, str]:
                 _place(body, root_from_model @ model_from_link)
                 frame = np.eye(4)
             if not model.static:
-                _world_inertia(body, link.inertial)
+                what = f"link {link.name!r} of model {model.name!r}"
+                _world_inertia(body, link.inertial, what, link.source)
                 if not link.gravity:
                     body.gravcomp = 1.0
             roots.setdefault(
@@ -538,6 +539,23 @@ def add_world(spec: mujoco.MjSpec, world: WorldModel) -> dict[str, str]:
                     name = f"{model.name}/{link.name}/{kind}_{i}"
                     _world_shape(spec, body, name, shape, frame, visual=kind == "visual")
     return roots
+
+
+def _check_physical(
+    tensor: npt.NDArray[np.float64], what: str, source: SourceLocation | None
+) -> None:
+    """MuJoCo refuses (or diverges on) principal moments no body has."""
+    if not np.all(np.isfinite(tensor)):
+        msg = f"the inertia of {what} overflows a double"
+        raise ModelError(msg, source, hint="check its <mass> and <inertia> values")
+    eigen = np.linalg.eigvalsh(tensor)
+    if eigen[0] <= 0 or eigen[0] + eigen[1] < eigen[2] * (1 - 1e-6):
+        msg = (
+            f"the inertia of {what} is not physical: principal moments "
+            f"{', '.join(f'{e:.6g}' for e in eigen)} must be positive and no one larger than "
+            "the sum of the other two"
+        )
+        raise ModelError(msg, source, hint="check its <inertia> ixx/iyy/izz values")
 
 
 def _tensor_in(inertial: Inertial, rotation: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
@@ -553,7 +571,9 @@ def _tensor_in(inertial: Inertial, rotation: npt.NDArray[np.float64]) -> npt.NDA
     return result
 
 
-def _world_inertia(body: mujoco.MjsBody, inertial: Inertial | None) -> None:
+def _world_inertia(
+    body: mujoco.MjsBody, inertial: Inertial | None, what: str, source: SourceLocation | None
+) -> None:
     body.explicitinertial = True
     if inertial is None:
         body.mass = 1.0
@@ -563,6 +583,7 @@ def _world_inertia(body: mujoco.MjsBody, inertial: Inertial | None) -> None:
     body.mass = inertial.mass
     body.ipos = [float(v) for v in o[:3, 3]]
     t = _tensor_in(inertial, o[:3, :3])
+    _check_physical(t, what, source)
     body.fullinertia = [t[0, 0], t[1, 1], t[2, 2], t[0, 1], t[0, 2], t[1, 2]]
 
 

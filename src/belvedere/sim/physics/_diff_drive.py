@@ -18,9 +18,10 @@ import mujoco
 import numpy as np
 
 from belvedere.msgs import build
+from belvedere.sim._commands import CommandGate
 from belvedere.sim.physics._builder import ModelError
 from belvedere.sim.physics._engine import quat_xyzw, yaw_of
-from belvedere.sim.physics._plugin import Plugin, PluginContext, RateGate, reject_non_finite
+from belvedere.sim.physics._plugin import Plugin, PluginContext, RateGate
 from belvedere.tf import TransformBroadcaster
 
 __all__ = ["DiffDrive"]
@@ -96,7 +97,7 @@ class DiffDrive(Plugin):
         )
         self.x = 0.0
         self.rot = 0.0
-        self._cmd_state: dict[str, Any] = {}
+        self.commands = CommandGate(self.ctx.name, ctx.graph, logger)
         self.instructions = [0.0, 0.0]
         self.gate = RateGate(self.rate, ctx.graph.now_ns())
         self.pose_encoder = [0.0, 0.0, 0.0]
@@ -108,7 +109,7 @@ class DiffDrive(Plugin):
 
     def _on_cmd(self, msg: Any) -> None:
         x, rot = float(msg.linear.x), float(msg.angular.z)
-        if reject_non_finite(self.ctx.name, {"linear.x": x, "angular.z": rot}, self._cmd_state):
+        if not self.commands.accept(linear={"linear.x": x}, angular={"angular.z": rot}):
             return
         self.x, self.rot = x, rot
 

@@ -7,9 +7,11 @@ with MuJoCo keeping the state of everything already there.
 
 from __future__ import annotations
 
+import logging
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Final
 
 import mujoco
 import numpy as np
@@ -18,9 +20,48 @@ import numpy.typing as npt
 from belvedere.sim.physics._builder import RobotBuild, new_spec
 from belvedere.world import Physics
 
-__all__ = ["DivergenceError", "Engine", "JointRef"]
+__all__ = ["DivergenceError", "Engine", "JointRef", "MujocoWarning"]
 
 Matrix4 = npt.NDArray[np.float64]
+
+logger = logging.getLogger("belvedere.physics")
+
+_W = mujoco.mjtWarning
+_BROKEN: Final = {
+    int(_W.mjWARN_BADQPOS): "position",
+    int(_W.mjWARN_BADQVEL): "velocity",
+    int(_W.mjWARN_BADQACC): "acceleration",
+}
+"""MuJoCo's warnings that it gave up on the state (and reset it to the start, mid-run)."""
+_LIMITS: Final = {
+    int(_W.mjWARN_INERTIA): "a body's inertia is too small for the solver",
+    int(_W.mjWARN_CONTACTFULL): "the contact buffer is full: contacts were dropped",
+    int(_W.mjWARN_CNSTRFULL): "the constraint buffer is full: constraints were dropped",
+    int(_W.mjWARN_BADCTRL): "a control input was NaN or huge: MuJoCo zeroed the controls",
+}
+
+
+def _mujoco_says(text: str) -> None:
+    logger.debug("MuJoCo: %s", text)
+
+
+# MuJoCo's default prints its warnings to stdout (into ``--echo`` output) and appends them to
+# MUJOCO_LOG.TXT in the current directory. They are counted in MjData too, which is where we
+# read them (MujocoWarning); unless the application installed a handler of its own.
+if mujoco.get_mju_user_warning() is None:
+    mujoco.set_mju_user_warning(_mujoco_says)
+
+
+@dataclass(frozen=True)
+class MujocoWarning:
+    """A warning MuJoCo counted during the last steps."""
+
+    kind: int
+    """An ``mjtWarning`` value."""
+    count: int
+    text: str
+    broken: bool
+    """True when MuJoCo found the state unusable and reset it."""
 
 
 class DivergenceError(Exception):
@@ -122,6 +163,37 @@ class Engine:
             body = self.m.body(int(self.m.dof_bodyid[dof])).name
             return f"body {body!r} reached {float(np.max(np.abs(d.qvel))):.3g} (m or rad)/s"
         return None
+
+    def take_warnings(self) -> list[MujocoWarning]:
+        """The warnings MuJoCo counted since the last call (cheap when there are none)."""
+        counts = self.d.warning.number
+        if not counts.any():
+            return []
+        out = []
+        for kind in np.flatnonzero(counts):
+            stat = self.d.warning[int(kind)]
+            what = _BROKEN.get(int(kind))
+            if what is not None:
+                text = (
+                    f"MuJoCo found a NaN, infinite or huge {what} of body "
+                    f"{self._body_of(int(kind), int(stat.lastinfo))!r} and reset the world "
+                    "to its start"
+                )
+            else:
+                text = _LIMITS.get(int(kind), f"MuJoCo warning {int(kind)}")
+            out.append(MujocoWarning(int(kind), int(stat.number), text, what is not None))
+            stat.number = 0
+        return out
+
+    def _body_of(self, kind: int, index: int) -> str:
+        """The body whose position (qpos index) or velocity/acceleration (DOF) was bad."""
+        m = self.m
+        if kind == int(_W.mjWARN_BADQPOS):
+            joint = int(np.searchsorted(m.jnt_qposadr, index, side="right")) - 1
+            body = int(m.jnt_bodyid[max(joint, 0)]) if m.njnt else 0
+        else:
+            body = int(m.dof_bodyid[index]) if 0 <= index < m.nv else 0
+        return str(m.body(body).name)
 
     def reset(self) -> None:
         """Everything back to where it was built (Gazebo's reset_world)."""

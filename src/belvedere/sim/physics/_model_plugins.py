@@ -3,18 +3,22 @@
 
 from __future__ import annotations
 
+import logging
 import math
 from typing import Any
 
 import numpy as np
 
 from belvedere.msgs import build
+from belvedere.sim._commands import CommandGate
 from belvedere.sim.physics._builder import ModelError
 from belvedere.sim.physics._engine import quat_xyzw, yaw_of
-from belvedere.sim.physics._plugin import Plugin, PluginContext, RateGate, reject_non_finite
+from belvedere.sim.physics._plugin import Plugin, PluginContext, RateGate
 from belvedere.tf import TransformBroadcaster
 
 __all__ = ["GroundTruth", "JointStates", "PlanarMove"]
+
+logger = logging.getLogger("belvedere.physics")
 
 
 class GroundTruth(Plugin):
@@ -142,11 +146,12 @@ class PlanarMove(Plugin):
         )
         self.tf = TransformBroadcaster(self.node)
         self.command = (0.0, 0.0, 0.0)
-        self._state: dict[str, Any] = {}
+        self.commands = CommandGate(self.ctx.name, ctx.graph, logger)
 
     def _on_cmd(self, msg: Any) -> None:
         x, y, rot = float(msg.linear.x), float(msg.linear.y), float(msg.angular.z)
-        if reject_non_finite(self.ctx.name, {"x": x, "y": y, "rot": rot}, self._state):
+        linear = {"linear.x": x, "linear.y": y}
+        if not self.commands.accept(linear=linear, angular={"angular.z": rot}):
             return
         self.command = (x, y, rot)
 

@@ -11,7 +11,6 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass
-from typing import Any
 
 import mujoco
 import numpy as np
@@ -176,15 +175,3 @@ class RateGate:
 
     def reset(self, now_ns: int) -> None:
         self.last_ns = now_ns
-
-
-def reject_non_finite(owner: str, values: dict[str, float], state: dict[str, Any]) -> bool:
-    """True (and one warning per burst) when a command has NaN or infinite values."""
-    bad = {k: v for k, v in values.items() if not math.isfinite(v)}
-    if not bad:
-        state["rejected"] = 0
-        return False
-    state["rejected"] = state.get("rejected", 0) + 1
-    if state["rejected"] == 1:
-        logger.warning("%s: ignored a command with %s; keeping the last one", owner, bad)
-    return True

@@ -22,6 +22,7 @@ import mujoco
 
 from belvedere.graph import NS, ActionServer, GoalHandle, Node
 from belvedere.msgs import build, message_from_data
+from belvedere.sim._commands import CommandGate
 from belvedere.sim.physics._builder import ModelError
 from belvedere.sim.physics._engine import JointRef
 from belvedere.sim.physics._plugin import Plugin, PluginContext
@@ -167,6 +168,7 @@ class ForwardCommand(Controller):
         super().__init__(manager, name, params)
         self.joint = _joint_param(name, params)
         self.target: float | None = None
+        self.gate = CommandGate(self.node.resolve("~command"), manager.graph, logger)
         self.node.subscribe("~command", "std_msgs/Float64", self._on_command, queue_size=1)
 
     def joints(self) -> list[str]:
@@ -174,10 +176,8 @@ class ForwardCommand(Controller):
 
     def _on_command(self, msg: Any) -> None:
         value = float(msg.data)
-        if not math.isfinite(value):
-            logger.warning("%s/command: ignored non-finite %r", self.name, value)
-            return
-        self.target = value
+        if self.gate.accept(other={"data": value}):
+            self.target = value
 
     def start(self) -> None:
         super().start()
@@ -430,6 +430,7 @@ class DiffDriveController(Controller):
         self.last_wheels: tuple[float, float] | None = None
         self.last_pub_ns: int | None = None
         self.velocity = (0.0, 0.0)
+        self.gate = CommandGate(self.node.resolve("~cmd_vel"), manager.graph, logger)
         self.node.subscribe("~cmd_vel", "geometry_msgs/Twist", self._on_cmd, queue_size=1)
         self.odom_pub = self.node.publisher("~odom", "nav_msgs/Odometry", queue_size=100)
         self.tf = TransformBroadcaster(self.node)
@@ -439,8 +440,7 @@ class DiffDriveController(Controller):
 
     def _on_cmd(self, msg: Any) -> None:
         v, w = float(msg.linear.x), float(msg.angular.z)
-        if not (math.isfinite(v) and math.isfinite(w)):
-            logger.warning("%s/cmd_vel: ignored a non-finite command", self.name)
+        if not self.gate.accept(linear={"linear.x": v}, angular={"angular.z": w}):
             return
         self.cmd = (_limit(v, self.limits), _limit(w, self.angular_limits))
         self.cmd_ns = self.node.now_ns()

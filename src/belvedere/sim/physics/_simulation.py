@@ -2,8 +2,10 @@
 into it with their Gazebo plugins, as ``gzserver`` + gazebo_ros do.
 
 One physics step per ``max_step_size`` of simulated time (1 kHz unless the world says
-otherwise), each followed by every plugin's update. A step that leaves NaN or absurd speeds
-stops the physics with one error naming the likely cause (or resets the world, if asked).
+otherwise), each followed by every plugin's update. A step that leaves NaN or absurd speeds,
+or that MuJoCo itself gives up on (its warnings counted in MjData, read after every step: it
+resets a state it cannot integrate to the start, mid-run), stops the physics with one error
+naming the likely cause (or resets the world, if asked).
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ import numpy as np
 import numpy.typing as npt
 
 from belvedere.description.urdf import GazeboPlugin, Pose, RobotModel, XmlData, transform
+from belvedere.errors import SourceLocation
 from belvedere.graph import Graph, Node
 from belvedere.packages import PackageIndex
 from belvedere.sim.physics._builder import ModelError, RobotBuild, add_robot, add_world
@@ -86,16 +89,26 @@ class PhysicsSimulation:
         self.graph = graph
         self.world = world or empty_world()
         self.engine = Engine(self.world.physics)
-        self.world_roots = add_world(self.engine.spec, self.world)
+        self.world_roots: dict[str, str] = {}
+        self._build_world()  # first: a world MuJoCo refuses leaves nothing on the graph
         self.robots: dict[str, SpawnedRobot] = {}
         self.auto_reset = auto_reset
         self.node = node or graph.create_node("gazebo")
         self.stopped_reason: str | None = None
         self.steps = 0
+        self.warned: set[int] = set()
+        """MuJoCo's warnings already logged (each once per run)."""
         self.after_step: list[Callable[[], None]] = []
-        self.engine.compile()
         self.engine.on_recompile.append(self._bind_all)
         self.timer = self.node.timer(self.engine.physics.max_step_size, self.physics_step)
+
+    def _build_world(self) -> None:
+        try:
+            self.world_roots = add_world(self.engine.spec, self.world)
+            self.engine.compile()
+        except ValueError as err:  # what the builder's checks do not catch first
+            msg = f"MuJoCo refused the world: {err}"
+            raise ModelError(msg, SourceLocation(self.world.path or "<world>")) from None
 
     @property
     def plugins(self) -> list[Plugin]:
@@ -119,16 +132,27 @@ class PhysicsSimulation:
         spec = self.engine.spec
         build = add_robot(spec, model, name=name, pose=pose, packages=packages)
         robot = SpawnedRobot(name, model, build)
-        robot.plugins = self._make_plugins(robot)
-        for plugin in robot.plugins:
-            plugin.prepare(spec)
-        self.robots[name] = robot
         try:
-            self.engine.compile()
-        except ValueError as err:
-            del self.robots[name]
-            msg = f"MuJoCo refused robot {name!r}: {err}"
-            raise ModelError(msg, model.link(model.root_link.name).source.best) from None
+            robot.plugins = self._make_plugins(robot)
+            for plugin in robot.plugins:
+                try:
+                    plugin.prepare(spec)
+                except ValueError as err:  # MjSpec refuses a name or a value
+                    msg = f"plugin {plugin.ctx.name!r}: MuJoCo refused it: {err}"
+                    raise ModelError(msg, plugin.ctx.source) from None
+            self.robots[name] = robot
+            try:
+                self.engine.compile()
+            except ValueError as err:
+                msg = f"MuJoCo refused robot {name!r}: {err}"
+                raise ModelError(msg, model.link(model.root_link.name).source.best) from None
+        except BaseException:
+            # Nothing of a robot that failed to spawn stays in the world.
+            self.robots.pop(name, None)
+            for plugin in robot.plugins:
+                plugin.active = False
+            self._remove_from_spec(name)
+            raise
         return robot
 
     def _make_plugins(self, robot: SpawnedRobot) -> list[Plugin]:
@@ -196,6 +220,13 @@ class PhysicsSimulation:
         engine = self.engine
         mujoco.mj_step(engine.m, engine.d)
         self.steps += 1
+        for warning in engine.take_warnings():
+            if warning.broken:
+                self._diverged(warning.text)
+                return
+            if warning.kind not in self.warned:
+                self.warned.add(warning.kind)
+                logger.warning("physics at t=%.3f s: %s", self.graph.now_ns() / 1e9, warning.text)
         if self.steps % 10 == 0:
             problem = engine.healthy()
             if problem is not None:
@@ -335,19 +366,35 @@ class PhysicsSimulation:
             msg = f"a model named {name!r} already exists in the simulation"
             raise ModelError(msg)
         placed = replace(entry, name=name, pose=pose)
-        self.world_roots.update(add_world(self.engine.spec, WorldModel(models=(placed,))))
+        try:
+            roots = add_world(self.engine.spec, WorldModel(models=(placed,)))
+            self.engine.compile()
+        except (ModelError, ValueError) as err:
+            self._remove_from_spec(name)  # the world stays as it was
+            if isinstance(err, ModelError):
+                raise
+            msg = f"MuJoCo refused model {name!r}: {err}"
+            raise ModelError(msg, entry.source) from None
+        self.world_roots.update(roots)
         self.world = replace(self.world, models=(*self.world.models, placed))
-        self.engine.compile()
 
     def delete(self, name: str) -> None:
         """Remove a robot or a world model (delete_model)."""
-        spec = self.engine.spec
-        prefix = f"{name}/"
         robot = self.robots.pop(name, None)
         if robot is None and name not in self.world_roots:
             self.model_pose(name)  # raises the KeyError naming the models
         for plugin in robot.plugins if robot else []:
             plugin.active = False
+        self._remove_from_spec(name)
+        self.world_roots.pop(name, None)
+        self.world = replace(
+            self.world, models=tuple(m for m in self.world.models if m.name != name)
+        )
+        self.engine.compile()
+
+    def _remove_from_spec(self, name: str) -> None:
+        spec = self.engine.spec
+        prefix = f"{name}/"
         for actuator in list(spec.actuators):
             if actuator.name.startswith(prefix):
                 spec.delete(actuator)
@@ -360,11 +407,6 @@ class PhysicsSimulation:
         for geom in list(spec.worldbody.geoms):
             if geom.name.startswith(prefix):
                 spec.delete(geom)
-        self.world_roots.pop(name, None)
-        self.world = replace(
-            self.world, models=tuple(m for m in self.world.models if m.name != name)
-        )
-        self.engine.compile()
 
     @property
     def paused(self) -> bool:
