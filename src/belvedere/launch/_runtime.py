@@ -24,6 +24,7 @@ import numpy as np
 
 from belvedere.description.urdf import RobotModel
 from belvedere.errors import BelvedereError
+from belvedere.fileio import FileWriteError, write_file
 from belvedere.graph import Graph, Node
 from belvedere.launch._model import LaunchConfig, LaunchError, LaunchNode
 from belvedere.msgs import types
@@ -73,9 +74,9 @@ class LaunchRuntime:
             params.set(name, param.value)
         for file, ns in self.config.dumps:
             try:
-                Path(file).write_text(params.dump_yaml(ns) if params.has(ns) or ns == "/" else "")
-            except OSError as err:
-                logger.warning("rosparam dump to %s failed: %s", file, err.strerror)
+                write_file(file, params.dump_yaml(ns) if params.has(ns) or ns == "/" else "")
+            except FileWriteError as err:
+                logger.warning("rosparam dump: %s", err.message)
         for spec in self.config.nodes:
             self._start(spec)
         for action in [*self.deferred, *self.controllers]:
