@@ -92,17 +92,34 @@ def melodic_oracle() -> Oracle:
     return Oracle(MELODIC_ORACLE)
 
 
-@pytest.fixture
-def endpoint(monkeypatch: pytest.MonkeyPatch) -> str:
-    """A free loopback endpoint of our own (tools and subprocesses see it too)."""
+TEST_DOMAIN = 231
+"""The domain every test joins (never 0, the user's): see ``own_graph``."""
+
+
+def free_endpoint() -> str:
+    """A free loopback endpoint."""
     import socket
 
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]
-    value = f"tcp/127.0.0.1:{port}"
+    return f"tcp/127.0.0.1:{port}"
+
+
+@pytest.fixture(autouse=True)
+def own_graph(monkeypatch: pytest.MonkeyPatch) -> str:
+    """Every test joins a graph of its own: a free loopback endpoint and a domain that is
+    not 0, so the suite never meets a user's graph (tools and subprocesses see them too)."""
+    value = free_endpoint()
     monkeypatch.setenv("BELVEDERE_ENDPOINT", value)
+    monkeypatch.setenv("BELVEDERE_DOMAIN", str(TEST_DOMAIN))
     return value
+
+
+@pytest.fixture
+def endpoint(own_graph: str) -> str:
+    """This test's endpoint (``BELVEDERE_ENDPOINT``)."""
+    return own_graph
 
 
 PEER_SCRIPT = """

@@ -226,3 +226,22 @@ def test_frame_rate(scene: Scene, page: Any) -> None:
     rate = (scene.viewer.frames_rendered - before) / (time.monotonic() - start)
     print(f"viewer updates: {rate:.1f} Hz")  # noqa: T201
     assert rate >= 29.0
+
+
+def test_a_viewer_with_a_token_in_the_browser() -> None:
+    """Served beyond loopback: the printed URL's page connects (its websocket carries the
+    token by cookie); the same page without the token is refused."""
+    graph = Graph(sim_time=False)
+    viewer = Viewer(graph, host="0.0.0.0", port=_free_port())  # reached via 127.0.0.1 only
+    try:
+        port = viewer.server.get_port()
+        with browser_page(f"http://127.0.0.1:{port}/?token={viewer.access.token}") as page:
+            assert _wait(lambda: len(viewer.server.get_clients()) == 1)
+            stranger = page.context.browser.new_context().new_page()
+            response = stranger.goto(f"http://127.0.0.1:{port}/")
+            assert response.status == 403
+            assert "needs its token" in stranger.content()
+            assert len(viewer.server.get_clients()) == 1
+    finally:
+        viewer.close()
+        graph.shutdown()
