@@ -28,6 +28,7 @@ import os
 import socket
 import threading
 import time
+import weakref
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -166,6 +167,12 @@ class _NodeHolder:
     """When it took the name (wall clock): the later one wins."""
 
 
+def _close_at_exit(ref: weakref.ref[ZenohTransport]) -> None:
+    transport = ref()
+    if transport is not None:
+        transport.close()
+
+
 class ZenohTransport:
     """Carries a graph's traffic to and from other processes."""
 
@@ -200,10 +207,14 @@ class ZenohTransport:
         self._node_watch: Any = None
         self._own_nodes: dict[str, tuple[int, Node]] = {}
         """full name → (when taken, node)"""
-        self._other_nodes: dict[str, dict[str, _NodeHolder]] = {}
-        """full name → zid → holder, in other processes"""
+        self._clashes: set[tuple[str, str]] = set()
+        """(node name, other process's zid) already settled"""
         self._lock = threading.Lock()
         self._closed = False
+        # Zenoh runs callbacks on a non-daemon thread: a process that never closes its
+        # session would wait for it forever at exit. Close it first (threading's own hook
+        # runs before that wait; atexit runs after it).
+        threading._register_atexit(partial(_close_at_exit, weakref.ref(self)))  # type: ignore[attr-defined]
 
     def _key(self, kind: str, name: str = "") -> str:
         """``bv/<domain>/<kind><name>`` (graph names start with '/')."""
@@ -216,8 +227,11 @@ class ZenohTransport:
             self._param_queryable = self.session.declare_queryable(
                 self._key("p"), self._on_param_query
             )
+        # New holders of node names from now on (no history: those before are asked for when
+        # a node is added; with history, zenoh 1.x answers a liveliness query made right after
+        # with nothing).
         self._node_watch = self.session.liveliness().declare_subscriber(
-            self._key("g/node/**"), self._on_node_token, history=True
+            self._key("g/node/**"), self._on_node_token
         )
 
     def close(self) -> None:
@@ -241,14 +255,16 @@ class ZenohTransport:
 
     # --- nodes ---------------------------------------------------------------------------------
     def node_added(self, node: Node) -> None:
+        # Who holds the name already? Asked before our token exists: once it does, they
+        # start shutting their node down (a round trip of well under a millisecond here).
+        holders = self._holders(node.full_name)
         since = time.time_ns()
         with self._lock:
             self._own_nodes[node.full_name] = (since, node)
-            others = list(self._other_nodes.get(node.full_name, {}).values())
         who = encode_key(self._process.removeprefix("pid ").replace(" on ", "@"))
         self._token("node", node.full_name, extra=(who, str(since)))
-        for other in others:
-            self._name_clash(node.full_name, other)
+        for sample in holders:
+            self._on_node_token(sample)
 
     def node_removed(self, node: Node) -> None:
         with self._lock:
@@ -257,32 +273,31 @@ class ZenohTransport:
                 del self._own_nodes[node.full_name]
         self._drop_token("node", node.full_name)
 
+    def _holders(self, name: str) -> list[Any]:
+        """The liveliness tokens of processes holding node ``name``."""
+        key = self._key("g/node/", encode_key(name) + "/**")
+        with contextlib.suppress(zenoh.ZError):
+            replies = self.session.liveliness().get(key, timeout=2.0)
+            return [reply.ok for reply in replies if reply.ok is not None]
+        return []
+
     def _on_node_token(self, sample: Any) -> None:
-        """Another process took a node name (or let it go)."""
+        """A process holds a node name: if it is one of ours, the later one keeps it."""
+        if sample.kind != zenoh.SampleKind.PUT:
+            return
         chunks = str(sample.key_expr).removeprefix(self._key("g/node/")).split("/")
         if len(chunks) != 4 or chunks[1] == self._zid:
             return
         name, zid, who, since = decode_key(chunks[0]), chunks[1], decode_key(chunks[2]), chunks[3]
-        if sample.kind == zenoh.SampleKind.DELETE:
-            with self._lock:
-                self._other_nodes.get(name, {}).pop(zid, None)
-            return
         pid, _, host = who.partition("@")
         other = _NodeHolder(zid, f"pid {pid} on {host}", int(since) if since.isdigit() else 0)
         with self._lock:
-            self._other_nodes.setdefault(name, {})[zid] = other
-            clash = name in self._own_nodes
-        if clash:
-            self._name_clash(name, other)
-
-    def _name_clash(self, name: str, other: _NodeHolder) -> None:
-        """Two processes hold ``name``: the later one keeps it (as ROS 1's master decides)."""
-        with self._lock:
             mine = self._own_nodes.get(name)
-            if mine is None:
+            if mine is None or (name, zid) in self._clashes:
                 return
-            since, node = mine
-            ours_is_newer = (since, self._zid) > (other.since_ns, other.zid)
+            self._clashes.add((name, zid))
+            since_ns, node = mine
+            ours_is_newer = (since_ns, self._zid) > (other.since_ns, other.zid)
             if not ours_is_newer:
                 del self._own_nodes[name]
         if ours_is_newer:
