@@ -172,3 +172,17 @@ def test_fuzz_only_clear_errors(type_name: str, data: Any) -> None:
 def test_fuzz_command_line_text(type_name: str, text: str) -> None:
     with contextlib.suppress(MessageValueError):
         message_from_args(type_name, [text])
+
+
+@pytest.mark.parametrize("stamp", [2147483648.0, -2147483649, {"secs": 0, "nsecs": -1}])
+def test_a_time_beyond_int32_seconds_is_a_clear_error(stamp: Any) -> None:
+    with pytest.raises(
+        MessageValueError,
+        match=r"field 'header\.stamp': expected a time with int32 seconds and uint32 nano",
+    ):
+        message_from_data("geometry_msgs/PoseStamped", {"header": {"stamp": stamp}})
+
+
+def test_a_time_just_below_a_whole_second_carries() -> None:
+    msg = message_from_data("std_msgs/Header", {"stamp": 1.9999999999})
+    assert (msg.stamp.sec, msg.stamp.nanosec) == (2, 0)

@@ -126,7 +126,8 @@ class _Builder:
             if not math.isfinite(value):
                 raise _fail(path, "a finite time", value)
             sec = math.floor(value)
-            return cls(int(sec), round((value - sec) * 1e9))
+            nsec = round((value - sec) * 1e9)
+            return self._stamp(cls, int(sec) + nsec // 10**9, nsec % 10**9, path, value)
         if isinstance(value, list | tuple) and len(value) == 2:
             value = {"sec": value[0], "nanosec": value[1]}
         if isinstance(value, dict):
@@ -138,8 +139,15 @@ class _Builder:
             whole = all(isinstance(v, int) and not isinstance(v, bool) for v in stamp)
             if extra or not whole:
                 raise _fail(path, "{secs: int, nsecs: int}", value)
-            return cls(*stamp)
+            return self._stamp(cls, int(stamp[0] or 0), int(stamp[1] or 0), path, value)
         raise _fail(path, "a time (seconds, 'now', or {secs, nsecs})", value)
+
+    def _stamp(self, cls: type[Any], sec: int, nsec: int, path: str, value: Any) -> Any:
+        """A time whose seconds fit int32 and nanoseconds uint32, as the message holds them."""
+        low, high = _INT_RANGES["int32"]
+        if not (low <= sec <= high and 0 <= nsec <= _INT_RANGES["uint32"][1]):
+            raise _fail(path, "a time with int32 seconds and uint32 nanoseconds", value)
+        return cls(sec, nsec)
 
     # --- fields --------------------------------------------------------------------------------
     def field(self, kind: int, detail: Any, value: Any, path: str) -> Any:
