@@ -228,20 +228,25 @@ def test_frame_rate(scene: Scene, page: Any) -> None:
     assert rate >= 29.0
 
 
-def test_a_viewer_with_a_token_in_the_browser() -> None:
+def test_a_viewer_with_a_token_in_the_browser(page: Any) -> None:
     """Served beyond loopback: the printed URL's page connects (its websocket carries the
     token by cookie); the same page without the token is refused."""
+    browser = page.context.browser  # the module's browser, in fresh contexts (no cookies)
     graph = Graph(sim_time=False)
     viewer = Viewer(graph, host="0.0.0.0", port=_free_port())  # reached via 127.0.0.1 only
+    contexts = [browser.new_context(), browser.new_context()]
     try:
         port = viewer.server.get_port()
-        with browser_page(f"http://127.0.0.1:{port}/?token={viewer.access.token}") as page:
-            assert _wait(lambda: len(viewer.server.get_clients()) == 1)
-            stranger = page.context.browser.new_context().new_page()
-            response = stranger.goto(f"http://127.0.0.1:{port}/")
-            assert response.status == 403
-            assert "needs its token" in stranger.content()
-            assert len(viewer.server.get_clients()) == 1
+        user = contexts[0].new_page()
+        user.goto(f"http://127.0.0.1:{port}/?token={viewer.access.token}")
+        assert _wait(lambda: len(viewer.server.get_clients()) == 1, timeout=30.0)
+        stranger = contexts[1].new_page()
+        response = stranger.goto(f"http://127.0.0.1:{port}/")
+        assert response.status == 403
+        assert "needs its token" in stranger.content()
+        assert len(viewer.server.get_clients()) == 1
     finally:
+        for context in contexts:
+            context.close()
         viewer.close()
         graph.shutdown()
