@@ -6,6 +6,7 @@ import importlib.metadata
 import os
 import subprocess
 import sys
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -100,17 +101,34 @@ def melodic_oracle() -> Oracle:
     return Oracle(MELODIC_ORACLE)
 
 
-@pytest.fixture
-def endpoint(monkeypatch: pytest.MonkeyPatch) -> str:
-    """A free loopback endpoint of our own (tools and subprocesses see it too)."""
+TEST_DOMAIN = 231
+"""The domain every test joins (never 0, the user's): see ``own_graph``."""
+
+
+def free_endpoint() -> str:
+    """A free loopback endpoint."""
     import socket
 
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]
-    value = f"tcp/127.0.0.1:{port}"
+    return f"tcp/127.0.0.1:{port}"
+
+
+@pytest.fixture(autouse=True)
+def own_graph(monkeypatch: pytest.MonkeyPatch) -> str:
+    """Every test joins a graph of its own: a free loopback endpoint and a domain that is
+    not 0, so the suite never meets a user's graph (tools and subprocesses see them too)."""
+    value = free_endpoint()
     monkeypatch.setenv("BELVEDERE_ENDPOINT", value)
+    monkeypatch.setenv("BELVEDERE_DOMAIN", str(TEST_DOMAIN))
     return value
+
+
+@pytest.fixture
+def endpoint(own_graph: str) -> str:
+    """This test's endpoint (``BELVEDERE_ENDPOINT``)."""
+    return own_graph
 
 
 PEER_SCRIPT = """
@@ -153,3 +171,22 @@ def peer(endpoint: str, tmp_path: Path) -> Any:
     assert proc.stdin is not None
     proc.stdin.close()
     proc.wait(timeout=DEADLINE)
+
+
+@pytest.fixture
+def full_disk(tmp_path: Path) -> Iterator[Path]:
+    """A directory on a real, tiny file system (a 64 KiB tmpfs): a write of more fails with
+    "No space left on device". Needs root and mount; skips where they are not allowed."""
+    mount = tmp_path / "small"
+    mount.mkdir()
+    argv = ["mount", "-t", "tmpfs", "-o", "size=64k,mode=0755", "tmpfs", str(mount)]
+    try:
+        made = subprocess.run(argv, capture_output=True, text=True, check=False)
+    except FileNotFoundError:
+        pytest.skip("no mount command here")
+    if made.returncode != 0:
+        pytest.skip(f"cannot mount a small tmpfs here: {made.stderr.strip() or made.returncode}")
+    try:
+        yield mount
+    finally:
+        subprocess.run(["umount", "-l", str(mount)], check=False)

@@ -192,3 +192,32 @@ def test_failed_expansion_leaves_existing_output_untouched(tmp_path: Path) -> No
     bad.write_text("<robot><unclosed></robot>")
     assert main(["xacro", str(bad), "-o", str(out)]) == 1
     assert out.read_text() == "previous"
+
+
+def test_output_replacing_a_file_keeps_its_permissions(tmp_path: Path) -> None:
+    out = tmp_path / "robot.urdf"
+    out.write_text("previous")
+    out.chmod(0o644)
+    assert main(["-q", "xacro", str(MBOT_WRAPPER), "-o", str(out)]) == 0
+    assert out.read_text().startswith("<?xml")
+    assert out.stat().st_mode & 0o777 == 0o644
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["robot.urdf"]
+
+
+def _big_urdf(tmp_path: Path) -> Path:
+    links = "".join(f'  <link name="link_{i}"/>\n' for i in range(4000))
+    big = tmp_path / "big.urdf"
+    big.write_text(f'<robot name="big">\n{links}</robot>\n')
+    return big
+
+
+def test_output_on_a_full_disk_keeps_the_old_file(
+    tmp_path: Path, full_disk: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out = full_disk / "robot.urdf"
+    out.write_text("previous")
+    assert main(["xacro", str(_big_urdf(tmp_path)), "-o", str(out)]) == 1
+    err = capsys.readouterr().err
+    assert err == (f"error: cannot write {out}: No space left on device; {out} is unchanged\n")
+    assert out.read_text() == "previous"
+    assert sorted(p.name for p in full_disk.iterdir()) == ["robot.urdf"]

@@ -109,6 +109,19 @@ def test_introspection_params_and_services(peer: Any, tmp_path: Path) -> None:
     assert called.stdout == 'success: True\nmessage: "done"\n'
 
 
+def test_param_dump_on_a_full_disk_keeps_the_old_file(peer: Any, full_disk: Path) -> None:
+    dump = full_disk / "params.yaml"
+    dump.write_text("previous: 1\n")
+    assert run("param", "set", "/big", "x" * 70_000).returncode == 0  # more than the disk holds
+    result = run("param", "dump", str(dump))
+    assert result.returncode == 1
+    assert result.stderr.splitlines()[-1] == (
+        f"error: cannot write {dump}: No space left on device; {dump} is unchanged"
+    )
+    assert dump.read_text() == "previous: 1\n"
+    assert sorted(p.name for p in full_disk.iterdir()) == ["params.yaml"]
+
+
 def test_absent_things_are_said_plainly(endpoint: str) -> None:
     echo = run("topic", "echo", "/nobody", "--timeout", "1")
     assert echo.returncode == 1
@@ -185,7 +198,8 @@ def test_values_that_do_not_fit_stop_at_the_publisher(
     )
     try:
         assert main(["topic", "pub", "-1", "/t", msg_type, value]) == 1
-        assert capsys.readouterr().err == f"error: {error}\n"
+        # after the line naming the graph it joined
+        assert capsys.readouterr().err.splitlines()[-1] == f"error: {error}"
     finally:
         echo.kill()
         out, err = echo.communicate(timeout=10)

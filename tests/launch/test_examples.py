@@ -230,3 +230,25 @@ def test_required_script_ends_the_launch_and_params_are_dumped(
     assert main(["launch", str(launch), "--headless", "--duration", str(DEADLINE)]) == 0
     assert "required node /quick exited: shutting down" in capsys.readouterr().err
     assert "speed: 0.3" in dump.read_text()
+
+
+def test_a_dump_that_does_not_fit_keeps_the_old_file(
+    tmp_path: Path, full_disk: Path, capsys: pytest.CaptureFixture[str], endpoint: str
+) -> None:
+    dump = full_disk / "params.yaml"
+    dump.write_text("previous: 1\n")
+    launch = tmp_path / "dump.launch"
+    launch.write_text(
+        f"""<launch>
+          <param name="big" value="{"x" * 70_000}"/>
+          <rosparam command="dump" file="{dump}"/>
+        </launch>"""
+    )
+    assert main(["launch", str(launch), "--headless", "--duration", "0.1"]) == 0
+    err = capsys.readouterr().err
+    assert (
+        f"warning: rosparam dump: cannot write {dump}: No space left on device; "
+        f"{dump} is unchanged\n" in err
+    )
+    assert dump.read_text() == "previous: 1\n"
+    assert sorted(p.name for p in full_disk.iterdir()) == ["params.yaml"]

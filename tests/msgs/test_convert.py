@@ -274,3 +274,17 @@ def test_extreme_values_that_fit_are_kept_and_serialize() -> None:
     assert (negative.data.sec, negative.data.nanosec) == (-2, 750_000_000)
     for msg, name in ((duration, "std_msgs/Duration"), (later, "std_msgs/Time")):
         types().deserialize(types().serialize(msg), name)
+
+
+@pytest.mark.parametrize("stamp", [2147483648.0, -2147483649, {"secs": 0, "nsecs": -1}])
+def test_a_time_beyond_int32_seconds_is_a_clear_error(stamp: Any) -> None:
+    with pytest.raises(
+        MessageValueError,
+        match=r"field 'header\.stamp': .* does not fit a time \(0 to 2147483647 s",
+    ):
+        message_from_data("geometry_msgs/PoseStamped", {"header": {"stamp": stamp}})
+
+
+def test_a_time_just_below_a_whole_second_carries() -> None:
+    msg = message_from_data("std_msgs/Header", {"stamp": 1.9999999999})
+    assert (msg.stamp.sec, msg.stamp.nanosec) == (2, 0)

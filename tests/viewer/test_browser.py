@@ -256,3 +256,29 @@ def test_scan_and_map_appear(scene: Scene, page: Any) -> None:
     free, occupied = (project((-0.5 + 0.5, -1.0 + 0.25 * k + 0.125, 0.0)) for k in (0, 1))
     wait_for_pixel(page, free, lambda rgb: rgb[0] > 200, what="a white (free) row of the map")
     wait_for_pixel(page, occupied, lambda rgb: rgb[0] < 80, what="a black (occupied) map row")
+
+
+def test_a_viewer_with_a_token_in_the_browser(page: Any) -> None:
+    """Served beyond loopback: the printed URL's page connects (its websocket carries the
+    token by cookie); the same page without the token is refused."""
+    browser = page.context.browser  # the module's browser, in fresh contexts (no cookies)
+    graph = Graph(sim_time=False)
+    viewer = Viewer(graph, host="0.0.0.0", port=_free_port())  # reached via 127.0.0.1 only
+    contexts = [browser.new_context(), browser.new_context()]
+    try:
+        port = viewer.server.get_port()
+        user = contexts[0].new_page()
+        user.goto(f"http://127.0.0.1:{port}/?token={viewer.access.token}")
+        wait_until(
+            lambda: len(viewer.server.get_clients()) == 1, what="the page with the token to connect"
+        )
+        stranger = contexts[1].new_page()
+        response = stranger.goto(f"http://127.0.0.1:{port}/")
+        assert response.status == 403
+        assert "needs its token" in stranger.content()
+        assert len(viewer.server.get_clients()) == 1
+    finally:
+        for context in contexts:
+            context.close()
+        viewer.close()
+        graph.shutdown()

@@ -2,10 +2,42 @@
 
 from __future__ import annotations
 
+import argparse
+
 from belvedere.description.xacro._command import split_mappings
 from belvedere.errors import BelvedereError
 
-__all__ = ["mappings_only"]
+__all__ = ["add_viewer_options", "mappings_only"]
+
+
+def _origin(text: str) -> str:
+    from belvedere.viewer._access import check_origin  # only when the option is given
+
+    try:
+        return check_origin(text)
+    except BelvedereError as err:
+        raise argparse.ArgumentTypeError(err.message) from None
+
+
+def add_viewer_options(p: argparse.ArgumentParser) -> None:
+    """Where the viewer is served, and who may use it."""
+    p.add_argument("--port", type=int, default=8080, help="viewer port (default: 8080)")
+    p.add_argument(
+        "--host",
+        default="127.0.0.1",
+        help="viewer address (default: this machine only; another address needs the token "
+        "in the printed URL)",
+    )
+    p.add_argument(
+        "--allow-origin",
+        action="append",
+        default=[],
+        type=_origin,
+        dest="allow_origins",
+        metavar="ORIGIN",
+        help="also accept the viewer's websocket from pages of ORIGIN (scheme://host[:port]; "
+        "repeatable; * for any): by default only the viewer's own page may connect",
+    )
 
 
 def mappings_only(extra: list[str]) -> dict[str, str]:

@@ -3,34 +3,79 @@
 from __future__ import annotations
 
 import argparse
+import logging
 import os
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
-from belvedere.graph import Graph, GraphInfo, Node, ZenohTransport
+from belvedere.graph import (
+    MAX_DOMAIN,
+    Graph,
+    GraphInfo,
+    Node,
+    TransportError,
+    ZenohTransport,
+    check_domain,
+)
 
-__all__ = ["Tool", "action_parsers", "add_endpoint_option", "open_tool", "wait_for"]
+__all__ = [
+    "Tool",
+    "action_parsers",
+    "add_graph_options",
+    "open_tool",
+    "open_transport",
+    "wait_for",
+]
+
+logger = logging.getLogger("belvedere.cli")
 
 
-def add_endpoint_option(p: argparse.ArgumentParser) -> None:
+def _domain(text: str) -> int:
+    try:
+        return check_domain(text)
+    except TransportError as err:
+        raise argparse.ArgumentTypeError(err.message) from None
+
+
+def add_graph_options(p: argparse.ArgumentParser) -> None:
+    """``--domain`` and ``--endpoint``: which graph to join."""
+    p.add_argument(
+        "--domain",
+        type=_domain,
+        metavar="N",
+        help=f"the graph to join, 0 to {MAX_DOMAIN} (default: BELVEDERE_DOMAIN or 0); "
+        "domain N meets on tcp/127.0.0.1:<7450+N>",
+    )
     p.add_argument(
         "--endpoint",
         metavar="ENDPOINT",
-        help="Zenoh endpoint of the graph (default: BELVEDERE_ENDPOINT or tcp/127.0.0.1:7450)",
+        help="Zenoh endpoint of the graph (default: BELVEDERE_ENDPOINT, else the domain's)",
     )
+
+
+def open_transport(args: argparse.Namespace, **options: Any) -> ZenohTransport:
+    """Join the graph that ``--domain``/``--endpoint`` name, and say which (one line on
+    stderr; ``-q`` hides it)."""
+    transport = ZenohTransport(
+        endpoint=getattr(args, "endpoint", None), domain=getattr(args, "domain", None), **options
+    )
+    how = "listening" if transport.role == "listen" else "connected"
+    logger.info("graph: domain %d (%s, %s)", transport.domain, transport.endpoint, how)
+    return transport
 
 
 def action_parsers(
     parser: argparse.ArgumentParser, common: argparse.ArgumentParser
 ) -> Callable[[str, str], argparse.ArgumentParser]:
-    """A maker of ``belvedere VERB ACTION`` sub-parsers, each with the common options and
-    ``--endpoint``."""
+    """A maker of ``belvedere VERB ACTION`` sub-parsers, each with the common options,
+    ``--domain`` and ``--endpoint``."""
     actions = parser.add_subparsers(dest="action", metavar="ACTION", required=True)
 
     def action(name: str, help_text: str) -> argparse.ArgumentParser:
         sub = actions.add_parser(name, parents=[common], help=help_text)
-        add_endpoint_option(sub)
+        add_graph_options(sub)
         return sub
 
     return action
@@ -51,7 +96,7 @@ class Tool:
 
 def open_tool(args: argparse.Namespace, kind: str) -> Tool:
     """A wall-time graph with one anonymous node, connected (or listening) on the endpoint."""
-    transport = ZenohTransport(endpoint=getattr(args, "endpoint", None), serve_params=False)
+    transport = open_transport(args, serve_params=False)
     graph = Graph(sim_time=False, transport=transport)
     node = graph.create_node(f"belvedere_{kind}_{os.getpid()}")
     return Tool(graph, transport, node)

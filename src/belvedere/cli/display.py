@@ -8,10 +8,10 @@ import sys
 import time
 import webbrowser
 
-from belvedere.cli._args import mappings_only
-from belvedere.cli._tool import add_endpoint_option
+from belvedere.cli._args import add_viewer_options, mappings_only
+from belvedere.cli._tool import add_graph_options, open_transport
 from belvedere.description.urdf import RobotModel
-from belvedere.graph import Graph, ZenohTransport
+from belvedere.graph import Graph
 from belvedere.packages import PackageIndex
 from belvedere.tf import JointStatePublisher, RobotStatePublisher
 
@@ -24,13 +24,10 @@ def add_parser(
     p = sub.add_parser("display", parents=[common], help="show a robot model in the browser")
     p.add_argument("input", metavar="MODEL", help="URDF or xacro file")
     p.add_argument("--rviz", metavar="CONFIG", help="an rviz .rviz config to start from")
-    p.add_argument("--port", type=int, default=8080)
-    p.add_argument(
-        "--host", default="127.0.0.1", help="address to serve on (default: this machine only)"
-    )
+    add_viewer_options(p)
     p.add_argument("--open", action="store_true", help="open a browser on the viewer")
     p.add_argument("--duration", type=float, help="exit after SECONDS (for scripts)")
-    add_endpoint_option(p)
+    add_graph_options(p)
     p.set_defaults(run=run)
 
 
@@ -43,7 +40,7 @@ def run(args: argparse.Namespace) -> int:
     model = RobotModel.from_path(args.input, mappings=mappings, packages=packages)
     for warning in model.warnings:
         sys.stderr.write(f"{warning}\n")
-    graph = Graph(sim_time=False, transport=ZenohTransport(endpoint=args.endpoint))
+    graph = Graph(sim_time=False, transport=open_transport(args))
     graph.params.set("/robot_description", model.to_urdf())
     RobotStatePublisher(graph.create_node("robot_state_publisher"), model)
     jsp = JointStatePublisher(graph.create_node("joint_state_publisher"), model)
@@ -53,6 +50,7 @@ def run(args: argparse.Namespace) -> int:
         model=model,
         host=args.host,
         port=args.port,
+        allow_origins=args.allow_origins,
         rviz=rviz,
         joint_publisher=jsp,
         packages=packages,

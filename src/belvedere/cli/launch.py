@@ -11,11 +11,11 @@ from pathlib import Path
 
 import yaml
 
-from belvedere.cli._args import mappings_only
+from belvedere.cli._args import add_viewer_options, mappings_only
 from belvedere.cli._script import ScriptOptions, add_script_options, install_script
-from belvedere.cli._tool import add_endpoint_option
+from belvedere.cli._tool import add_graph_options, open_transport
 from belvedere.errors import BelvedereError
-from belvedere.graph import Graph, ZenohTransport
+from belvedere.graph import Graph
 from belvedere.launch import LaunchConfig, LaunchError, load_launch
 from belvedere.launch._runtime import NODE_TYPES, LaunchRuntime
 from belvedere.packages import PackageIndex
@@ -41,10 +41,9 @@ def add_parser(
     p.add_argument("--files", action="store_true", help="print the files it reads and exit")
     p.add_argument("--headless", action="store_true", help="no viewer (rviz, gzclient)")
     p.add_argument("--seed", type=int, default=0, help="seed of the simulation's randomness")
-    p.add_argument("--port", type=int, default=8080, help="viewer port")
-    p.add_argument("--host", default="127.0.0.1", help="viewer address (default: localhost)")
+    add_viewer_options(p)
     add_script_options(p)
-    add_endpoint_option(p)
+    add_graph_options(p)
     p.set_defaults(run=run)
 
 
@@ -103,13 +102,17 @@ def run(args: argparse.Namespace) -> int:
             f"  # {how}\n"
         )
         return 0
-    graph = Graph(sim_time=True, seed=args.seed, transport=ZenohTransport(endpoint=args.endpoint))
+    graph = Graph(sim_time=True, seed=args.seed, transport=open_transport(args))
     runtime = LaunchRuntime(
         config,
         graph,
         packages,
         headless=args.headless,
-        viewer_options={"host": args.host, "port": args.port},
+        viewer_options={
+            "host": args.host,
+            "port": args.port,
+            "allow_origins": args.allow_origins,
+        },
     )
     try:
         runtime.start()

@@ -50,6 +50,8 @@ def run(args: argparse.Namespace) -> int:
         out += section("Publications: ", info.publishers)
         out += section("Subscriptions: ", info.subscribers)
         out += section("Services: ", info.services)
+        out += [f"Process: {process}" for process in sorted(info.processes.get(name, ()))]
+        out.append("")
         sys.stdout.write("\n".join(out))
         return 0
     finally:

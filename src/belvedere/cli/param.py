@@ -10,6 +10,7 @@ import yaml
 
 from belvedere.cli._tool import action_parsers, open_tool
 from belvedere.errors import BelvedereError
+from belvedere.fileio import write_file
 from belvedere.graph import resolve_name
 
 __all__ = ["add_parser", "run"]
@@ -73,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
         elif action == "dump":
             text = ask({"op": "dump", "name": resolve_name(args.namespace)})
             if args.file and args.file != "-":
-                Path(args.file).write_text(text, encoding="utf-8")
+                write_file(args.file, text)
             else:
                 sys.stdout.write(text)
         elif action == "delete":

@@ -14,12 +14,12 @@ import time
 import webbrowser
 from typing import TYPE_CHECKING
 
-from belvedere.cli._args import mappings_only
+from belvedere.cli._args import add_viewer_options, mappings_only
 from belvedere.cli._script import ScriptOptions, add_script_options, install_script
-from belvedere.cli._tool import add_endpoint_option
+from belvedere.cli._tool import add_graph_options, open_transport
 from belvedere.description.urdf import Pose, RobotModel
 from belvedere.errors import BelvedereError
-from belvedere.graph import Graph, ZenohTransport
+from belvedere.graph import Graph
 from belvedere.packages import PackageIndex
 from belvedere.sim import (
     DEFAULT_MAX_SPEED,
@@ -94,13 +94,10 @@ def add_parser(
     )
     p.add_argument("--headless", action="store_true", help="no viewer")
     p.add_argument("--rviz", metavar="CONFIG", help="an rviz .rviz config for the viewer")
-    p.add_argument("--port", type=int, default=8080, help="viewer port")
-    p.add_argument(
-        "--host", default="127.0.0.1", help="viewer address (default: this machine only)"
-    )
+    add_viewer_options(p)
     p.add_argument("--open", action="store_true", help="open a browser on the viewer")
     add_script_options(p)
-    add_endpoint_option(p)
+    add_graph_options(p)
     p.set_defaults(run=run)
 
 
@@ -130,7 +127,7 @@ def run(args: argparse.Namespace) -> int:
     for warning in model.warnings:
         sys.stderr.write(f"{warning}\n")
     world = _read_world(args, packages) if args.engine == "physics" else None
-    graph = Graph(sim_time=True, seed=args.seed, transport=ZenohTransport(endpoint=args.endpoint))
+    graph = Graph(sim_time=True, seed=args.seed, transport=open_transport(args))
     for param, value in (
         (MAX_SPEED_PARAM, args.max_speed),
         (MAX_TURN_RATE_PARAM, args.max_turn_rate),
@@ -227,6 +224,7 @@ def _open_viewer(
         model=model,
         host=args.host,
         port=args.port,
+        allow_origins=args.allow_origins,
         fixed_frame=None if args.rviz else sim.odom_frame,
         rviz=read_rviz(args.rviz) if args.rviz else None,
         sim=sim,

@@ -9,7 +9,7 @@ import sys
 import threading
 from types import FrameType
 
-from belvedere.cli._tool import add_endpoint_option, open_tool, wait_for
+from belvedere.cli._tool import add_graph_options, open_tool, wait_for
 from belvedere.errors import BelvedereError
 from belvedere.graph import parse_ros_args
 from belvedere.msgs import types
@@ -46,7 +46,7 @@ def add_parser(
         metavar="SECONDS",
         help="stop when no key comes for SECONDS (twist_keyboard; default: never)",
     )
-    add_endpoint_option(p)
+    add_graph_options(p)
     p.set_defaults(run=run)
 
 

@@ -4,14 +4,12 @@ from __future__ import annotations
 
 import argparse
 import logging
-import os
 import sys
-from pathlib import Path
 
 from belvedere.cli._args import mappings_only
 from belvedere.description.xacro import run_command
 from belvedere.description.xacro._command import add_xacro_arguments, command_from_namespace
-from belvedere.errors import BelvedereError
+from belvedere.fileio import write_file
 from belvedere.packages import PackageIndex
 
 logger = logging.getLogger("belvedere.cli")
@@ -41,23 +39,9 @@ def run(args: argparse.Namespace) -> int:
     result = run_command(cmd, packages=packages)
     if result.text is not None:
         if cmd.output:
-            _write_atomically(Path(cmd.output), result.text)
+            # Created with its directory, as xacro's -o does.
+            write_file(cmd.output, result.text, make_dirs=True)
         else:
             sys.stdout.write(result.text)
             sys.stdout.flush()
     return result.exit_code
-
-
-def _write_atomically(out: Path, text: str) -> None:
-    """Write ``out`` whole or not at all (creating its directory, as xacro's ``-o`` does)."""
-    import tempfile
-
-    try:
-        out.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=out.parent, prefix=f".{out.name}.", suffix=".tmp")
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            f.write(text)
-        os.replace(tmp, out)
-    except OSError as err:
-        msg = f"cannot write {out}: {err.strerror or err}"
-        raise BelvedereError(msg) from None

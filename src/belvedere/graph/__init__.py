@@ -20,10 +20,19 @@ from belvedere.graph._graph import (
 )
 from belvedere.graph._names import RosArgs, parse_ros_args, resolve_name
 from belvedere.graph._params import ParamError, ParamTree
-from belvedere.graph._zenoh import DEFAULT_ENDPOINT, GraphInfo, TransportError, ZenohTransport
+from belvedere.graph._zenoh import (
+    DEFAULT_ENDPOINT,
+    MAX_DOMAIN,
+    GraphInfo,
+    TransportError,
+    ZenohTransport,
+    check_domain,
+    domain_endpoint,
+)
 
 __all__ = [
     "DEFAULT_ENDPOINT",
+    "MAX_DOMAIN",
     "NS",
     "ActionClient",
     "ActionServer",
@@ -46,6 +55,8 @@ __all__ = [
     "Transport",
     "TransportError",
     "ZenohTransport",
+    "check_domain",
+    "domain_endpoint",
     "parse_ros_args",
     "resolve_name",
 ]

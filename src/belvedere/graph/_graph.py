@@ -48,8 +48,10 @@ class Transport(Protocol):
     def unsubscribe(self, topic: Topic, subscription: Subscription) -> None: ...
     def send(self, topic: Topic, msg: Any) -> None: ...
     def offer_service(self, server: ServiceServer) -> None: ...
+    def withdraw_service(self, server: ServiceServer) -> None: ...
     def call_service(self, name: str, srv_type: str, request: Any, timeout: float) -> Any: ...
     def node_added(self, node: Node) -> None: ...
+    def node_removed(self, node: Node) -> None: ...
     def attach(self, graph: Graph) -> None: ...
     def close(self) -> None: ...
 
@@ -101,6 +103,8 @@ class Publisher:
         if not graph.on_executor_thread():
             graph.executor.post(lambda: self.publish(msg))
             return
+        if self.node.closed:
+            return  # its node was shut down: rospy's publish after shutdown goes nowhere too
         self.count += 1
         if self.latch:
             topic.latched[self] = msg
@@ -150,6 +154,8 @@ class Subscription:
 
     def deliver_one(self) -> bool:
         pending = self.pending
+        if self.node.closed:
+            pending.clear()
         if not pending:
             self._scheduled = False
             return False
@@ -228,6 +234,8 @@ class Node:
         self.services: list[ServiceServer] = []
         self.timers: list[Timer] = []
         self.logger = logging.getLogger(f"belvedere.node.{name}")
+        self.closed = False
+        """Shut down: off the graph, its publishers silent, its callbacks never called."""
 
     @property
     def full_name(self) -> str:
@@ -237,6 +245,23 @@ class Node:
         return resolve_name(
             name, namespace=self.namespace, node=self.name, remappings=self.remappings
         )
+
+    def shutdown(self) -> None:
+        """Leave the graph: publishers, subscriptions, services and timers go (call on the
+        executor thread). A node another process replaced by name is shut down so."""
+        if self.closed:
+            return
+        self.closed = True
+        for timer in self.timers:
+            timer.cancel()
+        graph = self.graph
+        for pub in list(self.publishers):
+            graph.remove_publisher(pub)
+        for sub in list(self.subscriptions):
+            graph.remove_subscription(sub)
+        for server in list(self.services):
+            graph.remove_service(server)
+        graph.remove_node(self)
 
     # --- topics --------------------------------------------------------------------------------
     def publisher(
@@ -437,6 +462,19 @@ class Graph:
             pub.node.publishers.remove(pub)
             if self.transport is not None:
                 self.transport.unadvertise(pub.topic, pub)
+
+    def remove_service(self, server: ServiceServer) -> None:
+        if self.services.get(server.name) is server:
+            del self.services[server.name]
+            server.node.services.remove(server)
+            if self.transport is not None:
+                self.transport.withdraw_service(server)
+
+    def remove_node(self, node: Node) -> None:
+        if self.nodes.get(node.full_name) is node:
+            del self.nodes[node.full_name]
+            if self.transport is not None:
+                self.transport.node_removed(node)
 
     def remove_subscription(self, sub: Subscription) -> None:
         if sub in sub.topic.subscriptions:

@@ -1,15 +1,22 @@
 """The Zenoh transport: topics, latched topics, services, parameters and introspection
 across processes, CDR-encoded as ROS 2 sends them.
 
-Default: localhost only, no scouting. The first process listens on the well-known endpoint
-(``tcp/127.0.0.1:7450``, or ``BELVEDERE_ENDPOINT``); later ones connect to it. Opening to
-other machines is explicit (``listen_on`` another address). Messages are serialized only when
-a subscriber in another process wants them. Publications use BLOCK congestion control, so
-commands are never silently dropped.
+Graphs have an identity, as ``ROS_DOMAIN_ID`` gives ROS 2's: a domain number ``d`` from 0 to
+232 (``BELVEDERE_DOMAIN``, ``--domain``; default 0). Domain ``d`` meets on the endpoint
+``tcp/127.0.0.1:<7450 + d>`` (7450 … 7682: TCP, below the ephemeral range, clear of Zenoh's
+own 7447; ROS 2's DDS uses UDP) and keeps every key under ``bv/<d>/``, so two domains stay
+apart even when ``BELVEDERE_ENDPOINT``/``--endpoint`` points them at one endpoint.
 
-Key expressions: ``bv/t/<topic>`` data; ``bv/l/<topic>`` each latching publisher's last
-message; ``bv/s/<service>`` service calls; ``bv/p`` parameters; liveliness tokens under
-``bv/g/…`` say which node publishes, subscribes or serves what, with which type.
+Default: localhost only, no scouting. The first process of a domain listens on its endpoint;
+later ones connect to it. Opening to other machines is explicit (``listen_on`` another
+address). Messages are serialized only when a subscriber in another process wants them.
+Publications use BLOCK congestion control, so commands are never silently dropped.
+
+Key expressions (under ``bv/<d>``): ``t/<topic>`` data; ``l/<topic>`` each latching
+publisher's last message; ``s/<service>`` service calls; ``p`` parameters; liveliness tokens
+under ``g/…`` say which node publishes, subscribes or serves what, with which type, and which
+process (pid, host) holds each node since when. A node whose name another process takes
+later is shut down, as ROS 1's master does ("new node registered with same name").
 """
 
 from __future__ import annotations
@@ -18,9 +25,13 @@ import contextlib
 import json
 import logging
 import os
+import socket
 import threading
+import time
+import weakref
 from collections import deque
 from collections.abc import Callable
+from dataclasses import dataclass
 from functools import partial
 from typing import Any, Final, cast
 
@@ -40,20 +51,50 @@ from belvedere.msgs import types
 
 __all__ = [
     "DEFAULT_ENDPOINT",
+    "MAX_DOMAIN",
     "GraphInfo",
     "TransportError",
     "ZenohTransport",
+    "check_domain",
     "decode_key",
+    "domain_endpoint",
     "encode_key",
 ]
 
 logger = logging.getLogger("belvedere.transport")
 
-DEFAULT_ENDPOINT: Final = "tcp/127.0.0.1:7450"
+BASE_PORT: Final = 7450
+"""Domain ``d`` listens on ``BASE_PORT + d``."""
+MAX_DOMAIN: Final = 232
+"""The highest domain (as ROS 2's ``ROS_DOMAIN_ID``)."""
+DEFAULT_ENDPOINT: Final = f"tcp/127.0.0.1:{BASE_PORT}"
+"""Domain 0's endpoint."""
 
 
 class TransportError(BelvedereError):
     """The transport could not start, or a remote call failed."""
+
+
+def check_domain(value: int | str | None = None) -> int:
+    """The graph domain: ``value``, else ``BELVEDERE_DOMAIN``, else 0 — a whole number from
+    0 to :data:`MAX_DOMAIN`."""
+    where = "domain"
+    if value is None:
+        value = os.environ.get("BELVEDERE_DOMAIN", "").strip() or 0
+        where = "BELVEDERE_DOMAIN"
+    try:
+        domain = int(value)
+    except ValueError:
+        domain = -1
+    if not 0 <= domain <= MAX_DOMAIN:
+        msg = f"{where} {value!r} is not a graph domain (a whole number from 0 to {MAX_DOMAIN})"
+        raise TransportError(msg)
+    return domain
+
+
+def domain_endpoint(domain: int) -> str:
+    """Where domain ``domain`` meets: ``tcp/127.0.0.1:<7450 + domain>``."""
+    return f"tcp/127.0.0.1:{BASE_PORT + domain}"
 
 
 def encode_key(name: str) -> str:
@@ -63,10 +104,6 @@ def encode_key(name: str) -> str:
 
 def decode_key(chunk: str) -> str:
     return chunk.replace("%", "/")
-
-
-def _topic_key(name: str) -> str:
-    return "bv/t" + name  # names start with '/'
 
 
 def _config(mode: str, *, listen: str | None, connect: str | None) -> zenoh.Config:
@@ -82,7 +119,7 @@ def _config(mode: str, *, listen: str | None, connect: str | None) -> zenoh.Conf
 def open_session(endpoint: str | None = None, *, role: str = "auto") -> tuple[zenoh.Session, str]:
     """Open a session: listen on the endpoint if it is free (``auto``/``listen``), else
     connect to whoever listens there (``auto``/``connect``). Returns (session, role taken)."""
-    endpoint = endpoint or os.environ.get("BELVEDERE_ENDPOINT") or DEFAULT_ENDPOINT
+    endpoint = endpoint or os.environ.get("BELVEDERE_ENDPOINT") or domain_endpoint(check_domain())
     errors = []
     if role in ("auto", "listen"):
         try:
@@ -95,7 +132,9 @@ def open_session(endpoint: str | None = None, *, role: str = "auto") -> tuple[ze
         except zenoh.ZError as err:
             errors.append(str(err).split(" at ")[0])
     msg = f"cannot open the transport on {endpoint}: {'; '.join(errors)}"
-    raise TransportError(msg, hint="set BELVEDERE_ENDPOINT (or --endpoint) to a free port")
+    raise TransportError(
+        msg, hint="use another domain (--domain N), or --endpoint with a free port"
+    )
 
 
 class GraphInfo:
@@ -107,12 +146,31 @@ class GraphInfo:
         """topic → {(type, node)}"""
         self.subscribers: dict[str, set[tuple[str, str]]] = {}
         self.services: dict[str, set[tuple[str, str]]] = {}
+        self.processes: dict[str, set[str]] = {}
+        """node → {``pid 1234 on host``} of the process(es) holding it"""
 
     def topic_type(self, topic: str) -> str | None:
         for table in (self.publishers, self.subscribers):
             for typ, _ in sorted(table.get(topic, ())):
                 return typ
         return None
+
+
+@dataclass(frozen=True, slots=True)
+class _NodeHolder:
+    """A process holding a node name, from its liveliness token."""
+
+    zid: str
+    process: str
+    """``pid 1234 on host``"""
+    since_ns: int
+    """When it took the name (wall clock): the later one wins."""
+
+
+def _close_at_exit(ref: weakref.ref[ZenohTransport]) -> None:
+    transport = ref()
+    if transport is not None:
+        transport.close()
 
 
 class ZenohTransport:
@@ -122,13 +180,22 @@ class ZenohTransport:
         self,
         *,
         endpoint: str | None = None,
+        domain: int | None = None,
         role: str = "auto",
         serve_params: bool = True,
     ) -> None:
-        self.session, self.role = open_session(endpoint, role=role)
+        """``domain`` (default ``BELVEDERE_DOMAIN`` or 0) picks the endpoint and the key
+        prefix; ``endpoint`` (default ``BELVEDERE_ENDPOINT``) overrides the endpoint only."""
+        self.domain = check_domain(domain)
+        self.endpoint = (
+            endpoint or os.environ.get("BELVEDERE_ENDPOINT") or domain_endpoint(self.domain)
+        )
+        self.session, self.role = open_session(self.endpoint, role=role)
+        self.prefix = f"bv/{self.domain}"
         self.serve_params = serve_params
         self.graph: Graph | None = None
         self._zid = str(self.session.zid())
+        self._process = f"pid {os.getpid()} on {socket.gethostname()}"
         self._store = types().store
         self._publishers: dict[str, Any] = {}
         self._matching: dict[str, Any] = {}
@@ -137,14 +204,35 @@ class ZenohTransport:
         self._service_queryables: dict[str, Any] = {}
         self._tokens: dict[tuple[str, ...], Any] = {}
         self._param_queryable: Any = None
+        self._node_watch: Any = None
+        self._own_nodes: dict[str, tuple[int, Node]] = {}
+        """full name → (when taken, node)"""
+        self._clashes: set[tuple[str, str]] = set()
+        """(node name, other process's zid) already settled"""
         self._lock = threading.Lock()
         self._closed = False
+        # Zenoh runs callbacks on a non-daemon thread: a process that never closes its
+        # session would wait for it forever at exit. Close it first (threading's own hook
+        # runs before that wait; atexit runs after it).
+        threading._register_atexit(partial(_close_at_exit, weakref.ref(self)))  # type: ignore[attr-defined]
+
+    def _key(self, kind: str, name: str = "") -> str:
+        """``bv/<domain>/<kind><name>`` (graph names start with '/')."""
+        return f"{self.prefix}/{kind}{name}"
 
     # --- lifecycle -----------------------------------------------------------------------------
     def attach(self, graph: Graph) -> None:
         self.graph = graph
         if self.serve_params:
-            self._param_queryable = self.session.declare_queryable("bv/p", self._on_param_query)
+            self._param_queryable = self.session.declare_queryable(
+                self._key("p"), self._on_param_query
+            )
+        # New holders of node names from now on (no history: those before are asked for when
+        # a node is added; with history, zenoh 1.x answers a liveliness query made right after
+        # with nothing).
+        self._node_watch = self.session.liveliness().declare_subscriber(
+            self._key("g/node/**"), self._on_node_token
+        )
 
     def close(self) -> None:
         if self._closed:
@@ -153,10 +241,11 @@ class ZenohTransport:
         with contextlib.suppress(zenoh.ZError):
             self.session.close()  # type: ignore[no-untyped-call]
 
-    def _token(self, *parts: str) -> None:
+    def _token(self, *parts: str, extra: tuple[str, ...] = ()) -> None:
         key = tuple(parts)
         if key not in self._tokens:
-            expr = "bv/g/" + "/".join(encode_key(p) for p in parts) + "/" + self._zid
+            chunks = [encode_key(p) for p in parts]
+            expr = "/".join([self._key("g"), *chunks, self._zid, *extra])
             self._tokens[key] = self.session.liveliness().declare_token(expr)
 
     def _drop_token(self, *parts: str) -> None:
@@ -164,17 +253,81 @@ class ZenohTransport:
         if token is not None:
             token.undeclare()
 
-    # --- topics --------------------------------------------------------------------------------
+    # --- nodes ---------------------------------------------------------------------------------
     def node_added(self, node: Node) -> None:
-        self._token("node", node.full_name)
+        # Who holds the name already? Asked before our token exists: once it does, they
+        # start shutting their node down (a round trip of well under a millisecond here).
+        holders = self._holders(node.full_name)
+        since = time.time_ns()
+        with self._lock:
+            self._own_nodes[node.full_name] = (since, node)
+        who = encode_key(self._process.removeprefix("pid ").replace(" on ", "@"))
+        self._token("node", node.full_name, extra=(who, str(since)))
+        for sample in holders:
+            self._on_node_token(sample)
 
+    def node_removed(self, node: Node) -> None:
+        with self._lock:
+            mine = self._own_nodes.get(node.full_name)
+            if mine is not None and mine[1] is node:
+                del self._own_nodes[node.full_name]
+        self._drop_token("node", node.full_name)
+
+    def _holders(self, name: str) -> list[Any]:
+        """The liveliness tokens of processes holding node ``name``."""
+        key = self._key("g/node/", encode_key(name) + "/**")
+        with contextlib.suppress(zenoh.ZError):
+            replies = self.session.liveliness().get(key, timeout=2.0)
+            return [reply.ok for reply in replies if reply.ok is not None]
+        return []
+
+    def _on_node_token(self, sample: Any) -> None:
+        """A process holds a node name: if it is one of ours, the later one keeps it."""
+        if sample.kind != zenoh.SampleKind.PUT:
+            return
+        chunks = str(sample.key_expr).removeprefix(self._key("g/node/")).split("/")
+        if len(chunks) != 4 or chunks[1] == self._zid:
+            return
+        name, zid, who, since = decode_key(chunks[0]), chunks[1], decode_key(chunks[2]), chunks[3]
+        pid, _, host = who.partition("@")
+        other = _NodeHolder(zid, f"pid {pid} on {host}", int(since) if since.isdigit() else 0)
+        with self._lock:
+            mine = self._own_nodes.get(name)
+            if mine is None or (name, zid) in self._clashes:
+                return
+            self._clashes.add((name, zid))
+            since_ns, node = mine
+            ours_is_newer = (since_ns, self._zid) > (other.since_ns, other.zid)
+            if not ours_is_newer:
+                del self._own_nodes[name]
+        if ours_is_newer:
+            logger.warning(
+                "node %s (%s) replaces the node of that name in %s, which is shut down, "
+                "as in ROS 1",
+                name,
+                self._process,
+                other.process,
+            )
+            return
+        logger.warning(
+            "node %s (%s) was replaced by a new node of that name in %s: shutting it down "
+            "here, as in ROS 1",
+            name,
+            self._process,
+            other.process,
+        )
+        graph = self.graph
+        if graph is not None:
+            graph.executor.post(node.shutdown)
+
+    # --- topics --------------------------------------------------------------------------------
     def advertise(self, topic: Topic, publisher: Publisher) -> None:
         self._token("pub", topic.name, topic.type, publisher.node.full_name)
         with self._lock:
             if topic.name in self._publishers:
                 return
             zpub = self.session.declare_publisher(
-                _topic_key(topic.name),
+                self._key("t", topic.name),
                 congestion_control=zenoh.CongestionControl.BLOCK,
                 allowed_destination=zenoh.Locality.REMOTE,
             )
@@ -191,13 +344,13 @@ class ZenohTransport:
             def latched(query: Any) -> None:
                 for msg in list(topic.latched.values()):
                     query.reply(
-                        "bv/l" + topic.name,
+                        self._key("l", topic.name),
                         types().serialize(msg),
                         attachment=topic.type.encode(),
                     )
 
             self._latch_queryables[topic.name] = self.session.declare_queryable(
-                "bv/l" + topic.name, latched
+                self._key("l", topic.name), latched
             )
 
     def unadvertise(self, topic: Topic, publisher: Publisher) -> None:
@@ -249,7 +402,7 @@ class ZenohTransport:
                     graph.executor.post(flush)
 
             self._subscribers[topic.name] = self.session.declare_subscriber(
-                _topic_key(topic.name), on_sample, allowed_origin=zenoh.Locality.REMOTE
+                self._key("t", topic.name), on_sample, allowed_origin=zenoh.Locality.REMOTE
             )
         # A late subscriber gets the last latched message from other processes.
         threading.Thread(target=self._fetch_latched, args=(topic, deliver), daemon=True).start()
@@ -260,7 +413,7 @@ class ZenohTransport:
         try:
             # Every latching publisher replies under the same key: keep them all.
             replies = self.session.get(
-                "bv/l" + topic.name,
+                self._key("l", topic.name),
                 timeout=2.0,
                 consolidation=zenoh.ConsolidationMode.NONE,
             )
@@ -303,15 +456,21 @@ class ZenohTransport:
             if isinstance(result[0], Exception):
                 query.reply_err(str(result[0]).encode())
             else:
-                query.reply("bv/s" + server.name, result[0])
+                query.reply(self._key("s", server.name), result[0])
 
         self._service_queryables[server.name] = self.session.declare_queryable(
-            "bv/s" + server.name, on_query
+            self._key("s", server.name), on_query
         )
+
+    def withdraw_service(self, server: ServiceServer) -> None:
+        self._drop_token("srv", server.name, server.type, server.node.full_name)
+        queryable = self._service_queryables.pop(server.name, None)
+        if queryable is not None:
+            queryable.undeclare()
 
     def call_service(self, name: str, srv_type: str, request: Any, timeout: float) -> Any:
         replies = self.session.get(
-            "bv/s" + name,
+            self._key("s", name),
             payload=types().serialize(request),
             timeout=timeout,
             target=zenoh.QueryTarget.BEST_MATCHING,
@@ -357,11 +516,13 @@ class ZenohTransport:
             reply = {"ok": False, "error": err.message}
         except (KeyError, ValueError, TypeError) as err:
             reply = {"ok": False, "error": f"bad parameter request: {err}"}
-        query.reply("bv/p", json.dumps(reply).encode())
+        query.reply(self._key("p"), json.dumps(reply).encode())
 
     def param_request(self, request: dict[str, Any], timeout: float = 2.0) -> Any:
         """Ask the graph that holds the parameters (another process)."""
-        replies = self.session.get("bv/p", payload=json.dumps(request).encode(), timeout=timeout)
+        replies = self.session.get(
+            self._key("p"), payload=json.dumps(request).encode(), timeout=timeout
+        )
         for reply in replies:
             if reply.ok is None:
                 continue
@@ -375,14 +536,17 @@ class ZenohTransport:
     # --- introspection -------------------------------------------------------------------------
     def info(self, timeout: float = 1.0) -> GraphInfo:
         info = GraphInfo()
-        for reply in self.session.liveliness().get("bv/g/**", timeout=timeout):
+        tokens = self._key("g/")
+        for reply in self.session.liveliness().get(tokens + "**", timeout=timeout):
             if reply.ok is None:
                 continue
-            parts = str(reply.ok.key_expr).split("/")[2:-1]
-            kind, names = parts[0], [decode_key(p) for p in parts[1:]]
-            if kind == "node":
+            chunks = str(reply.ok.key_expr).removeprefix(tokens).split("/")
+            kind, names = chunks[0], [decode_key(c) for c in chunks[1:]]
+            if kind == "node" and len(names) == 4:
                 info.nodes.add(names[0])
-            elif kind in ("pub", "sub", "srv") and len(names) == 3:
+                pid, _, host = names[2].partition("@")
+                info.processes.setdefault(names[0], set()).add(f"pid {pid} on {host}")
+            elif kind in ("pub", "sub", "srv") and len(names) == 4:
                 table = {"pub": info.publishers, "sub": info.subscribers, "srv": info.services}[
                     kind
                 ]

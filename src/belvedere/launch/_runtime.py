@@ -24,7 +24,8 @@ import numpy as np
 
 from belvedere.description.urdf import RobotModel
 from belvedere.errors import BelvedereError
-from belvedere.graph import Graph, Node
+from belvedere.fileio import FileWriteError, write_file
+from belvedere.graph import Graph, Node, ZenohTransport
 from belvedere.launch._model import LaunchConfig, LaunchError, LaunchNode
 from belvedere.msgs import types
 from belvedere.packages import BUILTIN_PACKAGES, PackageIndex
@@ -73,9 +74,9 @@ class LaunchRuntime:
             params.set(name, param.value)
         for file, ns in self.config.dumps:
             try:
-                Path(file).write_text(params.dump_yaml(ns) if params.has(ns) or ns == "/" else "")
-            except OSError as err:
-                logger.warning("rosparam dump to %s failed: %s", file, err.strerror)
+                write_file(file, params.dump_yaml(ns) if params.has(ns) or ns == "/" else "")
+            except FileWriteError as err:
+                logger.warning("rosparam dump: %s", err.message)
         for spec in self.config.nodes:
             self._start(spec)
         for action in [*self.deferred, *self.controllers]:
@@ -119,6 +120,16 @@ class LaunchRuntime:
                 return candidate
         return next(iter(sorted(root.rglob(spec.type))), None)
 
+    def _graph_env(self) -> dict[str, str]:
+        """What a script node needs to join this launch's graph (its domain and endpoint)."""
+        transport = self.graph.transport
+        if not isinstance(transport, ZenohTransport):
+            return {}
+        return {
+            "BELVEDERE_DOMAIN": str(transport.domain),
+            "BELVEDERE_ENDPOINT": transport.endpoint,
+        }
+
     def _run_script(self, spec: LaunchNode, script: Path) -> None:
         text = script.read_text(errors="replace")
         if "import rospy" in text or "from rospy" in text:
@@ -128,7 +139,7 @@ class LaunchRuntime:
                 script,
             )
             return
-        env = dict(os.environ, **dict(spec.env))
+        env = {**os.environ, **self._graph_env(), **dict(spec.env)}
         argv = [sys.executable, str(script), *shlex.split(spec.args)]
         argv.append(f"__name:={spec.name}")
         if spec.namespace != "/":

@@ -1,5 +1,6 @@
 """The browser viewer (rviz and joint_state_publisher_gui in any browser), built on viser."""
 
+from belvedere.viewer._access import ViewerAccess, ViewerError, check_origin
 from belvedere.viewer._displays import DISPLAYS, Display
 from belvedere.viewer._robot import MeshAccessError, RobotDrawing, allowed_mesh_path
 from belvedere.viewer._rviz import RvizConfig, RvizDisplay, read_rviz
@@ -14,7 +15,10 @@ __all__ = [
     "RvizDisplay",
     "SimControls",
     "Viewer",
+    "ViewerAccess",
+    "ViewerError",
     "allowed_mesh_path",
+    "check_origin",
     "floor_point",
     "read_rviz",
 ]

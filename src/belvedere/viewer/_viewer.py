@@ -6,10 +6,12 @@ keep the newest message, so the viewer never slows the graph (it drops frames in
 
 from __future__ import annotations
 
+import contextlib
+import io
 import math
 import threading
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, Protocol
 
 from belvedere.description.urdf import RobotModel
@@ -23,6 +25,7 @@ from belvedere.tf import (
     quat_xyzw_from_rpy,
     wxyz_from_xyzw,
 )
+from belvedere.viewer._access import ViewerAccess, ViewerError, guard_viser
 from belvedere.viewer._displays import DISPLAYS, Display
 from belvedere.viewer._robot import RobotDrawing
 from belvedere.viewer._rviz import RvizConfig
@@ -82,13 +85,29 @@ class Viewer:
         rate_hz: float = 30.0,
         world: WorldModel | None = None,
         world_poses: Callable[[], Mapping[str, Transform]] | None = None,
+        allow_origins: Sequence[str] = (),
+        token: str | None = None,
     ) -> None:
         """``world``: models drawn in the fixed frame (Gazebo's world frame);
-        ``world_poses``: where the movable ones are now (called each frame)."""
+        ``world_poses``: where the movable ones are now (called each frame).
+        ``allow_origins``: web origins besides the viewer's own page that may connect;
+        ``token``: what a client must show (default: a new one when ``host`` is not loopback,
+        none when it is; it is in :attr:`url`)."""
         import viser  # heavy: only the viewer uses it
 
         self.graph = graph
-        self.server = viser.ViserServer(host=host, port=port, verbose=False)
+        self.access = ViewerAccess(host, allow_origins=allow_origins, token=token)
+        # viser prints a banner on stdout whatever ``verbose`` says: stdout is for data (the
+        # URL, echoed messages), and the banner's URL lacks the token.
+        with guard_viser(self.access), contextlib.redirect_stdout(io.StringIO()):
+            self.server = viser.ViserServer(host=host, port=port, verbose=False)
+        if not self.access.installed:
+            self.server.stop()
+            msg = (
+                f"viser {viser.__version__} serves its page in a way belvedere cannot guard "
+                "(the origin and token checks were not installed); not serving the viewer"
+            )
+            raise ViewerError(msg)
         self.scene, self.gui = self.server.scene, self.server.gui
         self.node: Node = graph.create_node("belvedere_viewer")
         self.tf = TransformListener(self.node)
@@ -140,7 +159,10 @@ class Viewer:
 
     @property
     def url(self) -> str:
-        return f"http://{self.server.get_host()}:{self.server.get_port()}"
+        """Where to open the viewer (with ``?token=…`` when it needs one)."""
+        base = f"http://{self.server.get_host()}:{self.server.get_port()}"
+        token = self.access.token
+        return f"{base}/?token={token}" if token else base
 
     # --- GUI -----------------------------------------------------------------------------------
     def _build_gui(self, jsp: JointStatePublisher | None, sim: SimControls | None) -> None:
@@ -369,4 +391,5 @@ class Viewer:
     def close(self) -> None:
         self._stop.set()
         self._thread.join(timeout=2)
-        self.server.stop()
+        with contextlib.redirect_stdout(io.StringIO()):  # viser's "Server stopped"
+            self.server.stop()

@@ -201,3 +201,48 @@ def test_python2_float_printing_is_opt_in(tmp_path: Path) -> None:
     assert 'p="3.141592653589793"' in py3
     py2 = process_file(src, dialect=Dialect.MELODIC, python2_floats=True)
     assert '<a big="1e+16" i="7" mixed="v0.3" p="3.14159265359" two="2.0" x="0.3"/>' in py2
+
+
+LEGACY_TEXT = '<robot name="r">\n  <property name="p" value="1"/>\n  <a v="${p}"/>\n</robot>\n'
+
+
+def test_fix_never_overwrites_an_existing_backup(tmp_path: Path) -> None:
+    src = tmp_path / "old.xacro"
+    src.write_text(LEGACY_TEXT)
+    notes = tmp_path / "old.xacro.orig"
+    notes.write_text("the user's own notes")
+    fix_file(src)
+    assert notes.read_text() == "the user's own notes"
+    assert (tmp_path / "old.xacro.orig.1").read_text() == LEGACY_TEXT
+    assert "<xacro:property" in src.read_text()
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "old.xacro",
+        "old.xacro.orig",
+        "old.xacro.orig.1",
+    ]
+
+
+def test_fix_through_a_symlink_rewrites_the_real_file(tmp_path: Path) -> None:
+    real = tmp_path / "pkg" / "old.xacro"
+    real.parent.mkdir()
+    real.write_text(LEGACY_TEXT)
+    link = tmp_path / "old.xacro"
+    link.symlink_to(real)
+    fix_file(link)
+    assert link.is_symlink()
+    assert "<xacro:property" in real.read_text()
+    assert real.with_name("old.xacro.orig").read_text() == LEGACY_TEXT
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["old.xacro", "pkg"]
+
+
+def test_fix_on_a_full_disk_changes_nothing(full_disk: Path) -> None:
+    from belvedere.fileio import FileWriteError
+
+    padding = "<!--" + "p" * 30_000 + "-->\n"
+    src = full_disk / "old.xacro"
+    src.write_text(LEGACY_TEXT.replace("</robot>", padding + "</robot>"))
+    before = src.read_text()
+    with pytest.raises(FileWriteError, match=r"old\.xacro.*: No space left on device"):
+        fix_file(src)
+    assert src.read_text() == before
+    assert sorted(p.name for p in full_disk.iterdir()) == ["old.xacro"]

@@ -2,15 +2,14 @@
 
 We expand the file in the ``auto`` dialect, which records every unprefixed tag it treated
 as a xacro keyword or macro call, then edit exactly those start and end tags in the files
-where they are written — nothing else in the text changes. Each file is replaced
-atomically after a ``.orig`` backup is written.
+where they are written — nothing else in the text changes. Each file is kept as
+``FILE.orig`` (``FILE.orig.1`` … if that exists) and replaced atomically
+(:mod:`belvedere.fileio`).
 """
 
 from __future__ import annotations
 
-import os
-import shutil
-import tempfile
+import logging
 from collections import defaultdict
 from dataclasses import dataclass
 from pathlib import Path
@@ -20,9 +19,12 @@ from belvedere.description.xacro._api import expand_file
 from belvedere.description.xacro._dialects import Dialect
 from belvedere.description.xacro._errors import XacroError
 from belvedere.errors import SourceLocation
+from belvedere.fileio import StagedWrite, stage_backup, stage_write
 from belvedere.packages import PackageIndex
 
 __all__ = ["FixChange", "fix_file", "fix_text"]
+
+logger = logging.getLogger("belvedere.xacro")
 
 XACRO_NS = "http://www.ros.org/wiki/xacro"
 
@@ -130,21 +132,24 @@ def fix_file(
         fixed, changes = fix_text(file.read_bytes(), sites, name)
         if changes:
             planned.append((file, fixed, changes))
-    all_changes: list[FixChange] = []
-    for file, fixed, changes in planned:
-        _replace_atomically(file, fixed)
-        all_changes.extend(changes)
-    return all_changes
+    _write_all([(file, fixed) for file, fixed, _ in planned])
+    return [change for _, _, changes in planned for change in changes]
 
 
-def _replace_atomically(file: Path, data: bytes) -> None:
-    shutil.copy2(file, file.with_name(file.name + ".orig"))
-    fd, tmp = tempfile.mkstemp(dir=file.parent, prefix=f".{file.name}.", suffix=".tmp")
+def _write_all(files: list[tuple[Path, bytes]]) -> None:
+    """Back up and rewrite every file, or none: every backup and new content is written in
+    full beside its file before any is put in place, so a full disk stops the lot."""
+    backups: list[StagedWrite] = []
+    rewrites: list[StagedWrite] = []
     try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-        shutil.copymode(file, tmp)
-        os.replace(tmp, file)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+        for file, data in files:
+            backups.append(stage_backup(file))
+            rewrites.append(stage_write(file, data))
+        # Only renames from here on: nothing left to run out of space.
+        for (file, _), backup in zip(files, backups, strict=True):
+            logger.info("%s: the original is kept as %s", file, backup.commit())
+        for rewrite in rewrites:
+            rewrite.commit()
+    finally:
+        for pending in (*backups, *rewrites):
+            pending.discard()  # what was not committed (a no-op for what was)
