@@ -27,6 +27,7 @@ __all__ = [
     "MAX_EXPANDED_NODES",
     "Loader",
     "YamlDocument",
+    "describe_error",
     "load_yaml",
     "load_yaml_file",
 ]
@@ -168,6 +169,14 @@ class YamlDocument:
         return SourceLocation(self.path, mark.line + 1, mark.column + 1)
 
 
+def describe_error(err: yaml.YAMLError, path: str) -> tuple[str, SourceLocation | None]:
+    """PyYAML's error as belvedere says it: ``invalid YAML: …`` and where in ``path``."""
+    mark = getattr(err, "problem_mark", None) or getattr(err, "context_mark", None)
+    where = SourceLocation(path, mark.line + 1, mark.column + 1) if mark else None
+    problem = getattr(err, "problem", None) or str(err)
+    return f"invalid YAML: {problem}", where
+
+
 def load_yaml(text: str, *, path: str = "<yaml>") -> YamlDocument:
     """Parse one YAML document; errors name ``path:line:col``."""
     loader = Loader(text)
@@ -175,10 +184,7 @@ def load_yaml(text: str, *, path: str = "<yaml>") -> YamlDocument:
         root = loader.get_single_node()
         data = loader.construct_document(root) if root is not None else None
     except yaml.YAMLError as err:
-        mark = getattr(err, "problem_mark", None) or getattr(err, "context_mark", None)
-        where = SourceLocation(path, mark.line + 1, mark.column + 1) if mark else None
-        problem = getattr(err, "problem", None) or str(err)
-        msg = f"invalid YAML: {problem}"
+        msg, where = describe_error(err, path)
         raise ParseError(msg, where) from None
     finally:
         loader.dispose()

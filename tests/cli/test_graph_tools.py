@@ -43,23 +43,32 @@ def _finish(proc: subprocess.Popen[str]) -> tuple[str, str]:
         raise AssertionError(msg) from None
 
 
-def test_echo_and_pub_find_each_other_without_a_central_process(endpoint: str) -> None:
-    echo = _popen("topic", "echo", "/chatter", "-n", "2")
+def _pub_to_echo(
+    endpoint: str, echo_args: list[str], msg_type: str, *pub_args: str
+) -> tuple[subprocess.CompletedProcess[str], subprocess.Popen[str], str, str]:
+    """``topic pub`` to a ``topic echo`` running in another process; what both printed."""
+    topic = echo_args[0]
+    echo = _popen("topic", "echo", *echo_args)
     # A publisher that never publishes shows echo the topic's type; once echo's subscription
     # reaches it, pub (started after) finds echo there too.
     graph = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint, serve_params=False))
     try:
-        typed = graph.create_node("typed").publisher("/chatter", "std_msgs/String")
+        typed = graph.create_node("typed").publisher(topic, msg_type)
         graph.start(rtf=None)
-        wait_until(lambda: typed.topic.remote, what="topic echo to subscribe to /chatter")
-        pub = run(
-            "topic", "pub", "/chatter", "std_msgs/String", "data: hi", "-r", "5", "--count", "6"
-        )
+        wait_until(lambda: typed.topic.remote, what=f"topic echo to subscribe to {topic}")
+        pub = run("topic", "pub", topic, msg_type, *pub_args)
         out, err = _finish(echo)
     finally:
         if echo.poll() is None:
             echo.kill()
         graph.shutdown()
+    return pub, echo, out, err
+
+
+def test_echo_and_pub_find_each_other_without_a_central_process(endpoint: str) -> None:
+    pub, echo, out, err = _pub_to_echo(
+        endpoint, ["/chatter", "-n", "2"], "std_msgs/String", "data: hi", "-r", "5", "--count", "6"
+    )
     assert pub.returncode == 0, pub.stderr
     assert echo.returncode == 0, err
     assert out == 'data: "hi"\n---\ndata: "hi"\n---\n'
@@ -208,22 +217,8 @@ def test_values_that_do_not_fit_stop_at_the_publisher(
 
 
 def test_a_duration_with_negative_nanoseconds_reaches_another_process(endpoint: str) -> None:
-    echo = subprocess.Popen(
-        [*BELVEDERE, "topic", "echo", "/d", "-n", "1"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
+    pub, _, out, err = _pub_to_echo(
+        endpoint, ["/d", "-n", "1"], "std_msgs/Duration", "{data: {secs: 1, nsecs: -1}}", "-1"
     )
-    graph = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint, serve_params=False))
-    try:
-        typed = graph.create_node("typed").publisher("/d", "std_msgs/Duration")
-        graph.start(rtf=None)
-        wait_until(lambda: typed.topic.remote, what="topic echo to subscribe to /d")
-        pub = run("topic", "pub", "/d", "std_msgs/Duration", "{data: {secs: 1, nsecs: -1}}", "-1")
-        out, err = _finish(echo)
-    finally:
-        if echo.poll() is None:
-            echo.kill()
-        graph.shutdown()
     assert pub.returncode == 0, pub.stderr
     assert out == "data: \n  secs: 0\n  nsecs: 999999999\n---\n", err

@@ -12,8 +12,7 @@ from belvedere.description.xacro._builtins import to_yaml_value
 from belvedere.description.xacro._errors import XacroError
 from belvedere.description.xacro._interpreter import evaluate
 from belvedere.description.xacro._symbols import Scope
-from belvedere.errors import SourceLocation
-from belvedere.yamlfile import Loader
+from belvedere.yamlfile import Loader, describe_error
 
 __all__ = ["parse_yaml"]
 
@@ -55,10 +54,7 @@ def parse_yaml(text: str, *, path: str, unit_scope: Scope) -> Any:
         root = loader.get_single_node()
         data = loader.construct_document(root) if root is not None else None
     except yaml.YAMLError as err:
-        mark = getattr(err, "problem_mark", None) or getattr(err, "context_mark", None)
-        where = SourceLocation(path, mark.line + 1, mark.column + 1) if mark else None
-        problem = getattr(err, "problem", None) or str(err)
-        msg = f"invalid YAML: {problem}"
+        msg, where = describe_error(err, path)
         raise XacroError(msg, where) from None
     finally:
         loader.dispose()
