@@ -265,12 +265,16 @@ def test_a_viewer_with_a_token_in_the_browser(page: Any) -> None:
     graph = Graph(sim_time=False)
     viewer = Viewer(graph, host="0.0.0.0", port=_free_port())  # reached via 127.0.0.1 only
     contexts = [browser.new_context(), browser.new_context()]
+    for context in contexts:
+        context.set_default_timeout(BROWSER_DEADLINE * 1000)
     try:
         port = viewer.server.get_port()
         user = contexts[0].new_page()
         user.goto(f"http://127.0.0.1:{port}/?token={viewer.access.token}")
         wait_until(
-            lambda: len(viewer.server.get_clients()) == 1, what="the page with the token to connect"
+            lambda: len(viewer.server.get_clients()) == 1,
+            what="the page with the token to connect",
+            timeout=BROWSER_DEADLINE,  # a page loads slowly on one busy core
         )
         stranger = contexts[1].new_page()
         response = stranger.goto(f"http://127.0.0.1:{port}/")
