@@ -22,6 +22,10 @@ __all__ = ["Executor", "Timer"]
 
 NS: Final = 1_000_000_000
 
+PACED_BATCH_NS: Final = 20_000_000
+"""The most simulated time one callback may run ahead (advance_to) while time is paced to the
+wall clock: pacing stays smooth to 20 ms."""
+
 
 class _Deliverable(Protocol):
     def deliver_one(self) -> bool:
@@ -70,6 +74,7 @@ class Executor:
         self._step_to: int | None = None
         self._pace_wall = time.monotonic()
         self._pace_sim = start_ns
+        self._end_ns: int | None = None
 
     # --- time ----------------------------------------------------------------------------------
     def now_ns(self) -> int:
@@ -136,9 +141,38 @@ class Executor:
                 continue
             timer.callback()
             if not timer.oneshot and not timer.cancelled:
-                timer.due_ns += timer.period_ns
+                # A callback that advanced the clock is next due a period after where it got to.
+                timer.due_ns = max(timer.due_ns, self._sim_ns) + timer.period_ns
                 self._push(timer)
             self._drain()
+
+    def horizon_ns(self) -> int:
+        """The latest simulated time the timer callback running now may move the clock to with
+        :meth:`advance_to` without passing anything else: just before the next other timer is
+        due (at equal times the other one fires first, as it would have), no further than the
+        end of the run or of a step, and nowhere while outside events are waiting. Wall-clock
+        graphs cannot run ahead."""
+        if not self.sim_time:
+            return self.now_ns()
+        now = self._sim_ns
+        if not self._inbox.empty() or self._ready:
+            return now
+        limit = self._timers[0][0] - 1 if self._timers else now + NS
+        for bound in (self._end_ns, self._step_to):
+            if bound is not None:
+                limit = min(limit, bound)
+        if self.rtf is not None and not (self.paused and self._step_to is not None):
+            limit = min(limit, now + PACED_BATCH_NS)
+        return max(now, limit)
+
+    def advance_to(self, ns: int) -> None:
+        """Move simulated time on to ``ns`` from inside a timer callback (a batch of physics
+        steps): at most :meth:`horizon_ns`, never back."""
+        if ns < self._sim_ns or ns > self.horizon_ns():
+            msg = f"cannot advance simulated time to {ns} ns (now {self._sim_ns}, horizon"
+            msg += f" {self.horizon_ns()})"
+            raise ValueError(msg)
+        self._sim_ns = ns
 
     def spin_once(self) -> None:
         """Deliver what is pending and fire timers that are due now (no time passes)."""
@@ -164,6 +198,7 @@ class Executor:
         self.rtf = rtf
         self._rebase()
         end_ns = None if duration is None else self.now_ns() + round(duration * NS)
+        self._end_ns = end_ns
         while not self._stop.is_set():
             self._drain()
             if until is not None and until():

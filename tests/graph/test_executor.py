@@ -1,0 +1,96 @@
+"""The executor's batches: a timer callback that moves simulated time on by itself (physics
+running many steps at once) sees and changes nothing the others would notice."""
+
+from __future__ import annotations
+
+import pytest
+
+from belvedere.graph._executor import NS, PACED_BATCH_NS, Executor
+
+MS = 1_000_000
+
+
+def _trace(batched: bool, duration: float = 0.1) -> list[tuple[str, int]]:
+    """A 1 ms 'physics' timer (batching up to 50 steps when asked) beside 7 ms and 10 ms
+    timers; what fired at which time."""
+    ex = Executor(sim_time=True)
+    fired: list[tuple[str, int]] = []
+    physics = ex.add_timer(0.001, lambda: None)
+
+    def step() -> None:
+        now = ex.now_ns()
+        fired.append(("physics", now))
+        if batched:
+            last = min(ex.horizon_ns(), now + 49 * MS)
+            for t in range(now + MS, last + 1, MS):
+                ex.advance_to(t)
+                fired.append(("physics", t))
+
+    physics.callback = step
+    ex.add_timer(0.007, lambda: fired.append(("a", ex.now_ns())))
+    ex.add_timer(0.010, lambda: fired.append(("b", ex.now_ns())))
+    ex.run(duration=duration, rtf=None)
+    assert ex.now_ns() == round(duration * NS)
+    return fired
+
+
+def test_a_batching_callback_fires_as_if_stepped_one_by_one() -> None:
+    one_by_one = _trace(batched=False)
+    assert _trace(batched=True) == one_by_one
+    assert one_by_one.count(("a", 7 * MS)) == 1
+    # at equal times the other timer (older) fires first, in both
+    assert one_by_one.index(("b", 10 * MS)) < one_by_one.index(("physics", 10 * MS))
+
+
+def test_the_horizon() -> None:
+    ex = Executor(sim_time=True)
+    seen: list[int] = []
+    ex.add_timer(0.001, lambda: seen.append(ex.horizon_ns()), oneshot=True)
+    ex.add_timer(0.005, lambda: None)
+    ex.run(duration=0.01, rtf=None)
+    assert seen == [5 * MS - 1]  # just before the next timer
+
+    ex = Executor(sim_time=True)
+    ex.add_timer(0.001, lambda: seen.append(ex.horizon_ns()), oneshot=True)
+    ex.run(duration=0.003, rtf=None)
+    assert seen[-1] == 3 * MS  # no other timer: the run's end
+
+    ex = Executor(sim_time=True)
+    ex.add_timer(0.001, lambda: seen.append(ex.horizon_ns()), oneshot=True)
+    ex.run(duration=10.0, rtf=1000.0)
+    assert seen[-1] == MS + PACED_BATCH_NS  # paced: a short batch
+
+    ex = Executor(sim_time=True)
+
+    def with_outside_event() -> None:
+        ex.post(lambda: None)
+        seen.append(ex.horizon_ns())
+
+    ex.add_timer(0.001, with_outside_event, oneshot=True)
+    ex.run(duration=0.003, rtf=None)
+    assert seen[-1] == MS  # something from outside waits: no batch
+
+
+def test_advancing_past_the_horizon_or_back_is_refused() -> None:
+    ex = Executor(sim_time=True)
+    errors: list[str] = []
+
+    def bad() -> None:
+        for target in (ex.now_ns() - 1, ex.horizon_ns() + 1):
+            with pytest.raises(ValueError, match="cannot advance simulated time") as info:
+                ex.advance_to(target)
+            errors.append(str(info.value))
+
+    ex.add_timer(0.001, bad, oneshot=True)
+    ex.add_timer(0.002, lambda: None)
+    ex.run(duration=0.003, rtf=None)
+    assert len(errors) == 2
+
+
+def test_wall_clock_graphs_do_not_batch() -> None:
+    ex = Executor(sim_time=False)
+    seen: list[tuple[int, int]] = []
+    ex.add_timer(0.001, lambda: seen.append((ex.horizon_ns(), ex.now_ns())), oneshot=True)
+    ex.run(duration=0.01, rtf=None)
+    horizon, after = seen[0]
+    assert horizon <= after  # the wall clock's now: nothing to run ahead of
