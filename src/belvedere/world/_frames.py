@@ -238,9 +238,10 @@ class FrameGraph:
 
     def check(self) -> None:
         """Resolve every frame's pose and body: any cycle or unknown name is an error now."""
+        for name in self.frames:  # attached_to first: a frame's pose defaults to it
+            self.body(name)
         for name in self.frames:
             self.in_root(name)
-            self.body(name)
 
     # --- errors ----------------------------------------------------------------------------------
     def _unknown(self, who: str, attribute: str, name: str, at: SourceLocation | None) -> SDFError:

@@ -199,7 +199,7 @@ class _Reader:
             else:
                 relative_to = legacy_frame
         degrees = el.attrs.get("degrees", "false").strip().lower() in ("1", "true")
-        values = _floats(el)
+        values = _floats(el) or (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)  # <pose relative_to="f"/>
         if el.attrs.get("rotation_format") == "quat_xyzw" or len(values) == 7:
             if len(values) != 7:
                 msg = "a quat_xyzw <pose> needs 7 numbers: x y z qx qy qz qw"
@@ -254,9 +254,8 @@ class _Reader:
             )
         world_name = world_el.attrs.get("name", "default")
         graph = FrameGraph(f"world {world_name!r}", "world", legacy=not self.modern)
-        reads: list[_ModelRead] = []
+        reads: list[_ModelRead | Element] = []  # models and frames, in the file's order
         lights: list[tuple[Light, str | None, SourceLocation | None]] = []
-        frame_els: list[Element] = []
         for el in world_el.elements():
             if el.tag == "model":
                 reads.append(self.model(el))
@@ -269,15 +268,13 @@ class _Reader:
             elif el.tag == "light":
                 lights.append((self.light(el), self.pose(el)[1], _pose_at(el)))
             elif el.tag == "frame":
-                frame_els.append(el)
+                reads.append(el)
             elif el.tag in _UNSUPPORTED:
                 self.warn(el.loc, f"<{el.tag}> is not simulated; ignored")
             elif el.tag == "plugin":
                 name = el.attrs.get("filename", "?")
                 if "gazebo_ros_api" not in name and "gazebo_ros_state" not in name:
                     self.warn(el.loc, f"world plugin {name!r} is not supported; ignored")
-        for el in frame_els:
-            self.frame(graph, el, scope_frame="world")
         models = self._place_models(graph, reads)
         placed_lights = [
             light
@@ -302,10 +299,17 @@ class _Reader:
             warnings=tuple(self.warnings),
         )
 
-    def _place_models(self, graph: FrameGraph, reads: list[_ModelRead]) -> list[WorldModelEntry]:
-        """Put the world's models into its frame graph; each one's pose in the world."""
+    def _place_models(
+        self, graph: FrameGraph, items: list[_ModelRead | Element] | list[_ModelRead]
+    ) -> list[WorldModelEntry]:
+        """Put the world's models and frames into its frame graph; each model's pose in the
+        world."""
+        reads = [r for r in items if isinstance(r, _ModelRead)]
         self._unique([r.entry for r in reads])
-        for read in reads:
+        for read in items:
+            if not isinstance(read, _ModelRead):
+                self.frame(graph, read, scope_frame="world")
+                continue
             graph.add_nested(
                 read.entry.name,
                 read.graph,
