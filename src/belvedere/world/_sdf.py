@@ -12,20 +12,23 @@ from __future__ import annotations
 
 import math
 import os
-import sys
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
-from belvedere.description.gazebo_materials import gazebo_material_rgba
 from belvedere.description.urdf import Box, Cylinder, Inertial, Mesh, Pose, Sphere, transform
 from belvedere.errors import SourceLocation
 from belvedere.packages import PackageIndex
+from belvedere.world._elements import child as _child
+from belvedere.world._elements import flag as _flag
+from belvedere.world._elements import floats as _floats
+from belvedere.world._elements import number as _number
+from belvedere.world._elements import positive as _positive
+from belvedere.world._elements import read_material, read_surface
 from belvedere.world._frames import FrameGraph, Matrix4
 from belvedere.world._model import (
-    RGBA,
     Light,
     Physics,
     Plane,
@@ -85,53 +88,6 @@ def empty_world(*, model_paths: ModelPaths | None = None) -> WorldModel:
 
 def _paths(packages: PackageIndex | None, model_paths: ModelPaths | None) -> ModelPaths:
     return model_paths or ModelPaths.from_environment(packages=packages)
-
-
-def _floats(el: Element, count: int | None = None) -> tuple[float, ...]:
-    text = el.text_content().split()
-    try:
-        values = tuple(float(v) for v in text)
-    except ValueError:
-        msg = f"<{el.tag}> expects numbers, got {el.text_content().strip()!r}"
-        raise SDFError(msg, el.loc) from None
-    for token, value in zip(text, values, strict=True):
-        if not math.isfinite(value):
-            msg = f"<{el.tag}> expects finite numbers, got {token!r}"
-            raise SDFError(msg, el.loc, hint=f"the largest double is ±{sys.float_info.max:.17g}")
-    if count is not None and len(values) != count:
-        msg = f"<{el.tag}> expects {count} numbers, got {len(values)}"
-        raise SDFError(msg, el.loc)
-    return values
-
-
-def _child(el: Element, tag: str) -> Element | None:
-    return next((c for c in el.elements() if c.tag == tag), None)
-
-
-def _number(el: Element, tag: str, default: float) -> float:
-    c = _child(el, tag)
-    return _floats(c, 1)[0] if c is not None else default
-
-
-def _positive(el: Element, tag: str, default: float) -> float:
-    value = _number(el, tag, default)
-    if not value > 0:
-        msg = f"<{tag}> must be positive, got {value}"
-        raise SDFError(msg, (_child(el, tag) or el).loc)
-    return value
-
-
-def _flag(el: Element, tag: str, default: bool) -> bool:
-    c = _child(el, tag)
-    if c is None:
-        return default
-    text = c.text_content().strip().lower()
-    if text in ("1", "true"):
-        return True
-    if text in ("0", "false"):
-        return False
-    msg = f"<{tag}> expects true or false, got {text!r}"
-    raise SDFError(msg, c.loc)
 
 
 def _version(text: str) -> tuple[int, int]:
@@ -710,8 +666,8 @@ class _Reader:
             name=name,
             geometry=geometry,
             pose=self.in_link(el, graph, link, f"{el.tag} {name!r}"),
-            surface=self.surface(_child(el, "surface")) if el.tag == "collision" else None,
-            rgba=self.material(_child(el, "material")) if el.tag == "visual" else None,
+            surface=read_surface(_child(el, "surface")) if el.tag == "collision" else None,
+            rgba=read_material(_child(el, "material")) if el.tag == "visual" else None,
             source=el.loc,
         )
 
@@ -771,45 +727,6 @@ class _Reader:
             return Path(uri.removeprefix("file://"))
         path = Path(uri)
         return path if path.is_absolute() else Path(self.path).parent / path
-
-    def surface(self, el: Element | None) -> Surface | None:
-        if el is None:
-            return None
-        friction = _child(el, "friction")
-        ode = _child(friction, "ode") if friction is not None else None
-        contact = _child(el, "contact")
-        contact_ode = _child(contact, "ode") if contact is not None else None
-
-        def opt(parent: Element | None, tag: str) -> float | None:
-            c = _child(parent, tag) if parent is not None else None
-            return _floats(c, 1)[0] if c is not None else None
-
-        mu, mu2 = opt(ode, "mu"), opt(ode, "mu2")
-        return Surface(
-            mu=1.0 if mu is None else mu,
-            mu2=1.0 if mu2 is None else mu2,
-            kp=opt(contact_ode, "kp"),
-            kd=opt(contact_ode, "kd"),
-            min_depth=opt(contact_ode, "min_depth"),
-            max_vel=opt(contact_ode, "max_vel"),
-        )
-
-    def material(self, el: Element | None) -> RGBA | None:
-        if el is None:
-            return None
-        script = _child(el, "script")
-        name_el = _child(script, "name") if script is not None else None
-        if name_el is not None:
-            rgba = gazebo_material_rgba(name_el.text_content())
-            if rgba is not None:
-                return rgba
-        for tag in ("diffuse", "ambient"):
-            c = _child(el, tag)
-            if c is not None:
-                v = _floats(c)
-                if len(v) >= 3:
-                    return (v[0], v[1], v[2], v[3] if len(v) > 3 else 1.0)
-        return None
 
     def joint(self, el: Element, graph: FrameGraph) -> WorldJoint:
         """A joint posed in its child link's frame, its axis expressed there too."""
