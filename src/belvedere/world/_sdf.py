@@ -2,10 +2,13 @@
 
 Handled: ``<physics>`` (and 1.4's gravity inside it), models (static or not) with links,
 inertials, collisions, visuals, joints, nested models and frames; geometry box, cylinder,
-sphere, plane, mesh, polyline; poses with ``relative_to``/``frame``, ``degrees`` and
-quaternions; ``<include>`` of ``model://`` (with ``<name>``, ``<pose>``, ``<static>``);
-the ``<state>`` block Gazebo writes when it saves a world; lights. What is not simulated
-(actors, populations, heightmaps, world plugins) is a warning naming its line.
+sphere, plane, mesh, polyline; poses with ``degrees`` and quaternions, placed through each
+scope's frame graph (:mod:`belvedere.world._frames`: SDF 1.7's ``relative_to``,
+``attached_to``, ``canonical_link``, ``placement_frame``, ``expressed_in``; before 1.7 the
+fixed rules and the ``frame`` attribute); ``<include>`` of ``model://`` (with ``<name>``,
+``<pose>``, ``<static>``, ``<placement_frame>``); world ``<frame>``s; the ``<state>`` block
+Gazebo writes when it saves a world; lights. What is not simulated (actors, populations,
+heightmaps, world plugins) is a warning naming its line.
 """
 
 from __future__ import annotations
