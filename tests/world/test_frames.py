@@ -150,6 +150,11 @@ def test_canonical_link_attribute_and_static_models() -> None:
         "<model name='m'><static>true</static><link name='b'/><frame name='f'/></model>"
     ).models
     assert static.frames[0].attached_to is None  # a static model's frame is the world's
+    (outer,) = _world(
+        "<model name='o'><link name='l'/><frame name='f' attached_to='fixture'/>"
+        "<model name='fixture'><static>true</static><link name='k'/></model></model>"
+    ).models
+    assert outer.frames[0].attached_to is None  # so is a static nested model's
 
 
 def test_an_axis_expressed_in_another_frame() -> None:

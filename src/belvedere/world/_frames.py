@@ -62,6 +62,8 @@ class FrameGraph:
             root: _Frame(root, root, np.eye(4), None, None, None),
         }
         self._in_root: dict[str, Matrix4] = {root: np.eye(4)}
+        self._static: set[str] = set()
+        """Nested models fixed to the world: attached-to chains through them end there."""
         self._body: dict[str, str] = {}
 
     def __contains__(self, name: str) -> bool:
@@ -127,6 +129,8 @@ class FrameGraph:
         """Add a nested model's frame ``name`` (its pose given in ``relative_to``) and every
         frame of ``inner`` under ``name::…``, placed in the nested model's frame."""
         body = None if static else inner.body(inner.root)
+        if static or body is None:
+            self._static.add(name)
         self.add(
             name,
             "model",
@@ -146,7 +150,11 @@ class FrameGraph:
                 frame.kind,
                 inner.in_root(inner_name),
                 name,
-                None if inner_body is None or inner_body == inner_name else f"{name}::{inner_body}",
+                None
+                if inner_body == inner_name
+                else name
+                if inner_body is None
+                else f"{name}::{inner_body}",
                 frame.source,
             )
 
@@ -226,7 +234,8 @@ class FrameGraph:
             chain.append(current)
             target = frame.attached_to
             if target is None:
-                end = None if frame.kind in (self.root, "world") else current
+                ends_at_world = frame.kind in (self.root, "world") or current in self._static
+                end = None if ends_at_world else current
                 break
             if target not in self.frames:
                 who = f"{frame.kind} {current!r}"
