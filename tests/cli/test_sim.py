@@ -178,3 +178,19 @@ def test_physics_argument_errors(
         engine = []
     assert main(["sim", MBOT, "--headless", "--duration", "1", *engine, *extra]) == 1
     assert message in capsys.readouterr().err
+
+
+def test_a_world_that_already_holds_the_robot(
+    endpoint: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    world = tmp_path / "saved.world"
+    world.write_text(
+        "<sdf version='1.7'><world name='default'>\n"
+        "  <model name='mbot'><link name='base_footprint'/></model>\n"
+        "</world></sdf>\n"
+    )
+    args = ["sim", MBOT, "--engine", "physics", "--world", str(world), "--headless"]
+    assert main([*args, "--duration", "0.1"]) == 1
+    err = capsys.readouterr().err
+    assert f"{world}:2:3: error: the world already has a model named 'mbot'" in err
+    assert "mbot_gazebo.xacro cannot be spawned under that name again" in err

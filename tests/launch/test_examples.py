@@ -10,7 +10,7 @@ import pytest
 
 from belvedere.cli import main
 from belvedere.graph import Graph
-from belvedere.launch import load_launch
+from belvedere.launch import LaunchError, load_launch
 from belvedere.launch._runtime import LaunchRuntime
 from belvedere.msgs import types
 from belvedere.packages import PackageIndex
@@ -252,3 +252,64 @@ def test_a_dump_that_does_not_fit_keeps_the_old_file(
     )
     assert dump.read_text() == "previous: 1\n"
     assert sorted(p.name for p in full_disk.iterdir()) == ["params.yaml"]
+
+
+def test_spawning_a_model_the_world_already_has_names_both_places(tmp_path: Path) -> None:
+    # A world saved by Gazebo while the robot was in it keeps the robot; launching it with
+    # the spawner again is refused, as gazebo_ros refuses it.
+    world = tmp_path / "room.world"
+    world.write_text(
+        "<sdf version='1.7'><world name='default'>\n"
+        "  <include><uri>model://ground_plane</uri></include>\n"
+        "  <model name='mrobot'>\n"
+        "    <link name='base_footprint'/>\n"
+        "  </model>\n"
+        "</world></sdf>\n"
+    )
+    launch = tmp_path / "room.launch"
+    launch.write_text(
+        f"""<launch>
+  <include file="$(find gazebo_ros)/launch/empty_world.launch">
+    <arg name="world_name" value="{world}"/>
+    <arg name="gui" value="false"/>
+  </include>
+  <param name="robot_description" textfile="$(find mbot_description)/urdf/urdf/mbot_base.urdf"/>
+  <node name="urdf_spawner" pkg="gazebo_ros" type="spawn_model"
+        args="-urdf -model mrobot -param robot_description"/>
+</launch>
+"""
+    )
+    packages = PackageIndex([EXAMPLES])
+    graph = Graph()
+    runtime = LaunchRuntime(load_launch(launch, packages=packages), graph, packages, headless=True)
+    with pytest.raises(LaunchError) as info:
+        runtime.start()
+    text = info.value.describe()
+    assert text.startswith(f"{launch}:7:")
+    assert f"the world already has a model named 'mrobot' (at {world}:3:3)" in text
+    assert "Gazebo refuses to spawn it again" in text
+    runtime.close()
+    graph.shutdown()
+
+
+def test_two_spawners_of_one_name_name_both_places(tmp_path: Path) -> None:
+    launch = tmp_path / "twice.launch"
+    launch.write_text(
+        """<launch>
+  <include file="$(find gazebo_ros)/launch/empty_world.launch">
+    <arg name="gui" value="false"/>
+  </include>
+  <param name="rd" textfile="$(find mbot_description)/urdf/urdf/mbot_base.urdf"/>
+  <node name="first" pkg="gazebo_ros" type="spawn_model" args="-urdf -model r -param rd"/>
+  <node name="second" pkg="gazebo_ros" type="spawn_model" args="-urdf -model r -param rd"/>
+</launch>
+"""
+    )
+    packages = PackageIndex([EXAMPLES])
+    graph = Graph()
+    runtime = LaunchRuntime(load_launch(launch, packages=packages), graph, packages, headless=True)
+    with pytest.raises(LaunchError, match=rf"/first \(at {launch}:6:\d+\) already spawned") as info:
+        runtime.start()
+    assert str(info.value.location).startswith(f"{launch}:7:")
+    runtime.close()
+    graph.shutdown()

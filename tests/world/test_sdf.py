@@ -144,7 +144,7 @@ def test_poses_quaternions_degrees_and_old_gravity() -> None:
             "<model name='a'><link name='l'><pose relative_to='nope'>0 0 0 0 0 0</pose>"
             "</link></model>",
             ":1:",
-            "relative_to 'nope', which is not a frame here",
+            "pose of link 'l' is relative_to 'nope', which is not a frame of model 'a'",
         ),
         (
             "<model name='a'><link name='l'><collision name='c'><geometry><box>"

@@ -18,7 +18,7 @@ from belvedere.cli._args import add_viewer_options, mappings_only
 from belvedere.cli._script import ScriptOptions, add_script_options, install_script
 from belvedere.cli._tool import add_graph_options, open_transport
 from belvedere.description.urdf import Pose, RobotModel
-from belvedere.errors import BelvedereError
+from belvedere.errors import BelvedereError, ParseError
 from belvedere.graph import Graph
 from belvedere.packages import PackageIndex
 from belvedere.sim import (
@@ -197,6 +197,19 @@ def _physics(
     world: WorldModel,
     packages: PackageIndex,
 ) -> PhysicsSimulation:
+    embedded = world.model(model.name)
+    if embedded is not None:  # Gazebo refuses to spawn a second model of one name
+        msg = (
+            f"the world already has a model named {model.name!r} (at "
+            f"{embedded.source or world.path}); the robot {model.path or model.name} cannot be "
+            "spawned under that name again"
+        )
+        raise ParseError(
+            msg,
+            embedded.source,
+            hint="remove that <model> from the world file (a world saved while the robot was "
+            "in it keeps a copy)",
+        )
     sim = PhysicsSimulation(graph, world, auto_reset=args.auto_reset)
     GazeboRos(sim, packages=packages)
     graph.params.set("/robot_description", model.to_urdf())

@@ -60,6 +60,8 @@ class LaunchRuntime:
     controllers: list[Callable[[], None]] = field(default_factory=list)
     """Run after that (controller spawners: the robots they control exist by then)."""
     missing: list[str] = field(default_factory=list)
+    spawned: dict[str, LaunchNode] = field(default_factory=dict)
+    """Model name → the spawn_model node that spawned it."""
     respawn_at: dict[int, float] = field(default_factory=dict)
 
     def start(self) -> None:
@@ -271,15 +273,44 @@ def _gzclient(rt: LaunchRuntime, spec: LaunchNode, node: Node) -> None:
 
 
 def _spawn_model(rt: LaunchRuntime, spec: LaunchNode, node: Node) -> None:
-    from belvedere.sim.physics import spawn_model
+    from belvedere.sim.physics import parse_spawn_args, spawn_model
 
     def spawn() -> None:
         if rt.sim is None:
             msg = "spawn_model: no simulation is running (include gazebo_ros/empty_world.launch)"
             raise LaunchError(msg, spec.source)
-        spawn_model(node, shlex.split(spec.args))
+        words = shlex.split(spec.args)
+        name = parse_spawn_args(words).model
+        _check_spawn_name(rt, spec, name)
+        spawn_model(node, words)
+        rt.spawned[name] = spec
 
     rt.deferred.append(spawn)
+
+
+def _check_spawn_name(rt: LaunchRuntime, spec: LaunchNode, name: str) -> None:
+    """Gazebo refuses to spawn a model under a name the world already has (a world saved
+    with the robot in it, then launched with its spawner): one error naming both places."""
+    earlier = rt.spawned.get(name)
+    if earlier is not None:
+        msg = (
+            f"spawn_model -model {name}: {earlier.full_name} (at {earlier.source}) already "
+            "spawned a model of that name; Gazebo refuses a second one"
+        )
+        raise LaunchError(msg, spec.source, hint="give each spawn_model its own -model name")
+    entry = rt.sim.world.model(name)
+    if entry is not None:
+        where = entry.source or rt.sim.world.path or "the world"
+        msg = (
+            f"spawn_model -model {name}: the world already has a model named {name!r} "
+            f"(at {where}); Gazebo refuses to spawn it again"
+        )
+        raise LaunchError(
+            msg,
+            spec.source,
+            hint="remove that <model> from the world file (a world saved while the robot was "
+            "in it keeps a copy), or spawn under another -model name",
+        )
 
 
 def _spawner(rt: LaunchRuntime, spec: LaunchNode, node: Node) -> None:

@@ -19,6 +19,7 @@ __all__ = [
     "SDFError",
     "Shape",
     "Surface",
+    "WorldFrame",
     "WorldGeometry",
     "WorldJoint",
     "WorldLink",
@@ -96,13 +97,25 @@ class WorldJoint:
     """A link of the model, or ``world``."""
     child: str
     pose: Pose = Pose()
-    """In the child link's frame."""
+    """In the child link's frame (whatever frame the file wrote it in)."""
     axis: Vec3 = (0.0, 0.0, 1.0)
     """In the child link's frame."""
     lower: float | None = None
     upper: float | None = None
     damping: float = 0.0
     friction: float = 0.0
+    source: SourceLocation | None = field(default=None, compare=False)
+
+
+@dataclass(frozen=True, slots=True)
+class WorldFrame:
+    """An explicit ``<frame>`` (SDF 1.7): where it is and what it moves with."""
+
+    name: str
+    pose: Pose = Pose()
+    """In its model's frame (a world frame: in the world frame)."""
+    attached_to: str | None = None
+    """The link it moves with (``nested::link`` for one of a nested model); None: the world."""
     source: SourceLocation | None = field(default=None, compare=False)
 
 
@@ -119,6 +132,11 @@ class WorldModelEntry:
     uri: str | None = None
     """``model://…`` when it came from an ``<include>``."""
     source: SourceLocation | None = field(default=None, compare=False)
+    frames: tuple[WorldFrame, ...] = ()
+    """Its explicit ``<frame>``s, nested models' ones as ``nested::name``."""
+    canonical_link: str | None = None
+    """The link the model frame is attached to (SDF 1.7 ``canonical_link``; by default the
+    first link, or a nested model's canonical link)."""
 
     def link(self, name: str) -> WorldLink | None:
         return next((link for link in self.links if link.name == name), None)
@@ -150,6 +168,8 @@ class WorldModel:
     physics: Physics = Physics()
     models: tuple[WorldModelEntry, ...] = ()
     lights: tuple[Light, ...] = ()
+    frames: tuple[WorldFrame, ...] = ()
+    """World-level ``<frame>``s, posed in the world frame."""
     path: str | None = None
     sdf_version: str = "1.6"
     warnings: tuple[str, ...] = field(default=(), compare=False)

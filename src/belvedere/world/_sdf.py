@@ -2,28 +2,36 @@
 
 Handled: ``<physics>`` (and 1.4's gravity inside it), models (static or not) with links,
 inertials, collisions, visuals, joints, nested models and frames; geometry box, cylinder,
-sphere, plane, mesh, polyline; poses with ``relative_to``/``frame``, ``degrees`` and
-quaternions; ``<include>`` of ``model://`` (with ``<name>``, ``<pose>``, ``<static>``);
-the ``<state>`` block Gazebo writes when it saves a world; lights. What is not simulated
-(actors, populations, heightmaps, world plugins) is a warning naming its line.
+sphere, plane, mesh, polyline; poses with ``degrees`` and quaternions, placed through each
+scope's frame graph (:mod:`belvedere.world._frames`: SDF 1.7's ``relative_to``,
+``attached_to``, ``canonical_link``, ``placement_frame``, ``expressed_in``; before 1.7 the
+fixed rules and the ``frame`` attribute); ``<include>`` of ``model://`` (with ``<name>``,
+``<pose>``, ``<static>``, ``<placement_frame>``); world ``<frame>``s; the ``<state>`` block
+Gazebo writes when it saves a world; lights. What is not simulated (actors, populations,
+heightmaps, world plugins) is a warning naming its line.
 """
 
 from __future__ import annotations
 
 import math
 import os
-import sys
 from collections.abc import Callable
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
-from belvedere.description.gazebo_materials import gazebo_material_rgba
-from belvedere.description.urdf import Box, Cylinder, Inertial, Mesh, Pose, Sphere
+import numpy as np
+
+from belvedere.description.urdf import Box, Cylinder, Inertial, Mesh, Pose, Sphere, transform
 from belvedere.errors import SourceLocation
 from belvedere.packages import PackageIndex
-from belvedere.world._frames import Frame, resolve_frames
+from belvedere.world._elements import child as _child
+from belvedere.world._elements import flag as _flag
+from belvedere.world._elements import floats as _floats
+from belvedere.world._elements import number as _number
+from belvedere.world._elements import positive as _positive
+from belvedere.world._elements import read_material, read_surface
+from belvedere.world._frames import FrameGraph, Matrix4
 from belvedere.world._model import (
-    RGBA,
     Light,
     Physics,
     Plane,
@@ -31,6 +39,7 @@ from belvedere.world._model import (
     SDFError,
     Shape,
     Surface,
+    WorldFrame,
     WorldGeometry,
     WorldJoint,
     WorldLink,
@@ -38,7 +47,7 @@ from belvedere.world._model import (
     WorldModelEntry,
 )
 from belvedere.world._paths import BUILTIN_MODELS, ModelPaths, model_sdf_file
-from belvedere.world._poses import compose, from_matrix, inverse, matrix, quat_xyzw_to_rpy
+from belvedere.world._poses import from_matrix, inverse, matrix, quat_xyzw_to_rpy
 from belvedere.xmldom import Element, parse_file, parse_string
 
 __all__ = ["SDFError", "empty_world", "read_world", "read_world_string"]
@@ -84,62 +93,34 @@ def _paths(packages: PackageIndex | None, model_paths: ModelPaths | None) -> Mod
     return model_paths or ModelPaths.from_environment(packages=packages)
 
 
-def _floats(el: Element, count: int | None = None) -> tuple[float, ...]:
-    text = el.text_content().split()
-    try:
-        values = tuple(float(v) for v in text)
-    except ValueError:
-        msg = f"<{el.tag}> expects numbers, got {el.text_content().strip()!r}"
-        raise SDFError(msg, el.loc) from None
-    for token, value in zip(text, values, strict=True):
-        if not math.isfinite(value):
-            msg = f"<{el.tag}> expects finite numbers, got {token!r}"
-            raise SDFError(msg, el.loc, hint=f"the largest double is ±{sys.float_info.max:.17g}")
-    if count is not None and len(values) != count:
-        msg = f"<{el.tag}> expects {count} numbers, got {len(values)}"
-        raise SDFError(msg, el.loc)
-    return values
+def _version(text: str) -> tuple[int, int]:
+    parts = [int(p) for p in text.strip().split(".")[:2] if p.isdigit()]
+    major, minor = [*parts, 0, 0][:2]
+    return major, minor
 
 
-def _child(el: Element, tag: str) -> Element | None:
-    return next((c for c in el.elements() if c.tag == tag), None)
+def _pose_at(el: Element) -> SourceLocation | None:
+    """Where an element's pose is written (its ``<pose>``, else the element)."""
+    pose = _child(el, "pose")
+    return (pose if pose is not None else el).loc
 
 
-def _number(el: Element, tag: str, default: float) -> float:
-    c = _child(el, tag)
-    return _floats(c, 1)[0] if c is not None else default
+def _rotate(rotation: Matrix4, v: tuple[float, float, float]) -> tuple[float, float, float]:
+    r = rotation[:3, :3] @ np.asarray(v, dtype=np.float64)
+    return (float(r[0]), float(r[1]), float(r[2]))
 
 
-def _positive(el: Element, tag: str, default: float) -> float:
-    value = _number(el, tag, default)
-    if not value > 0:
-        msg = f"<{tag}> must be positive, got {value}"
-        raise SDFError(msg, (_child(el, tag) or el).loc)
-    return value
+@dataclass(slots=True)
+class _ModelRead:
+    """A model read on its own, not yet placed in the scope that holds it."""
 
-
-def _flag(el: Element, tag: str, default: bool) -> bool:
-    c = _child(el, tag)
-    if c is None:
-        return default
-    text = c.text_content().strip().lower()
-    if text in ("1", "true"):
-        return True
-    if text in ("0", "false"):
-        return False
-    msg = f"<{tag}> expects true or false, got {text!r}"
-    raise SDFError(msg, c.loc)
-
-
-def _unique_names(kind: str, model: str, parts: list[WorldLink] | list[WorldJoint]) -> None:
-    """SDF names siblings uniquely; a copied link would otherwise be simulated twice."""
-    seen: dict[str, SourceLocation | None] = {}
-    for part in parts:
-        if part.name in seen:
-            first = seen[part.name]
-            msg = f"two {kind}s of model {model!r} are named {part.name!r} (the first at {first})"
-            raise SDFError(msg, part.source)
-        seen[part.name] = part.source
+    entry: WorldModelEntry
+    graph: FrameGraph
+    pose: Matrix4
+    """The model frame's pose in ``relative_to`` (a placement frame already applied)."""
+    relative_to: str | None
+    """None: the frame of the scope that holds the model."""
+    pose_at: SourceLocation | None
 
 
 class _Reader:
@@ -153,14 +134,31 @@ class _Reader:
     def warn(self, where: SourceLocation | None, text: str) -> None:
         self.warnings.append(f"{where or self.path}: warning: {text}")
 
+    @property
+    def modern(self) -> bool:
+        """SDF 1.7 frame semantics (``relative_to``, ``attached_to``, one namespace)."""
+        return _version(self.version) >= (1, 7)
+
     # --- poses ----------------------------------------------------------------------------------
     def pose(self, parent: Element) -> tuple[Pose, str | None]:
+        """The ``<pose>`` of ``parent`` as written and the frame it names (None: the default
+        for this kind of element)."""
         el = _child(parent, "pose")
         if el is None:
             return Pose(), None
-        relative_to = el.attrs.get("relative_to") or el.attrs.get("frame") or None
+        relative_to = el.attrs.get("relative_to") or None
+        legacy_frame = el.attrs.get("frame") or None
+        if legacy_frame is not None and relative_to is None:
+            if self.modern:
+                self.warn(
+                    el.loc,
+                    f"<pose frame={legacy_frame!r}> is SDF 1.5/1.6; SDF {self.version} ignores it "
+                    "(as Gazebo does): write relative_to",
+                )
+            else:
+                relative_to = legacy_frame
         degrees = el.attrs.get("degrees", "false").strip().lower() in ("1", "true")
-        values = _floats(el)
+        values = _floats(el) or (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)  # <pose relative_to="f"/>
         if el.attrs.get("rotation_format") == "quat_xyzw" or len(values) == 7:
             if len(values) != 7:
                 msg = "a quat_xyzw <pose> needs 7 numbers: x y z qx qy qz qw"
@@ -174,6 +172,25 @@ class _Reader:
             raise SDFError(msg, el.loc)
         return Pose((values[0], values[1], values[2]), (rpy[0], rpy[1], rpy[2])), relative_to
 
+    def name(self, el: Element, kind: str) -> str:
+        """An element's ``name``: present, and (SDF 1.7+) not one SDF reserves."""
+        name = el.attrs.get("name", "")
+        if not name:
+            msg = f"<{el.tag}> needs a name"
+            raise SDFError(msg, el.loc)
+        if self.modern and (name == "world" or (name.startswith("__") and name.endswith("__"))):
+            msg = f"{kind} name {name!r} is reserved in SDF {self.version}"
+            raise SDFError(
+                msg,
+                el.loc,
+                hint="'world' and names that start and end with '__' name frames "
+                "SDF defines itself",
+            )
+        if _version(self.version) >= (1, 8) and "::" in name:
+            msg = f"{kind} name {name!r} contains '::', which SDF {self.version} keeps for scopes"
+            raise SDFError(msg, el.loc)
+        return name
+
     # --- world ----------------------------------------------------------------------------------
     def world(self, root: Element) -> WorldModel:
         if root.tag != "sdf":
@@ -182,47 +199,106 @@ class _Reader:
         self.version = root.attrs.get("version", "1.6")
         world_el = _child(root, "world")
         if world_el is None:
-            alone = [self.model(m, Pose()) for m in root.elements() if m.tag == "model"]
+            alone = [self.model(m) for m in root.elements() if m.tag == "model"]
             if not alone:
                 msg = "no <world> or <model> in this SDF file"
                 raise SDFError(msg, root.loc)
-            self._unique(alone)
+            graph = FrameGraph("this file", "world", legacy=not self.modern)
+            models = self._place_models(graph, alone)
             return WorldModel(
-                models=tuple(alone),
+                models=tuple(models),
                 path=self.path,
                 sdf_version=self.version,
                 warnings=tuple(self.warnings),
             )
-        models: list[WorldModelEntry] = []
-        lights: list[Light] = []
+        world_name = world_el.attrs.get("name", "default")
+        graph = FrameGraph(f"world {world_name!r}", "world", legacy=not self.modern)
+        reads: list[_ModelRead | Element] = []  # models and frames, in the file's order
+        lights: list[tuple[Light, str | None, SourceLocation | None]] = []
         for el in world_el.elements():
             if el.tag == "model":
-                models.append(self.model(el, Pose()))
+                reads.append(self.model(el))
             elif el.tag == "include":
                 included = self.include(el)
                 if isinstance(included, Light):
-                    lights.append(included)
+                    lights.append((included, None, el.loc))
                 elif included is not None:
-                    models.append(included)
+                    reads.append(included)
             elif el.tag == "light":
-                lights.append(self.light(el))
+                lights.append((self.light(el), self.pose(el)[1], _pose_at(el)))
+            elif el.tag == "frame":
+                reads.append(el)
             elif el.tag in _UNSUPPORTED:
                 self.warn(el.loc, f"<{el.tag}> is not simulated; ignored")
             elif el.tag == "plugin":
                 name = el.attrs.get("filename", "?")
                 if "gazebo_ros_api" not in name and "gazebo_ros_state" not in name:
                     self.warn(el.loc, f"world plugin {name!r} is not supported; ignored")
-        models = self._relative_models(world_el, models)
+        models = self._place_models(graph, reads)
+        placed_lights = [
+            light
+            if rel is None
+            else replace(
+                light,
+                pose=from_matrix(
+                    graph.resolve(light.pose, rel, asked_by=f"pose of light {light.name!r}", at=at)
+                ),
+            )
+            for light, rel, at in lights
+        ]
         models = self.apply_state(world_el, models)
-        self._unique(models)
         return WorldModel(
-            name=world_el.attrs.get("name", "default"),
+            name=world_name,
             physics=self.physics(world_el),
             models=tuple(models),
-            lights=tuple(lights),
+            lights=tuple(placed_lights),
+            frames=self._frames(graph),
             path=self.path,
             sdf_version=self.version,
             warnings=tuple(self.warnings),
+        )
+
+    def _place_models(
+        self, graph: FrameGraph, items: list[_ModelRead | Element] | list[_ModelRead]
+    ) -> list[WorldModelEntry]:
+        """Put the world's models and frames into its frame graph; each model's pose in the
+        world."""
+        reads = [r for r in items if isinstance(r, _ModelRead)]
+        self._unique([r.entry for r in reads])
+        for read in items:
+            if not isinstance(read, _ModelRead):
+                self.frame(graph, read, scope_frame="world")
+                continue
+            graph.add_nested(
+                read.entry.name,
+                read.graph,
+                read.pose,
+                relative_to=read.relative_to or "world",
+                static=read.entry.static,
+                source=read.pose_at,
+            )
+        graph.check()
+        return [replace(r.entry, pose=graph.pose(r.entry.name)) for r in reads]
+
+    def frame(self, graph: FrameGraph, el: Element, *, scope_frame: str) -> None:
+        """An explicit ``<frame>``: attached to ``attached_to`` (default: the scope's frame),
+        posed relative to ``relative_to`` (default: what it is attached to)."""
+        name = self.name(el, "frame")
+        attached = (el.attrs.get("attached_to") if self.modern else None) or scope_frame
+        pose, rel = self.pose(el)
+        graph.add(
+            name,
+            "frame",
+            pose,
+            relative_to=rel or attached,
+            attached_to=attached,
+            source=_pose_at(el) if rel else el.loc,
+        )
+
+    def _frames(self, graph: FrameGraph) -> tuple[WorldFrame, ...]:
+        return tuple(
+            WorldFrame(name, graph.pose(name), graph.body(name), graph.frames[name].source)
+            for name in graph.names("frame")
         )
 
     def physics(self, world_el: Element) -> Physics:
@@ -260,7 +336,7 @@ class _Reader:
         )
 
     # --- includes ---------------------------------------------------------------------------------
-    def include(self, el: Element) -> WorldModelEntry | Light | None:
+    def include(self, el: Element) -> _ModelRead | Light | None:
         uri_el = _child(el, "uri")
         if uri_el is None:
             msg = "<include> needs a <uri>"
@@ -276,7 +352,11 @@ class _Reader:
             directory = self.paths.find(name)
         if directory is None:
             if name in BUILTIN_MODELS:
-                return self.builtin(name, el)
+                builtin = self.builtin(name, el)
+                if isinstance(builtin, Light):
+                    return builtin
+                read = _ModelRead(builtin, self._one_link_graph(builtin), np.eye(4), None, el.loc)
+                return self._included(el, read, uri)
             msg = f"model {uri!r} not found (searched: {self.paths.searched()})"
             raise SDFError(
                 msg,
@@ -305,21 +385,56 @@ class _Reader:
             if model_el is None:
                 msg = f"{sdf_file} has no <model>"
                 raise SDFError(msg, doc.root.loc)
-            model = inner.model(model_el, Pose())
+            read = inner.model(model_el)
             self.warnings += inner.warnings
         finally:
             self.including.pop()
-        pose, _ = self.pose(el)
+        return self._included(el, read, uri)
+
+    def _included(self, el: Element, read: _ModelRead, uri: str) -> _ModelRead:
+        """An ``<include>``'s overrides: its ``<name>``, ``<static>``, and its ``<pose>``,
+        which replaces the model's own (in this file's scope, so its ``relative_to`` names a
+        frame here), placing the model's ``<placement_frame>`` if it names one."""
         name_el = _child(el, "name")
-        static_el = _child(el, "static")
-        return replace(
-            model,
-            name=name_el.text_content().strip() if name_el is not None else model.name,
-            pose=compose(pose, model.pose) if _child(el, "pose") is not None else model.pose,
-            static=_flag(el, "static", model.static) if static_el is not None else model.static,
+        entry = replace(
+            read.entry,
+            name=name_el.text_content().strip() if name_el is not None else read.entry.name,
+            static=_flag(el, "static", read.entry.static),
             uri=uri,
             source=el.loc,
         )
+        if entry.name != read.entry.name:
+            read.graph.scope = f"model {entry.name!r}"
+        if _child(el, "pose") is None:
+            return replace(read, entry=entry, relative_to=None)
+        pose, rel = self.pose(el)
+        matrix = transform(pose)
+        placement_el = _child(el, "placement_frame")
+        if placement_el is not None:
+            matrix = self._placed(matrix, read.graph, placement_el.text_content().strip(), el)
+        return _ModelRead(entry, read.graph, matrix, rel, _pose_at(el))
+
+    def _placed(self, pose: Matrix4, graph: FrameGraph, placement: str, el: Element) -> Matrix4:
+        """``pose`` gives where frame ``placement`` of the model goes: the model frame's pose."""
+        model_from_placement = graph.in_root(
+            placement, asked_by=f"{graph.scope}'s placement_frame", at=el.loc
+        )
+        result: Matrix4 = pose @ np.linalg.inv(model_from_placement)
+        return result
+
+    def _one_link_graph(self, entry: WorldModelEntry) -> FrameGraph:
+        graph = FrameGraph(f"model {entry.name!r}", "__model__")
+        for link in entry.links:
+            graph.add(
+                link.name,
+                "link",
+                link.pose,
+                relative_to="__model__",
+                attached_to=None,
+                source=link.source,
+            )
+        graph.attach_root(None if entry.static else entry.links[0].name)
+        return graph
 
     def builtin(self, name: str, el: Element) -> WorldModelEntry | Light:
         if name == "sun":
@@ -329,7 +444,6 @@ class _Reader:
                 pose=Pose((0.0, 0.0, 10.0)),
                 cast_shadows=True,
             )
-        pose, _ = self.pose(el)
         plane = Shape(
             "collision",
             Plane((0.0, 0.0, 1.0), (100.0, 100.0)),
@@ -338,99 +452,173 @@ class _Reader:
         )
         visual = Shape("visual", Plane((0.0, 0.0, 1.0), (100.0, 100.0)), rgba=(0.7, 0.7, 0.7, 1.0))
         link = WorldLink("link", collisions=(plane,), visuals=(visual,), source=el.loc)
-        name_el = _child(el, "name")
         return WorldModelEntry(
-            name=name_el.text_content().strip() if name_el is not None else "ground_plane",
-            pose=pose,
+            name="ground_plane",
             static=True,
             links=(link,),
             uri="model://ground_plane",
             source=el.loc,
+            canonical_link="link",
         )
 
     # --- models -----------------------------------------------------------------------------------
-    def model(self, el: Element, parent_pose: Pose, prefix: str = "") -> WorldModelEntry:
-        name = el.attrs.get("name")
-        if not name:
-            msg = "<model> needs a name"
-            raise SDFError(msg, el.loc)
-        pose, _ = self.pose(el)
-        links: list[WorldLink] = []
-        joints: list[WorldJoint] = []
-        frames: dict[str, Frame] = {}
+    def model(self, el: Element) -> _ModelRead:
+        """A ``<model>`` and its frame graph: links posed in the model frame, shapes in their
+        link's frame, joints in their child link's frame; nested models flattened into
+        ``nested::link`` and ``nested::joint``."""
+        name = self.name(el, "model")
+        static = _flag(el, "static", False)
+        graph = FrameGraph(f"model {name!r}", "__model__", legacy=not self.modern)
+        parts: list[tuple[Element, _ModelRead | None]] = []  # own links, nested models in order
+        joint_els: list[Element] = []
+        nested: list[_ModelRead] = []
         for child in el.elements():
             if child.tag == "link":
-                link = self.link(child)
-                _, rel = self.pose(child)
-                frames[link.name] = (link.pose, rel, child.loc)
-                links.append(link)
-            elif child.tag == "frame":
-                fpose, rel = self.pose(child)
-                rel = rel or child.attrs.get("attached_to") or None
-                frames[child.attrs.get("name", "")] = (fpose, rel, child.loc)
-            elif child.tag in ("model", "include"):
-                nested = (
-                    self.model(child, Pose(), prefix)
-                    if child.tag == "model"
-                    else self.include(child)
+                link_name = self.name(child, "link")
+                pose, rel = self.pose(child)
+                graph.add(
+                    link_name,
+                    "link",
+                    pose,
+                    relative_to=rel or "__model__",
+                    attached_to=None,
+                    source=_pose_at(child),
                 )
-                if isinstance(nested, WorldModelEntry):
-                    inner = f"{nested.name}::"
-                    links += [
-                        replace(lk, name=inner + lk.name, pose=compose(nested.pose, lk.pose))
-                        for lk in nested.links
-                    ]
-                    joints += [
-                        replace(
-                            j,
-                            name=inner + j.name,
-                            parent=j.parent if j.parent == "world" else inner + j.parent,
-                            child=inner + j.child,
-                        )
-                        for j in nested.joints
-                    ]
-        _unique_names("link", name, links)
-        resolved = resolve_frames(frames)
-        links = [replace(lk, pose=resolved.get(lk.name, lk.pose)) for lk in links]
-        link_poses = {lk.name: lk.pose for lk in links}
-        for child in el.elements():
-            if child.tag == "joint":
-                joints.append(self.joint(child, link_poses))
+                parts.append((child, None))
+            elif child.tag == "joint":
+                joint_name = self.name(child, "joint")
+                child_el = _child(child, "child")
+                pose, rel = self.pose(child)
+                child_link = child_el.text_content().strip() if child_el is not None else ""
+                graph.add(
+                    joint_name,
+                    "joint",
+                    pose,
+                    relative_to=rel or child_link,
+                    attached_to=child_link,
+                    source=_pose_at(child),
+                )
+                joint_els.append(child)
+            elif child.tag == "frame":
+                self.frame(graph, child, scope_frame="__model__")
+            elif child.tag in ("model", "include"):
+                inner = self.model(child) if child.tag == "model" else self.include(child)
+                if isinstance(inner, Light):
+                    self.warn(child.loc, "a light included in a model is not simulated; ignored")
+                elif inner is not None:
+                    graph.add_nested(
+                        inner.entry.name,
+                        inner.graph,
+                        inner.pose,
+                        relative_to=inner.relative_to or "__model__",
+                        static=inner.entry.static,
+                        source=inner.pose_at,
+                    )
+                    nested.append(inner)
+                    parts.append((child, inner))
             elif child.tag == "plugin":
                 self.warn(
                     child.loc,
                     f"model plugin {child.attrs.get('filename', '?')!r} in {name!r} "
                     "is not supported; ignored",
                 )
-        _unique_names("joint", name, joints)
-        return WorldModelEntry(
+        canonical = self._canonical(el, graph, nested)
+        graph.attach_root(None if static else canonical)
+        for joint_el in joint_els:
+            self._joint_links(joint_el, graph)
+        graph.check()
+        links: list[WorldLink] = []
+        joints: list[WorldJoint] = []
+        for part_el, inner in parts:
+            if inner is None:
+                links.append(self.link(part_el, graph))
+                continue
+            prefix = f"{inner.entry.name}::"
+            links += [
+                replace(lk, name=prefix + lk.name, pose=graph.pose(prefix + lk.name))
+                for lk in inner.entry.links
+            ]
+            joints += [
+                replace(
+                    j,
+                    name=prefix + j.name,
+                    parent=j.parent if j.parent == "world" else prefix + j.parent,
+                    child=prefix + j.child,
+                )
+                for j in inner.entry.joints
+            ]
+        joints = [self.joint(j, graph) for j in joint_els] + joints
+        pose, rel = self.pose(el)
+        matrix = transform(pose)
+        placement = el.attrs.get("placement_frame")
+        if placement:
+            matrix = self._placed(matrix, graph, placement, el)
+        entry = WorldModelEntry(
             name=name,
-            pose=compose(parent_pose, pose),
-            static=_flag(el, "static", False),
+            static=static,
             links=tuple(links),
             joints=tuple(joints),
             source=el.loc,
+            frames=self._frames(graph),
+            canonical_link=canonical,
         )
+        return _ModelRead(entry, graph, matrix, rel, _pose_at(el))
 
-    def link(self, el: Element) -> WorldLink:
-        name = el.attrs.get("name")
-        if not name:
-            msg = "<link> needs a name"
-            raise SDFError(msg, el.loc)
-        pose, _ = self.pose(el)
+    def _canonical(self, el: Element, graph: FrameGraph, nested: list[_ModelRead]) -> str | None:
+        """The link the model frame is attached to: ``canonical_link``, else the first link,
+        else the first nested model's canonical link."""
+        named = el.attrs.get("canonical_link") if self.modern else None
+        links = graph.names("link")
+        if named:
+            if graph.kind(named) != "link":
+                msg = (
+                    f"model {el.attrs.get('name')!r}: canonical_link {named!r} is not a link of it"
+                )
+                raise SDFError(msg, el.loc, hint=f"links: {', '.join(links) or 'none'}")
+            return named
+        for name, frame in graph.frames.items():
+            if frame.kind == "link" and "::" not in name:
+                return name
+        for inner in nested:
+            if inner.entry.canonical_link is not None:
+                return f"{inner.entry.name}::{inner.entry.canonical_link}"
+        return None
+
+    def _joint_links(self, el: Element, graph: FrameGraph) -> None:
+        name = el.attrs.get("name", "")
+        links = graph.names("link")
+        for role in ("parent", "child"):
+            role_el = _child(el, role)
+            if role_el is None:
+                msg = f"joint {name!r} needs <parent> and <child>"
+                raise SDFError(msg, el.loc)
+            link = role_el.text_content().strip()
+            if graph.kind(link) == "link" or (role == "parent" and link == "world"):
+                continue
+            msg = f"joint {name!r}: {role} link {link!r} is not a link of this model"
+            raise SDFError(msg, role_el.loc, hint=f"links: {', '.join(sorted(links))}")
+
+    def link(self, el: Element, graph: FrameGraph) -> WorldLink:
+        name = el.attrs["name"]
         collisions = tuple(
-            s for c in el.elements() if c.tag == "collision" if (s := self.shape(c)) is not None
+            s
+            for c in el.elements()
+            if c.tag == "collision"
+            if (s := self.shape(c, graph, name)) is not None
         )
         visuals = tuple(
-            s for c in el.elements() if c.tag == "visual" if (s := self.shape(c)) is not None
+            s
+            for c in el.elements()
+            if c.tag == "visual"
+            if (s := self.shape(c, graph, name)) is not None
         )
         for c in el.elements():
             if c.tag == "sensor":
                 self.warn(c.loc, f"sensor {c.attrs.get('name', '?')!r} of a world model ignored")
         return WorldLink(
             name=name,
-            pose=pose,
-            inertial=self.inertial(_child(el, "inertial")),
+            pose=graph.pose(name),
+            inertial=self.inertial(_child(el, "inertial"), graph, name),
             collisions=collisions,
             visuals=visuals,
             gravity=_flag(el, "gravity", True),
@@ -438,10 +626,19 @@ class _Reader:
             source=el.loc,
         )
 
-    def inertial(self, el: Element | None) -> Inertial | None:
+    def in_link(self, el: Element, graph: FrameGraph, link: str, what: str) -> Pose:
+        """The pose of a link's part (collision, visual, inertial) in the link's frame: written
+        relative to the link, or (SDF 1.7) to any frame of the model."""
+        pose, rel = self.pose(el)
+        if rel is None or rel == link:
+            return pose
+        placed = graph.resolve(pose, rel, asked_by=f"pose of {what}", at=_pose_at(el))
+        return graph.between(link, placed)
+
+    def inertial(self, el: Element | None, graph: FrameGraph, link: str) -> Inertial | None:
         if el is None:
             return None
-        pose, _ = self.pose(el)
+        pose = self.in_link(el, graph, link, f"the inertial of link {link!r}")
         inertia = _child(el, "inertia")
 
         def value(tag: str, default: float) -> float:
@@ -459,7 +656,7 @@ class _Reader:
             origin=pose,
         )
 
-    def shape(self, el: Element) -> Shape | None:
+    def shape(self, el: Element, graph: FrameGraph, link: str) -> Shape | None:
         geometry_el = _child(el, "geometry")
         if geometry_el is None:
             msg = f"<{el.tag}> needs a <geometry>"
@@ -467,13 +664,13 @@ class _Reader:
         geometry = self.geometry(geometry_el)
         if geometry is None:
             return None
-        pose, _ = self.pose(el)
+        name = el.attrs.get("name", el.tag)
         return Shape(
-            name=el.attrs.get("name", el.tag),
+            name=name,
             geometry=geometry,
-            pose=pose,
-            surface=self.surface(_child(el, "surface")) if el.tag == "collision" else None,
-            rgba=self.material(_child(el, "material")) if el.tag == "visual" else None,
+            pose=self.in_link(el, graph, link, f"{el.tag} {name!r}"),
+            surface=read_surface(_child(el, "surface")) if el.tag == "collision" else None,
+            rgba=read_material(_child(el, "material")) if el.tag == "visual" else None,
             source=el.loc,
         )
 
@@ -534,58 +731,19 @@ class _Reader:
         path = Path(uri)
         return path if path.is_absolute() else Path(self.path).parent / path
 
-    def surface(self, el: Element | None) -> Surface | None:
-        if el is None:
-            return None
-        friction = _child(el, "friction")
-        ode = _child(friction, "ode") if friction is not None else None
-        contact = _child(el, "contact")
-        contact_ode = _child(contact, "ode") if contact is not None else None
-
-        def opt(parent: Element | None, tag: str) -> float | None:
-            c = _child(parent, tag) if parent is not None else None
-            return _floats(c, 1)[0] if c is not None else None
-
-        mu, mu2 = opt(ode, "mu"), opt(ode, "mu2")
-        return Surface(
-            mu=1.0 if mu is None else mu,
-            mu2=1.0 if mu2 is None else mu2,
-            kp=opt(contact_ode, "kp"),
-            kd=opt(contact_ode, "kd"),
-            min_depth=opt(contact_ode, "min_depth"),
-            max_vel=opt(contact_ode, "max_vel"),
-        )
-
-    def material(self, el: Element | None) -> RGBA | None:
-        if el is None:
-            return None
-        script = _child(el, "script")
-        name_el = _child(script, "name") if script is not None else None
-        if name_el is not None:
-            rgba = gazebo_material_rgba(name_el.text_content())
-            if rgba is not None:
-                return rgba
-        for tag in ("diffuse", "ambient"):
-            c = _child(el, tag)
-            if c is not None:
-                v = _floats(c)
-                if len(v) >= 3:
-                    return (v[0], v[1], v[2], v[3] if len(v) > 3 else 1.0)
-        return None
-
-    def joint(self, el: Element, link_poses: dict[str, Pose]) -> WorldJoint:
+    def joint(self, el: Element, graph: FrameGraph) -> WorldJoint:
+        """A joint posed in its child link's frame, its axis expressed there too."""
         name = el.attrs.get("name", "")
         kind = el.attrs.get("type", "")
         parent_el, child_el = _child(el, "parent"), _child(el, "child")
-        if parent_el is None or child_el is None:
-            msg = f"joint {name!r} needs <parent> and <child>"
-            raise SDFError(msg, el.loc)
+        assert parent_el is not None  # checked with the graph
+        assert child_el is not None
         parent, child = parent_el.text_content().strip(), child_el.text_content().strip()
-        for role, link in (("parent", parent), ("child", child)):
-            if link != "world" and link not in link_poses:
-                msg = f"joint {name!r}: {role} link {link!r} is not a link of this model"
-                raise SDFError(msg, el.loc, hint=f"links: {', '.join(sorted(link_poses))}")
-        pose, _ = self.pose(el)
+        raw, rel = self.pose(el)
+        model_from_joint = graph.resolve(
+            raw, rel or child, asked_by=f"pose of joint {name!r}", at=_pose_at(el)
+        )
+        child_from_model = np.linalg.inv(graph.in_root(child))
         axis_el = _child(el, "axis")
         axis = (0.0, 0.0, 1.0)
         lower = upper = None
@@ -594,7 +752,13 @@ class _Reader:
             xyz_el = _child(axis_el, "xyz")
             if xyz_el is not None:
                 x, y, z = _floats(xyz_el, 3)
-                axis = self._axis_in_child((x, y, z), axis_el, xyz_el, pose, link_poses.get(child))
+                frame = self._axis_frame(axis_el, xyz_el)
+                expressed = (
+                    model_from_joint
+                    if frame is None
+                    else graph.in_root(frame, asked_by=f"the axis of joint {name!r}", at=xyz_el.loc)
+                )
+                axis = _rotate(child_from_model @ expressed, (x, y, z))
             limit = _child(axis_el, "limit")
             if limit is not None and kind in ("revolute", "prismatic"):
                 lower, upper = _number(limit, "lower", -1e16), _number(limit, "upper", 1e16)
@@ -602,55 +766,22 @@ class _Reader:
             if dynamics is not None:
                 damping = _number(dynamics, "damping", 0.0)
                 friction = _number(dynamics, "friction", 0.0)
+        pose = graph.between(child, model_from_joint)
         return WorldJoint(
             name, kind, parent, child, pose, axis, lower, upper, damping, friction, el.loc
         )
 
-    def _axis_in_child(
-        self,
-        axis: tuple[float, float, float],
-        axis_el: Element,
-        xyz_el: Element,
-        joint_pose: Pose,
-        child_pose: Pose | None,
-    ) -> tuple[float, float, float]:
-        """SDF < 1.5 gives joint axes in the model frame; 1.5-1.6 in the joint frame unless
-        ``use_parent_model_frame``; 1.7+ in ``expressed_in`` (default: the joint frame)."""
-        version = tuple(int(p) for p in self.version.split(".")[:2] if p.isdigit())
-        in_model = version < (1, 5) or _flag(axis_el, "use_parent_model_frame", False)
-        if xyz_el.attrs.get("expressed_in") == "__model__":
-            in_model = True
-        if in_model and child_pose is not None:
-            rotation = matrix(inverse(child_pose))[:3, :3]
-            v = rotation @ axis
-            return (float(v[0]), float(v[1]), float(v[2]))
-        rotation = matrix(joint_pose)[:3, :3]
-        v = rotation @ axis
-        return (float(v[0]), float(v[1]), float(v[2]))
+    def _axis_frame(self, axis_el: Element, xyz_el: Element) -> str | None:
+        """The frame a joint axis is written in (None: the joint's own). SDF < 1.5: the model
+        frame; 1.5-1.6: the joint frame unless ``use_parent_model_frame``; 1.7+:
+        ``expressed_in`` (default the joint frame)."""
+        if self.modern:
+            return xyz_el.attrs.get("expressed_in") or None
+        if _version(self.version) < (1, 5) or _flag(axis_el, "use_parent_model_frame", False):
+            return "__model__"
+        return None
 
     # --- whole-world passes -----------------------------------------------------------------------
-    def _relative_models(
-        self, world_el: Element, models: list[WorldModelEntry]
-    ) -> list[WorldModelEntry]:
-        """SDF 1.7+: a model pose may be relative_to another model of the world."""
-        rel = {
-            el.attrs.get("name"): self.pose(el)[1]
-            for el in world_el.elements()
-            if el.tag == "model"
-        }
-        by_name = {m.name: m for m in models}
-        out = []
-        for m in models:
-            target = rel.get(m.name)
-            if target and target not in ("world", "__world__"):
-                base = by_name.get(target)
-                if base is None:
-                    msg = f"model {m.name!r} pose is relative_to unknown model {target!r}"
-                    raise SDFError(msg, m.source)
-                m = replace(m, pose=compose(base.pose, m.pose))
-            out.append(m)
-        return out
-
     def apply_state(
         self, world_el: Element, models: list[WorldModelEntry]
     ) -> list[WorldModelEntry]:
