@@ -322,3 +322,34 @@ def test_a_massless_moving_link_is_one_warning_at_its_line(
     assert capsys.readouterr().err.endswith(
         f"{path}:4:5: error: the mass of link 'wheel' is -20 kg: no body has less than 0\n"
     )
+
+
+def _recorded(batched: bool) -> tuple[list[Any], list[Any], int]:
+    """Odometry, scans and the step count of the laser mbot driving in the box room."""
+    xacro = EXAMPLES / "mbot_description/urdf/xacro/gazebo/mbot_with_laser_gazebo.xacro"
+    graph = Graph(seed=3)
+    world = read_world(EXAMPLES / "mbot_gazebo/worlds/box_room.world")
+    sim = PhysicsSimulation(graph, world)
+    sim.spawn(RobotModel.from_path(xacro), name="mbot")
+    if not batched:
+        sim.every_step.append(lambda: True)
+    probe = graph.create_node("probe")
+    odom: list[Any] = []
+    scans: list[Any] = []
+    probe.subscribe("/odom", "nav_msgs/Odometry", odom.append, queue_size=0)
+    probe.subscribe("/scan", "sensor_msgs/LaserScan", scans.append, queue_size=0)
+    cmd = probe.publisher("/cmd_vel", "geometry_msgs/Twist", latch=True)
+    graph.run(duration=0.5)
+    cmd.publish_data({"linear": {"x": 0.2}, "angular": {"z": 0.4}})
+    graph.run(duration=1.5)
+    return odom, scans, sim.steps
+
+
+def test_batched_steps_give_the_same_run_as_single_steps() -> None:
+    """Physics runs the steps between plugin updates in one batch: bit for bit the same."""
+    batched, single = _recorded(batched=True), _recorded(batched=False)
+    registry = types()
+    for got, want in zip(batched[:2], single[:2], strict=True):
+        assert len(got) == len(want) > 0
+        assert [registry.serialize(m) for m in got] == [registry.serialize(m) for m in want]
+    assert batched[2] == single[2] == 2000

@@ -22,9 +22,10 @@ __all__ = ["Executor", "Timer"]
 
 NS: Final = 1_000_000_000
 
-PACED_BATCH_NS: Final = 20_000_000
-"""The most simulated time one callback may run ahead (advance_to) while time is paced to the
-wall clock: pacing stays smooth to 20 ms."""
+MAX_BATCH_NS: Final = 20_000_000
+"""The most simulated time one callback may run ahead (advance_to): pacing to the wall clock
+stays smooth to 20 ms, and what changes outside simulated time (a subscriber appearing in
+another process) is seen within 20 ms."""
 
 
 class _Deliverable(Protocol):
@@ -150,19 +151,19 @@ class Executor:
         """The latest simulated time the timer callback running now may move the clock to with
         :meth:`advance_to` without passing anything else: just before the next other timer is
         due (at equal times the other one fires first, as it would have), no further than the
-        end of the run or of a step, and nowhere while outside events are waiting. Wall-clock
-        graphs cannot run ahead."""
+        end of the run or of a step or :data:`MAX_BATCH_NS`, and nowhere while outside events
+        are waiting. Wall-clock graphs cannot run ahead."""
         if not self.sim_time:
             return self.now_ns()
         now = self._sim_ns
         if not self._inbox.empty() or self._ready:
             return now
-        limit = self._timers[0][0] - 1 if self._timers else now + NS
+        limit = now + MAX_BATCH_NS
+        if self._timers:
+            limit = min(limit, self._timers[0][0] - 1)
         for bound in (self._end_ns, self._step_to):
             if bound is not None:
                 limit = min(limit, bound)
-        if self.rtf is not None and not (self.paused and self._step_to is not None):
-            limit = min(limit, now + PACED_BATCH_NS)
         return max(now, limit)
 
     def advance_to(self, ns: int) -> None:

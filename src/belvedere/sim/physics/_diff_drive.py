@@ -148,6 +148,9 @@ class DiffDrive(Plugin):
         self.last_step_ns = now
 
     # --- stepping ------------------------------------------------------------------------------
+    def next_update_ns(self, now_ns: int) -> int | None:
+        return None if self.source == "encoder" else self.gate.next_ns()
+
     def update(self, now_ns: int) -> None:
         if self.source == "encoder":
             self._integrate_encoders(now_ns)

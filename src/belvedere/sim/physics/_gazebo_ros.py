@@ -75,6 +75,7 @@ class GazeboRos:
         ):
             node.service(f"/gazebo/{name}", srv, handler)
         sim.after_step.append(self._publish_states)
+        sim.every_step.append(lambda: self.model_pub.wanted or self.link_pub.wanted)
 
     # --- topics ----------------------------------------------------------------------------------
     def _publish_states(self) -> None:

@@ -13,7 +13,7 @@ from belvedere.msgs import build
 from belvedere.sim._commands import CommandGate
 from belvedere.sim.physics._builder import ModelError
 from belvedere.sim.physics._engine import quat_xyzw, yaw_of
-from belvedere.sim.physics._plugin import Plugin, PluginContext, RateGate
+from belvedere.sim.physics._plugin import IDLE, Plugin, PluginContext, RateGate
 from belvedere.tf import TransformBroadcaster
 
 __all__ = ["GroundTruth", "JointStates", "PlanarMove"]
@@ -53,6 +53,9 @@ class GroundTruth(Plugin):
 
     def bind(self) -> None:
         self.body_id = self.engine.body_id(self.robot.body_of(self.link))
+
+    def next_update_ns(self, now_ns: int) -> int | None:
+        return self.gate.next_ns() if self.pub.wanted else IDLE
 
     def update(self, now_ns: int) -> None:
         if not self.pub.wanted or not self.gate.due(now_ns):
@@ -105,6 +108,9 @@ class JointStates(Plugin):
 
     def bind(self) -> None:
         self.refs = [self.engine.joint(self.robot.joints[n]) for n in self.names]
+
+    def next_update_ns(self, now_ns: int) -> int | None:
+        return self.gate.next_ns() if self.pub.wanted else IDLE
 
     def update(self, now_ns: int) -> None:
         if not self.pub.wanted or not self.gate.due(now_ns):

@@ -11,6 +11,7 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass
+from typing import Final
 
 import mujoco
 import numpy as np
@@ -21,7 +22,10 @@ from belvedere.graph import NS, Graph, Node
 from belvedere.sim.physics._builder import ModelError, RobotBuild
 from belvedere.sim.physics._engine import Engine
 
-__all__ = ["Plugin", "PluginContext"]
+__all__ = ["IDLE", "Plugin", "PluginContext"]
+
+IDLE: Final = 2**62
+"""What :meth:`Plugin.next_update_ns` says when the plugin has nothing to do (nobody listens)."""
 
 logger = logging.getLogger("belvedere.physics")
 
@@ -146,6 +150,11 @@ class Plugin:
     def update(self, now_ns: int) -> None:
         """After every physics step."""
 
+    def next_update_ns(self, now_ns: int) -> int | None:
+        """The earliest simulated time at which :meth:`update` would act; the simulation runs
+        the steps before it in one batch without calling it. None: it acts at every step."""
+        return None
+
     def reset(self) -> None:
         """After the world was reset."""
 
@@ -172,6 +181,12 @@ class RateGate:
                 self.last_ns = now_ns
             return True
         return False
+
+    def next_ns(self) -> int | None:
+        """The earliest time at which :meth:`due` holds (None: every step)."""
+        if self.period_ns == 0:
+            return None
+        return self.last_ns + self.period_ns + 1
 
     def reset(self, now_ns: int) -> None:
         self.last_ns = now_ns

@@ -21,7 +21,7 @@ from belvedere.description.urdf import Pose, XmlData, transform
 from belvedere.msgs import build, types
 from belvedere.sim.physics._builder import COLLISION_GROUP, VISUAL_GROUP, ModelError
 from belvedere.sim.physics._engine import quat_xyzw
-from belvedere.sim.physics._plugin import Plugin, PluginContext
+from belvedere.sim.physics._plugin import IDLE, Plugin, PluginContext
 
 __all__ = ["CameraSensor", "DepthCamera", "ImuSensor", "LaserSensor", "sensor_pose"]
 
@@ -110,6 +110,17 @@ class _Sensor(Plugin):
         self.last_ns = now_ns
         return True
 
+    def wanted(self) -> bool:
+        """Whether anyone listens to what the sensor publishes."""
+        return True
+
+    def next_update_ns(self, now_ns: int) -> int | None:
+        if not self.wanted():
+            return IDLE
+        if self.last_ns is None or not self.period_ns:
+            return None
+        return self.last_ns + self.period_ns
+
 
 class LaserSensor(_Sensor):
     """``libgazebo_ros_laser.so`` / ``libgazebo_ros_gpu_laser.so``: LaserScan as Gazebo >= 7
@@ -147,8 +158,11 @@ class LaserSensor(_Sensor):
         self.dist = np.zeros(self.count, dtype=np.float64)
         self.scan_type = types().cls("sensor_msgs/LaserScan")
 
+    def wanted(self) -> bool:
+        return self.pub.wanted
+
     def update(self, now_ns: int) -> None:
-        if not self.pub.wanted or not self.due(now_ns):
+        if not self.wanted() or not self.due(now_ns):
             return
         self.pub.publish(self.scan(now_ns))
 
@@ -456,8 +470,11 @@ class ImuSensor(_Sensor):
         self.pub = self.node.publisher(topic, "sensor_msgs/Imu", queue_size=1)
         self.imu_type = types().cls("sensor_msgs/Imu")
 
+    def wanted(self) -> bool:
+        return self.pub.wanted
+
     def update(self, now_ns: int) -> None:
-        if not self.pub.wanted or not self.due(now_ns):
+        if not self.wanted() or not self.due(now_ns):
             return
         self.pub.publish(self.reading(now_ns))
 

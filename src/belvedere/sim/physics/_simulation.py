@@ -99,6 +99,8 @@ class PhysicsSimulation:
         self.warned: set[int] = set()
         """MuJoCo's warnings already logged (each once per run)."""
         self.after_step: list[Callable[[], None]] = []
+        self.every_step: list[Callable[[], bool]] = []
+        """Whether an ``after_step`` hook wants to run after every step now (no batching)."""
         self.engine.on_recompile.append(self._bind_all)
         self.timer = self.node.timer(self.engine.physics.max_step_size, self.physics_step)
 
@@ -214,12 +216,21 @@ class PhysicsSimulation:
 
     # --- stepping ------------------------------------------------------------------------------
     def physics_step(self) -> None:
-        """One MuJoCo step, then every plugin's update (the graph's timer calls this)."""
+        """MuJoCo steps, then every plugin's update (the graph's timer calls this).
+
+        Steps run in one batch up to the next step at which a plugin acts, or anything else
+        on the graph is due: plugins see every step at which they would have acted, at the
+        same simulated time, and nothing else notices the batch."""
         if self.stopped_reason is not None:
             return
         engine = self.engine
-        mujoco.mj_step(engine.m, engine.d)
-        self.steps += 1
+        executor = self.graph.executor
+        steps = self._batch()
+        mujoco.mj_step(engine.m, engine.d, steps)
+        if steps > 1:
+            executor.advance_to(executor.now_ns() + (steps - 1) * self.timer.period_ns)
+        before = self.steps
+        self.steps += steps
         for warning in engine.take_warnings():
             if warning.broken:
                 self._diverged(warning.text)
@@ -227,7 +238,7 @@ class PhysicsSimulation:
             if warning.kind not in self.warned:
                 self.warned.add(warning.kind)
                 logger.warning("physics at t=%.3f s: %s", self.graph.now_ns() / 1e9, warning.text)
-        if self.steps % 10 == 0:
+        if self.steps // 10 != before // 10:
             problem = engine.healthy()
             if problem is not None:
                 self._diverged(problem)
@@ -238,6 +249,26 @@ class PhysicsSimulation:
                 plugin.update(now)
         for hook in self.after_step:
             hook()
+
+    def _batch(self) -> int:
+        """How many steps to take now: through the first step at which a plugin acts, no
+        further than the executor's horizon; one while anything wants every step."""
+        if any(wants() for wants in self.every_step):
+            return 1
+        executor = self.graph.executor
+        now = executor.now_ns()
+        step = self.timer.period_ns
+        last = executor.horizon_ns()
+        for plugin in self.plugins:
+            if not plugin.active:
+                continue
+            due = plugin.next_update_ns(now)
+            if due is None:
+                return 1
+            if due <= now:
+                return 1
+            last = min(last, now + -(-(due - now) // step) * step)
+        return 1 + max(0, (last - now) // step)
 
     def _diverged(self, problem: str) -> None:
         cause = self._likely_cause()
