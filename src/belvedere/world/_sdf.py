@@ -17,17 +17,20 @@ from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
 
-from belvedere.description.gazebo_materials import gazebo_material_rgba
+from belvedere.description.gazebo_materials import gazebo_material_colours
 from belvedere.description.urdf import Box, Cylinder, Inertial, Mesh, Pose, Sphere
 from belvedere.errors import SourceLocation
 from belvedere.packages import PackageIndex
 from belvedere.world._frames import Frame, resolve_frames
 from belvedere.world._model import (
     RGBA,
+    Attenuation,
     Light,
+    Material,
     Physics,
     Plane,
     Polyline,
+    Scene,
     SDFError,
     Shape,
     Surface,
@@ -220,10 +223,32 @@ class _Reader:
             physics=self.physics(world_el),
             models=tuple(models),
             lights=tuple(lights),
+            scene=self.scene(_child(world_el, "scene")),
             path=self.path,
             sdf_version=self.version,
             warnings=tuple(self.warnings),
         )
+
+    def scene(self, el: Element | None) -> Scene:
+        """``<scene>``: ambient light, background colour, shadows (off unless asked for)."""
+        if el is None:
+            return Scene()
+        default = Scene()
+        return Scene(
+            ambient=self.colour(_child(el, "ambient"), default.ambient),
+            background=self.colour(_child(el, "background"), default.background),
+            shadows=_flag(el, "shadows", default.shadows),
+        )
+
+    def colour(self, el: Element | None, default: RGBA) -> RGBA:
+        """An SDF colour: 3 or 4 numbers (alpha 1 when left out)."""
+        if el is None:
+            return default
+        v = _floats(el)
+        if len(v) not in (3, 4):
+            msg = f"<{el.tag}> expects a colour (r g b [a]), got {el.text_content().strip()!r}"
+            raise SDFError(msg, el.loc)
+        return (v[0], v[1], v[2], v[3] if len(v) > 3 else 1.0)
 
     def physics(self, world_el: Element) -> Physics:
         physics_el = _child(world_el, "physics")
@@ -245,18 +270,31 @@ class _Reader:
 
     def light(self, el: Element) -> Light:
         pose, _ = self.pose(el)
-        diffuse = _child(el, "diffuse")
         direction = _child(el, "direction")
-        d = _floats(diffuse) if diffuse is not None else (0.8, 0.8, 0.8, 1.0)
-        rgba = (d[0], d[1], d[2], d[3] if len(d) > 3 else 1.0)
         v = _floats(direction, 3) if direction is not None else (-0.5, 0.1, -0.9)
+        attenuation = _child(el, "attenuation")
+        fall = Attenuation()
+        if attenuation is not None:
+            fall = Attenuation(
+                range=_number(attenuation, "range", fall.range),
+                constant=_number(attenuation, "constant", fall.constant),
+                linear=_number(attenuation, "linear", fall.linear),
+                quadratic=_number(attenuation, "quadratic", fall.quadratic),
+            )
+        spot = _child(el, "spot")
         return Light(
             name=el.attrs.get("name", "light"),
             type=el.attrs.get("type", "point"),
             pose=pose,
-            diffuse=rgba,
+            diffuse=self.colour(_child(el, "diffuse"), (0.8, 0.8, 0.8, 1.0)),
             direction=(v[0], v[1], v[2]),
             cast_shadows=_flag(el, "cast_shadows", False),
+            specular=self.colour(_child(el, "specular"), (0.1, 0.1, 0.1, 1.0)),
+            attenuation=fall,
+            spot_inner_angle=_number(spot, "inner_angle", 0.0) if spot is not None else 0.0,
+            spot_outer_angle=_number(spot, "outer_angle", 0.0) if spot is not None else 0.0,
+            spot_falloff=_number(spot, "falloff", 0.0) if spot is not None else 0.0,
+            source=el.loc,
         )
 
     # --- includes ---------------------------------------------------------------------------------
@@ -323,11 +361,14 @@ class _Reader:
 
     def builtin(self, name: str, el: Element) -> WorldModelEntry | Light:
         if name == "sun":
-            return Light(
+            return Light(  # Gazebo's model://sun
                 name="sun",
                 type="directional",
                 pose=Pose((0.0, 0.0, 10.0)),
                 cast_shadows=True,
+                specular=(0.2, 0.2, 0.2, 1.0),
+                attenuation=Attenuation(1000.0, 0.9, 0.01, 0.001),
+                source=el.loc,
             )
         pose, _ = self.pose(el)
         plane = Shape(
@@ -336,7 +377,14 @@ class _Reader:
             surface=Surface(mu=100.0, mu2=50.0),
             source=el.loc,
         )
-        visual = Shape("visual", Plane((0.0, 0.0, 1.0), (100.0, 100.0)), rgba=(0.7, 0.7, 0.7, 1.0))
+        grey = gazebo_material_colours("Gazebo/Grey")
+        assert grey is not None
+        visual = Shape(
+            "visual",
+            Plane((0.0, 0.0, 1.0), (100.0, 100.0)),
+            rgba=grey.diffuse,
+            material=Material(grey.ambient, grey.diffuse, grey.specular, shininess=grey.shininess),
+        )
         link = WorldLink("link", collisions=(plane,), visuals=(visual,), source=el.loc)
         name_el = _child(el, "name")
         return WorldModelEntry(
@@ -468,12 +516,14 @@ class _Reader:
         if geometry is None:
             return None
         pose, _ = self.pose(el)
+        material = self.material(_child(el, "material")) if el.tag == "visual" else None
         return Shape(
             name=el.attrs.get("name", el.tag),
             geometry=geometry,
             pose=pose,
             surface=self.surface(_child(el, "surface")) if el.tag == "collision" else None,
-            rgba=self.material(_child(el, "material")) if el.tag == "visual" else None,
+            rgba=material.diffuse if material is not None else None,
+            material=material,
             source=el.loc,
         )
 
@@ -556,22 +606,35 @@ class _Reader:
             max_vel=opt(contact_ode, "max_vel"),
         )
 
-    def material(self, el: Element | None) -> RGBA | None:
+    def material(self, el: Element | None) -> Material | None:
+        """A visual's ``<material>``: a Gazebo script name's colours, overridden by the
+        colours written out (a missing ambient is the diffuse colour, as sdformat's URDF
+        conversion writes both)."""
         if el is None:
             return None
         script = _child(el, "script")
         name_el = _child(script, "name") if script is not None else None
-        if name_el is not None:
-            rgba = gazebo_material_rgba(name_el.text_content())
-            if rgba is not None:
-                return rgba
-        for tag in ("diffuse", "ambient"):
-            c = _child(el, tag)
-            if c is not None:
-                v = _floats(c)
-                if len(v) >= 3:
-                    return (v[0], v[1], v[2], v[3] if len(v) > 3 else 1.0)
-        return None
+        named = gazebo_material_colours(name_el.text_content()) if name_el is not None else None
+        given = {
+            tag: self.colour(c, (0.0, 0.0, 0.0, 1.0))
+            for tag in ("ambient", "diffuse", "specular", "emissive")
+            if (c := _child(el, tag)) is not None
+        }
+        if named is None and not given:
+            return None
+        diffuse = given.get("diffuse") or (named.diffuse if named else None)
+        ambient = given.get("ambient") or (named.ambient if named else None)
+        diffuse = diffuse or ambient or (1.0, 1.0, 1.0, 1.0)
+        shininess = _child(el, "shininess")
+        return Material(
+            ambient=ambient or diffuse,
+            diffuse=diffuse,
+            specular=given.get("specular") or (named.specular if named else (0.0, 0.0, 0.0, 1.0)),
+            emissive=given.get("emissive", (0.0, 0.0, 0.0, 1.0)),
+            shininess=_floats(shininess, 1)[0]
+            if shininess is not None
+            else (named.shininess if named else 0.0),
+        )
 
     def joint(self, el: Element, link_poses: dict[str, Pose]) -> WorldJoint:
         name = el.attrs.get("name", "")
