@@ -413,10 +413,11 @@ class CameraSensor(_Sensor):
         name = self.text("cameraName", "") or ""
         self.prefix = name.strip("/") + "/" if name.strip("/") else ""
         self.node = self.make_node()
+        # Queue size 1: the newest frame, never a backlog (see the graph's transport).
         self.image_pub = self.node.publisher(
             self.prefix + (self.text("imageTopicName") or self.IMAGE_DEFAULT),
             "sensor_msgs/Image",
-            queue_size=2,
+            queue_size=1,
         )
         self.info_pub = self.node.publisher(
             self.prefix + (self.text("cameraInfoTopicName") or self.INFO_DEFAULT),
@@ -426,6 +427,8 @@ class CameraSensor(_Sensor):
         self.camera_name = f"{self.robot.name}/{self.ctx.name}/camera"
         self.renderer = _Renderer(self.width, self.height)
         self.image_type = types().cls("sensor_msgs/Image")
+        self.encode_seconds = 0.0
+        """Wall-clock time spent making Image messages of rendered frames."""
 
     def prepare(self, spec: mujoco.MjSpec) -> None:
         offscreen = spec.visual.global_
@@ -452,7 +455,10 @@ class CameraSensor(_Sensor):
         if self.image_pub.wanted:
             rgb = self.renderer.render(self.engine, self.camera_name, depth=False)
             if rgb is not None:
-                self.image_pub.publish(self.image(now_ns, rgb))
+                start = time.perf_counter()
+                image = self.image(now_ns, rgb)
+                self.encode_seconds += time.perf_counter() - start
+                self.image_pub.publish(image)
         if self.info_pub.wanted:
             self.info_pub.publish(self.info(now_ns))
 
