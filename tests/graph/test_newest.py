@@ -3,7 +3,10 @@ message, never a backlog; a newest-only publisher sends the newest, never delays
 
 from __future__ import annotations
 
+import numpy as np
+
 from belvedere.graph import Graph, ZenohTransport
+from belvedere.msgs import build, types
 from tests.waiting import wait_until
 
 
@@ -58,19 +61,24 @@ def test_a_newest_only_publisher_ends_with_the_newest(endpoint: str) -> None:
     try:
         got: list[int] = []
         b.create_node("rx").subscribe(
-            "/frame", "std_msgs/Int32", lambda m: got.append(m.data), queue_size=0
+            "/frame", "sensor_msgs/Image", lambda m: got.append(m.height), queue_size=0
         )
         b.start(rtf=None)
-        pub = a.create_node("camera").publisher("/frame", "std_msgs/Int32", queue_size=1)
+        pub = a.create_node("camera").publisher("/frame", "sensor_msgs/Image", queue_size=1)
+        commands = a.create_node("teleop").publisher("/cmd", "std_msgs/Int32", queue_size=1)
         wait_until(lambda: pub.topic.remote, what="the subscription to be seen")
-        for i in range(200):
-            pub.publish_data({"data": i})
+        image = types().cls("sensor_msgs/Image")
+        pixels = np.zeros(100 * 1000, dtype=np.uint8)  # bulky: sent newest-only
+        for i in range(1, 101):
+            pub.publish(image(build.header(0, "c"), i, 1000, "mono8", 0, 1000, pixels))
+            commands.publish_data({"data": i})  # small: sent at once
         assert sender.flush()
-        wait_until(lambda: got and got[-1] == 199, what="the newest message", detail=lambda: got)
+        wait_until(lambda: got and got[-1] == 100, what="the newest frame", detail=lambda: got)
         assert got == sorted(set(got))  # in order, none twice
         stats = sender.stats["/frame"]
-        assert stats.sent + stats.superseded == 200
+        assert stats.sent + stats.superseded == 100
         assert stats.sent == len(got)
+        assert "/cmd" not in sender.stats  # nobody listens: nothing sent
     finally:
         a.shutdown()
         b.shutdown()

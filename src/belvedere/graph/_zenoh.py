@@ -12,10 +12,11 @@ later ones connect to it. Opening to other machines is explicit (``listen_on`` a
 address). Messages are serialized only when a subscriber in another process wants them.
 Publications use BLOCK congestion control, so commands are never silently dropped.
 
-Queue size 1 or 2 means "the newest": a topic whose publishers all have such a queue (sensors,
-teleop) goes through an outbox that keeps only the newest ``queue_size`` messages and is sent
-from a thread of its own, so a slow link or subscriber drops old messages instead of slowing
-the publisher (as ROS 1's publisher queue does). Larger queues are sent at once, never lost.
+Queue size 1 or 2 means "the newest" for bulky data: images, point clouds and maps (a ``data``
+array of 64 KiB or more) whose publishers all have such a queue go through an outbox that
+keeps only the newest ``queue_size`` messages and is sent from a thread of its own, so a slow
+link or subscriber drops old frames instead of slowing the simulation (as ROS 1's publisher
+queue does). Everything else (commands, odometry, TF) is sent at once and never lost.
 On the receiving side, a topic whose subscriptions all have queue size 1 or 2 keeps only
 that many undelivered samples and deserializes only those: a subscriber with queue size 1
 always gets the newest message, never a backlog. Other topics deliver every sample.
@@ -97,6 +98,16 @@ class TopicStats:
     """Samples that arrived from other processes."""
     skipped: int = 0
     """Samples dropped unread because newer ones arrived before the subscribers were ready."""
+
+
+BULKY: Final = 64 * 1024
+"""Bytes of a message's ``data`` array from which sending it takes long enough to matter."""
+
+
+def _bulky(msg: Any) -> bool:
+    """An image, point cloud or map: a ``data`` array of :data:`BULKY` bytes or more."""
+    data = getattr(msg, "data", None)
+    return int(getattr(data, "nbytes", 0)) >= BULKY
 
 
 class _Outbox:
@@ -461,7 +472,11 @@ class ZenohTransport:
 
     def send(self, topic: Topic, msg: Any) -> None:
         depth = max((p.queue_size for p in topic.publishers), default=0)
-        if 0 < depth <= NEWEST_ONLY and min(p.queue_size for p in topic.publishers) > 0:
+        if (
+            0 < depth <= NEWEST_ONLY
+            and min(p.queue_size for p in topic.publishers) > 0
+            and _bulky(msg)
+        ):
             self._outbox.push(topic, msg, depth)
         else:
             self._put(topic, msg)
