@@ -6,11 +6,21 @@ worlds and ``<gazebo reference>`` blocks name instead of giving colours.
 
 from __future__ import annotations
 
-from typing import Final
+from typing import Final, NamedTuple
 
-__all__ = ["GAZEBO_MATERIALS", "gazebo_material_rgba"]
+__all__ = ["GAZEBO_MATERIALS", "MaterialColours", "gazebo_material_colours", "gazebo_material_rgba"]
 
 RGBA = tuple[float, float, float, float]
+
+
+class MaterialColours(NamedTuple):
+    """A material's colours for Phong shading (OGRE's ``ambient``/``diffuse``/``specular``)."""
+
+    ambient: RGBA
+    diffuse: RGBA
+    specular: RGBA
+    shininess: float = 0.0
+
 
 GAZEBO_MATERIALS: Final[dict[str, RGBA]] = {
     "Gazebo/Grey": (0.7, 0.7, 0.7, 1.0),
@@ -21,7 +31,7 @@ GAZEBO_MATERIALS: Final[dict[str, RGBA]] = {
     "Gazebo/White": (1.0, 1.0, 1.0, 1.0),
     "Gazebo/FlatBlack": (0.1, 0.1, 0.1, 1.0),
     "Gazebo/Black": (0.1, 0.1, 0.1, 1.0),
-    "Gazebo/Red": (0.8, 0.0, 0.0, 1.0),
+    "Gazebo/Red": (1.0, 0.0, 0.0, 1.0),
     "Gazebo/RedBright": (0.87, 0.26, 0.07, 1.0),
     "Gazebo/Green": (0.0, 0.8, 0.0, 1.0),
     "Gazebo/Blue": (0.0, 0.0, 0.8, 1.0),
@@ -45,6 +55,29 @@ GAZEBO_MATERIALS: Final[dict[str, RGBA]] = {
     "Gazebo/RedTransparent": (1.0, 0.0, 0.0, 0.5),
     "Gazebo/GreenTransparent": (0.0, 1.0, 0.0, 0.5),
 }
+
+
+_SHADING: Final[dict[str, MaterialColours]] = {
+    "Gazebo/Grey": MaterialColours(
+        (0.3, 0.3, 0.3, 1.0), (0.7, 0.7, 0.7, 1.0), (0.01, 0.01, 0.01, 1.0), 1.5
+    ),
+    "Gazebo/Red": MaterialColours(
+        (1.0, 0.0, 0.0, 1.0), (1.0, 0.0, 0.0, 1.0), (0.1, 0.1, 0.1, 1.0), 1.0
+    ),
+}
+_SHADING["Gazebo/Gray"] = _SHADING["Gazebo/Grey"]
+_DEFAULT_SPECULAR: Final[RGBA] = (0.1, 0.1, 0.1, 1.0)
+
+
+def gazebo_material_colours(name: str | None) -> MaterialColours | None:
+    """The shading colours of a Gazebo material name (None if unknown): the script's own
+    where they are written here, else its diffuse colour as ambient too and a faint
+    specular, as most of ``gazebo.material`` has."""
+    rgba = gazebo_material_rgba(name)
+    if rgba is None or name is None:
+        return None
+    known = _SHADING.get(name.strip())
+    return known or MaterialColours(rgba, rgba, _DEFAULT_SPECULAR, 1.0)
 
 
 def gazebo_material_rgba(name: str | None) -> RGBA | None:

@@ -3,16 +3,22 @@
 ``package://`` and relative paths resolve like ROS; ``scale`` is applied, and Collada's
 ``<unit meter=…>`` and ``<up_axis>`` are honoured. Loaded meshes are cached by path and
 modification time. A missing or unreadable mesh is an error naming the file:line that
-referred to it.
+referred to it; a texture or material file a mesh refers to that cannot be found is one
+warning per missing file (the mesh loads without it), never a traceback.
 """
 
 from __future__ import annotations
 
 import contextlib
+import functools
+import io
+import logging
 import os
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Final
+from urllib.parse import unquote
 
 import numpy as np
 import numpy.typing as npt
@@ -23,6 +29,11 @@ from belvedere.packages import PackageIndex
 __all__ = ["MeshError", "TriangleMesh", "load_mesh", "resolve_mesh_path"]
 
 _SUFFIXES: Final = {".stl": "stl", ".obj": "obj", ".dae": "dae"}
+
+logger = logging.getLogger("belvedere.meshes")
+
+_missing_reported: set[str] = set()
+"""Missing files already warned about."""
 
 
 class MeshError(ParseError):
@@ -107,10 +118,128 @@ def load_mesh(
     return result
 
 
+class _QuietTracebacks(logging.Filter):
+    """trimesh logs a texture it cannot read with its traceback: keep the line, drop the
+    traceback, and make it a debug message (our resolver warns about missing files)."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        if record.exc_info:
+            record.exc_info = None
+            record.exc_text = None
+            record.levelno, record.levelname = logging.DEBUG, "DEBUG"
+        return True
+
+
+@contextlib.contextmanager
+def _quiet_trimesh() -> Iterator[None]:
+    quiet = _QuietTracebacks()
+    trimesh_logger = logging.getLogger("trimesh")
+    trimesh_logger.addFilter(quiet)
+    try:
+        yield
+    finally:
+        trimesh_logger.removeFilter(quiet)
+
+
+@functools.cache
+def _blank_png() -> bytes:
+    """A 1x1 white PNG: what a missing texture reads as."""
+    from PIL import Image
+
+    out = io.BytesIO()
+    Image.new("RGBA", (1, 1), (255, 255, 255, 255)).save(out, format="PNG")
+    return out.getvalue()
+
+
+def _resolver(file: Path) -> Any:
+    """trimesh's resolver for the files a mesh refers to (textures, .mtl), relative to the
+    mesh: a missing one is one warning per file, and reads as a blank image."""
+    from trimesh.resolvers import FilePathResolver
+
+    class Resolver(FilePathResolver):
+        def get(self, name: str) -> bytes:
+            try:
+                data: bytes = super().get(name)
+            except (OSError, ValueError):
+                _report_missing(file, name)
+                return b"" if name.lower().endswith(".mtl") else _blank_png()
+            return data
+
+    return Resolver(str(file))
+
+
+def _missing_path(file: Path, name: str) -> Path:
+    local = unquote(name.removeprefix("file://"))
+    return Path(local) if os.path.isabs(local) else file.parent / local
+
+
+def _report_missing(file: Path, name: str) -> None:
+    """One warning per missing file, however many meshes refer to it."""
+    key = os.path.normpath(_missing_path(file, name))
+    if key not in _missing_reported:
+        _missing_reported.add(key)
+        logger.warning(
+            "%s: warning: %r, which this mesh refers to, is not found (%s); the mesh is "
+            "used without it",
+            file,
+            name,
+            key,
+        )
+
+
+def _referenced_files(file: Path, kind: str) -> list[str]:
+    """The image and material files a .dae or .obj names (as written)."""
+    names: list[str] = []
+    if kind == "dae":
+        from belvedere.xmldom import parse_file
+
+        try:
+            root = parse_file(file, namespaces=False).root
+        except ParseError:
+            return names
+        stack = [root]
+        while stack:
+            el = stack.pop()
+            stack.extend(el.elements())
+            if el.tag.endswith("image"):
+                for child in el.elements():
+                    if child.tag.endswith("init_from") and child.text_content().strip():
+                        names.append(child.text_content().strip())
+    elif kind == "obj":
+        with contextlib.suppress(OSError, UnicodeDecodeError):
+            for line in file.read_text(errors="replace").splitlines():
+                words = line.split()
+                if len(words) > 1 and words[0] == "mtllib":
+                    names.append(" ".join(words[1:]))
+        for mtl in list(names):
+            with contextlib.suppress(OSError, UnicodeDecodeError):
+                for line in (file.parent / mtl).read_text(errors="replace").splitlines():
+                    words = line.split()
+                    is_map = words and (words[0].startswith("map_") or words[0] in _MTL_MAPS)
+                    if is_map and len(words) > 1:
+                        names.append(words[-1])
+    return names
+
+
+_MTL_MAPS: Final = {"bump", "disp", "decal", "refl", "norm"}
+
+
+def _check_references(file: Path, kind: str) -> None:
+    """One warning for each texture or material file the mesh names that is not there."""
+    for name in _referenced_files(file, kind):
+        if not _missing_path(file, name).is_file():
+            _report_missing(file, name)
+
+
 def _read(file: Path, kind: str) -> TriangleMesh:
     import trimesh  # heavy: only where meshes are read
 
-    loaded: Any = trimesh.load(str(file), file_type=kind, force="scene", process=False)
+    _check_references(file, kind)
+
+    with _quiet_trimesh():
+        loaded: Any = trimesh.load(
+            str(file), file_type=kind, force="scene", process=False, resolver=_resolver(file)
+        )
     geometries = list(loaded.dump()) if hasattr(loaded, "dump") else [loaded]
     if not geometries:
         msg = f"mesh file {file} holds no triangles"

@@ -12,6 +12,15 @@ later ones connect to it. Opening to other machines is explicit (``listen_on`` a
 address). Messages are serialized only when a subscriber in another process wants them.
 Publications use BLOCK congestion control, so commands are never silently dropped.
 
+Queue size 1 or 2 means "the newest" for bulky data: images, point clouds and maps (a ``data``
+array of 64 KiB or more) whose publishers all have such a queue go through an outbox that
+keeps only the newest ``queue_size`` messages and is sent from a thread of its own, so a slow
+link or subscriber drops old frames instead of slowing the simulation (as ROS 1's publisher
+queue does). Everything else (commands, odometry, TF) is sent at once and never lost.
+On the receiving side, a topic whose subscriptions all have queue size 1 or 2 keeps only
+that many undelivered samples and deserializes only those: a subscriber with queue size 1
+always gets the newest message, never a backlog. Other topics deliver every sample.
+
 Key expressions (under ``bv/<d>``): ``t/<topic>`` data; ``l/<topic>`` each latching
 publisher's last message; ``s/<service>`` service calls; ``p`` parameters; liveliness tokens
 under ``g/…`` say which node publishes, subscribes or serves what, with which type, and which
@@ -69,6 +78,102 @@ MAX_DOMAIN: Final = 232
 """The highest domain (as ROS 2's ``ROS_DOMAIN_ID``)."""
 DEFAULT_ENDPOINT: Final = f"tcp/127.0.0.1:{BASE_PORT}"
 """Domain 0's endpoint."""
+NEWEST_ONLY: Final = 2
+"""Publishers with a queue size up to this (and above 0) want only their newest messages sent."""
+
+
+@dataclass(slots=True)
+class TopicStats:
+    """What the transport did with one topic's messages (for benchmarks and ``topic hz``)."""
+
+    sent: int = 0
+    """Messages handed to Zenoh."""
+    superseded: int = 0
+    """Messages not sent because newer ones came before the link was free."""
+    serialize_s: float = 0.0
+    """Time spent serializing sent messages."""
+    put_s: float = 0.0
+    """Time spent handing them to Zenoh (blocked while the link is congested)."""
+    received: int = 0
+    """Samples that arrived from other processes."""
+    skipped: int = 0
+    """Samples dropped unread because newer ones arrived before the subscribers were ready."""
+
+
+BULKY: Final = 64 * 1024
+"""Bytes of a message's ``data`` array from which sending it takes long enough to matter."""
+
+
+def _bulky(msg: Any) -> bool:
+    """An image, point cloud or map: a ``data`` array of :data:`BULKY` bytes or more."""
+    data = getattr(msg, "data", None)
+    return int(getattr(data, "nbytes", 0)) >= BULKY
+
+
+class _Outbox:
+    """The newest messages of queue-size-1/2 topics, sent from a thread of their own."""
+
+    def __init__(self, put: Callable[[Topic, Any], None], stats: Callable[[str], TopicStats]):
+        self._put = put
+        self._stats = stats
+        self._queues: dict[str, tuple[Topic, deque[Any]]] = {}
+        self._ready: deque[str] = deque()
+        self._busy = False
+        self._cond = threading.Condition()
+        self._closed = False
+        self._thread: threading.Thread | None = None
+
+    def push(self, topic: Topic, msg: Any, depth: int) -> None:
+        with self._cond:
+            if self._closed:
+                return
+            entry = self._queues.get(topic.name)
+            if entry is None or entry[1].maxlen != depth:
+                old = entry[1] if entry is not None else ()
+                entry = self._queues[topic.name] = (topic, deque(old, maxlen=depth))
+            queue = entry[1]
+            if len(queue) == depth:
+                self._stats(topic.name).superseded += 1
+            queue.append(msg)
+            if topic.name not in self._ready:
+                self._ready.append(topic.name)
+            if self._thread is None:
+                self._thread = threading.Thread(
+                    target=self._run, name="belvedere-outbox", daemon=True
+                )
+                self._thread.start()
+            self._cond.notify()
+
+    def _run(self) -> None:
+        while True:
+            with self._cond:
+                self._busy = False
+                self._cond.notify_all()
+                while not self._ready and not self._closed:
+                    self._cond.wait()
+                if not self._ready:
+                    return
+                name = self._ready.popleft()
+                topic, queue = self._queues[name]
+                msg = queue.popleft()
+                if queue:
+                    self._ready.append(name)
+                self._busy = True
+            try:
+                self._put(topic, msg)
+            except Exception as err:  # noqa: BLE001 (a closed session, a refused message)
+                logger.debug("not sent on %s: %s", topic.name, err)
+
+    def flush(self, timeout: float) -> bool:
+        """Wait until everything queued is sent (True), or ``timeout`` seconds."""
+        with self._cond:
+            return self._cond.wait_for(lambda: not self._ready and not self._busy, timeout)
+
+    def close(self, timeout: float = 2.0) -> None:
+        self.flush(timeout)
+        with self._cond:
+            self._closed = True
+            self._cond.notify_all()
 
 
 class TransportError(BelvedereError):
@@ -196,7 +301,6 @@ class ZenohTransport:
         self.graph: Graph | None = None
         self._zid = str(self.session.zid())
         self._process = f"pid {os.getpid()} on {socket.gethostname()}"
-        self._store = types().store
         self._publishers: dict[str, Any] = {}
         self._matching: dict[str, Any] = {}
         self._subscribers: dict[str, Any] = {}
@@ -211,6 +315,9 @@ class ZenohTransport:
         """(node name, other process's zid) already settled"""
         self._lock = threading.Lock()
         self._closed = False
+        self.stats: dict[str, TopicStats] = {}
+        """Per topic: what was sent and received, and what newer messages superseded."""
+        self._outbox = _Outbox(self._put, self._topic_stats)
         # Zenoh runs callbacks on a non-daemon thread: a process that never closes its
         # session would wait for it forever at exit. Close it first (threading's own hook
         # runs before that wait; atexit runs after it).
@@ -238,6 +345,7 @@ class ZenohTransport:
         if self._closed:
             return
         self._closed = True
+        self._outbox.close()
         with contextlib.suppress(zenoh.ZError):
             self.session.close()  # type: ignore[no-untyped-call]
 
@@ -356,10 +464,39 @@ class ZenohTransport:
     def unadvertise(self, topic: Topic, publisher: Publisher) -> None:
         self._drop_token("pub", topic.name, topic.type, publisher.node.full_name)
 
+    def _topic_stats(self, name: str) -> TopicStats:
+        stats = self.stats.get(name)
+        if stats is None:
+            stats = self.stats[name] = TopicStats()
+        return stats
+
     def send(self, topic: Topic, msg: Any) -> None:
+        depth = max((p.queue_size for p in topic.publishers), default=0)
+        if (
+            0 < depth <= NEWEST_ONLY
+            and min(p.queue_size for p in topic.publishers) > 0
+            and _bulky(msg)
+        ):
+            self._outbox.push(topic, msg, depth)
+        else:
+            self._put(topic, msg)
+
+    def flush(self, timeout: float = 5.0) -> bool:
+        """Wait until the newest-only topics' messages are handed to Zenoh."""
+        return self._outbox.flush(timeout)
+
+    def _put(self, topic: Topic, msg: Any) -> None:
         zpub = self._publishers.get(topic.name)
-        if zpub is not None:
-            zpub.put(bytes(self._store.serialize_cdr(msg, topic.type)))
+        if zpub is None:
+            return
+        start = time.perf_counter()
+        data = types().serialize(msg)
+        serialized = time.perf_counter()
+        zpub.put(data)
+        stats = self._topic_stats(topic.name)
+        stats.sent += 1
+        stats.serialize_s += serialized - start
+        stats.put_s += time.perf_counter() - serialized
 
     def subscribe(self, topic: Topic, subscription: Subscription) -> None:
         self._token("sub", topic.name, topic.type, subscription.node.full_name)
@@ -381,7 +518,10 @@ class ZenohTransport:
             def flush() -> None:
                 scheduled[0] = False
                 while arrived:
-                    data = arrived.popleft()
+                    try:
+                        data = arrived.popleft()
+                    except IndexError:  # the newest-only trim took it meanwhile
+                        break
                     try:
                         msg = types().deserialize(data, topic.type)
                     except Exception as err:  # noqa: BLE001 (a peer sent something else)
@@ -395,8 +535,22 @@ class ZenohTransport:
                     deliver(msg)
                     graph.executor.run_ready()  # each message's callbacks run before the next
 
+            stats = self._topic_stats(topic.name)
+
             def on_sample(sample: Any) -> None:
                 arrived.append(sample.payload.to_bytes())
+                stats.received += 1
+                # Subscriptions that all want only the newest (queue size 1 or 2) keep
+                # that many samples; others keep every one (as before a burst is delivered).
+                depths = [sub.pending.maxlen or 0 for sub in topic.subscriptions]
+                keep = max(depths, default=0)
+                if min(depths, default=0) > 0 and keep <= NEWEST_ONLY:
+                    while len(arrived) > keep:
+                        try:
+                            arrived.popleft()
+                        except IndexError:  # the executor took it meanwhile
+                            break
+                        stats.skipped += 1
                 if not scheduled[0]:
                     scheduled[0] = True
                     graph.executor.post(flush)

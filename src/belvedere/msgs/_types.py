@@ -8,10 +8,14 @@ is an error that suggests close ones.
 from __future__ import annotations
 
 import difflib
+import struct
 from collections.abc import Iterator
+from dataclasses import replace
 from functools import cache
 from typing import Any, Final
 
+import numpy as np
+from rosbags.interfaces import Nodetype
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from rosbags.typesys.store import Typestore
 
@@ -166,6 +170,7 @@ class TypeRegistry:
 
     def __init__(self) -> None:
         self.store: Typestore = get_typestore(Stores.ROS1_NOETIC)
+        self._tails: dict[str, str | None] = {}
         extra: dict[str, Any] = {}
         for name, text in _EXTRA_MESSAGES.items():
             extra.update(get_types_from_msg(text, name))
@@ -217,9 +222,32 @@ class TypeRegistry:
 
     # --- wire format ---------------------------------------------------------------------------
     def serialize(self, msg: Any) -> bytes:
-        """CDR bytes, as ROS 2 sends them."""
-        data = self.store.serialize_cdr(msg, msg.__msgtype__)
-        return bytes(data)
+        """CDR bytes, as ROS 2 sends them. A message that ends in a large byte array (an
+        Image, a CompressedImage) is serialized without its array, which is then joined on:
+        one copy of the pixels, not rosbags' two."""
+        name = msg.__msgtype__
+        tail = self._byte_tail(name)
+        if tail is not None:
+            array = getattr(msg, tail)
+            if isinstance(array, np.ndarray) and array.dtype == np.uint8 and array.size > 4096:
+                head = self.store.serialize_cdr(replace(msg, **{tail: _EMPTY_BYTES}), name)
+                # The head ends with the array's length, 0: put the real one there.
+                pixels = np.ascontiguousarray(array).reshape(-1)
+                return b"".join((head[:-4], struct.pack("<I", pixels.size), pixels.data))
+        return bytes(self.store.serialize_cdr(msg, name))
+
+    def _byte_tail(self, name: str) -> str | None:
+        """The last field of a message type when it is a ``uint8[]`` (else None)."""
+        if name in self._tails:
+            return self._tails[name]
+        fields = self.store.fielddefs[name][1]
+        tail = None
+        if fields:
+            field_name, (kind, detail) = fields[-1]
+            if int(kind) == _SEQUENCE and detail[0] == (_BASE, ("uint8", 0)):
+                tail = field_name
+        self._tails[name] = tail
+        return tail
 
     def deserialize(self, data: bytes | memoryview, name: str) -> Any:
         if name not in self.store.fielddefs:  # canonical names (the usual case) skip this
@@ -227,6 +255,11 @@ class TypeRegistry:
         return self.store.deserialize_cdr(
             bytes(data) if isinstance(data, memoryview) else data, name
         )
+
+
+_SEQUENCE: Final = int(Nodetype.SEQUENCE)
+_BASE: Final = Nodetype.BASE
+_EMPTY_BYTES: Final = np.zeros(0, dtype=np.uint8)
 
 
 @cache

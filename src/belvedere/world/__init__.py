@@ -6,10 +6,13 @@ line that asked for it and every directory searched.
 """
 
 from belvedere.world._model import (
+    Attenuation,
     Light,
+    Material,
     Physics,
     Plane,
     Polyline,
+    Scene,
     Shape,
     Surface,
     WorldFrame,
@@ -29,12 +32,15 @@ from belvedere.world._sdf import (
 
 __all__ = [
     "BUILTIN_MODELS",
+    "Attenuation",
     "Light",
+    "Material",
     "ModelPaths",
     "Physics",
     "Plane",
     "Polyline",
     "SDFError",
+    "Scene",
     "Shape",
     "Surface",
     "WorldFrame",

@@ -5,8 +5,8 @@ from __future__ import annotations
 import math
 import sys
 
-from belvedere.description.gazebo_materials import gazebo_material_rgba
-from belvedere.world._model import RGBA, SDFError, Surface
+from belvedere.description.gazebo_materials import gazebo_material_colours
+from belvedere.world._model import RGBA, Material, SDFError, Surface
 from belvedere.xmldom import Element
 
 __all__ = ["child", "flag", "floats", "number", "positive", "read_material", "read_surface"]
@@ -82,19 +82,43 @@ def read_surface(el: Element | None) -> Surface | None:
     )
 
 
-def read_material(el: Element | None) -> RGBA | None:
+def read_colour(el: Element | None, default: RGBA) -> RGBA:
+    """An SDF colour: 3 or 4 numbers (alpha 1 when left out)."""
+    if el is None:
+        return default
+    v = floats(el)
+    if len(v) not in (3, 4):
+        msg = f"<{el.tag}> expects a colour (r g b [a]), got {el.text_content().strip()!r}"
+        raise SDFError(msg, el.loc)
+    return (v[0], v[1], v[2], v[3] if len(v) > 3 else 1.0)
+
+
+def read_material(el: Element | None) -> Material | None:
+    """A visual's ``<material>``: a Gazebo script name's colours, overridden by the
+    colours written out (a missing ambient is the diffuse colour, as sdformat's URDF
+    conversion writes both)."""
     if el is None:
         return None
     script = child(el, "script")
     name_el = child(script, "name") if script is not None else None
-    if name_el is not None:
-        rgba = gazebo_material_rgba(name_el.text_content())
-        if rgba is not None:
-            return rgba
-    for tag in ("diffuse", "ambient"):
-        c = child(el, tag)
-        if c is not None:
-            v = floats(c)
-            if len(v) >= 3:
-                return (v[0], v[1], v[2], v[3] if len(v) > 3 else 1.0)
-    return None
+    named = gazebo_material_colours(name_el.text_content()) if name_el is not None else None
+    given = {
+        tag: read_colour(c, (0.0, 0.0, 0.0, 1.0))
+        for tag in ("ambient", "diffuse", "specular", "emissive")
+        if (c := child(el, tag)) is not None
+    }
+    if named is None and not given:
+        return None
+    diffuse = given.get("diffuse") or (named.diffuse if named else None)
+    ambient = given.get("ambient") or (named.ambient if named else None)
+    diffuse = diffuse or ambient or (1.0, 1.0, 1.0, 1.0)
+    shininess = child(el, "shininess")
+    return Material(
+        ambient=ambient or diffuse,
+        diffuse=diffuse,
+        specular=given.get("specular") or (named.specular if named else (0.0, 0.0, 0.0, 1.0)),
+        emissive=given.get("emissive", (0.0, 0.0, 0.0, 1.0)),
+        shininess=floats(shininess, 1)[0]
+        if shininess is not None
+        else (named.shininess if named else 0.0),
+    )

@@ -12,11 +12,14 @@ from belvedere.description.urdf import Box, Cylinder, Inertial, Mesh, Pose, Sphe
 from belvedere.errors import ParseError, SourceLocation
 
 __all__ = [
+    "Attenuation",
     "Light",
+    "Material",
     "Physics",
     "Plane",
     "Polyline",
     "SDFError",
+    "Scene",
     "Shape",
     "Surface",
     "WorldFrame",
@@ -65,6 +68,21 @@ class Surface:
 
 
 @dataclass(frozen=True, slots=True)
+class Material:
+    """How a visual reflects light (SDF ``<material>``, Gazebo's named materials): the
+    colours OGRE's fixed-function Phong shading of Gazebo classic uses."""
+
+    ambient: RGBA = (1.0, 1.0, 1.0, 1.0)
+    """Reflects the scene's ambient light."""
+    diffuse: RGBA = (1.0, 1.0, 1.0, 1.0)
+    """Reflects each light's diffuse colour (Lambert)."""
+    specular: RGBA = (0.0, 0.0, 0.0, 1.0)
+    emissive: RGBA = (0.0, 0.0, 0.0, 1.0)
+    shininess: float = 0.0
+    """Phong exponent (OGRE's; 0 = a broad highlight)."""
+
+
+@dataclass(frozen=True, slots=True)
 class Shape:
     """A collision or visual of a link."""
 
@@ -73,6 +91,8 @@ class Shape:
     pose: Pose = Pose()
     surface: Surface | None = None
     rgba: RGBA | None = None
+    material: Material | None = None
+    """A visual's full material (``rgba`` is its diffuse colour)."""
     source: SourceLocation | None = field(default=None, compare=False)
 
 
@@ -151,18 +171,47 @@ class Physics:
 
 
 @dataclass(frozen=True, slots=True)
+class Attenuation:
+    """A point or spot light's fall-off with distance ``d``: ``1 / (constant + linear d +
+    quadratic d²)``, none beyond ``range``."""
+
+    range: float = 10.0
+    constant: float = 1.0
+    linear: float = 1.0
+    quadratic: float = 0.0
+
+
+@dataclass(frozen=True, slots=True)
 class Light:
     name: str
     type: str = "directional"
+    """``directional``, ``point`` or ``spot``."""
     pose: Pose = Pose()
     diffuse: RGBA = (0.8, 0.8, 0.8, 1.0)
     direction: Vec3 = (-0.5, 0.1, -0.9)
+    """In the light's frame (``pose``)."""
     cast_shadows: bool = True
+    specular: RGBA = (0.1, 0.1, 0.1, 1.0)
+    attenuation: Attenuation = Attenuation()
+    spot_inner_angle: float = 0.0
+    spot_outer_angle: float = 0.0
+    spot_falloff: float = 0.0
+    source: SourceLocation | None = field(default=None, compare=False)
+
+
+@dataclass(frozen=True, slots=True)
+class Scene:
+    """A world's ``<scene>``: Gazebo classic's defaults, except shadows, which are off
+    unless the world asks for them (cameras render several times faster without)."""
+
+    ambient: RGBA = (0.4, 0.4, 0.4, 1.0)
+    background: RGBA = (0.7, 0.7, 0.7, 1.0)
+    shadows: bool = False
 
 
 @dataclass(frozen=True, slots=True)
 class WorldModel:
-    """A world: physics settings, models and lights."""
+    """A world: physics settings, models, lights and the scene they are seen in."""
 
     name: str = "default"
     physics: Physics = Physics()
@@ -170,6 +219,7 @@ class WorldModel:
     lights: tuple[Light, ...] = ()
     frames: tuple[WorldFrame, ...] = ()
     """World-level ``<frame>``s, posed in the world frame."""
+    scene: Scene = Scene()
     path: str | None = None
     sdf_version: str = "1.6"
     warnings: tuple[str, ...] = field(default=(), compare=False)

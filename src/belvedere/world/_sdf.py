@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from belvedere.description.gazebo_materials import gazebo_material_colours
 from belvedere.description.urdf import Box, Cylinder, Inertial, Mesh, Pose, Sphere, transform
 from belvedere.errors import SourceLocation
 from belvedere.packages import PackageIndex
@@ -29,13 +30,16 @@ from belvedere.world._elements import flag as _flag
 from belvedere.world._elements import floats as _floats
 from belvedere.world._elements import number as _number
 from belvedere.world._elements import positive as _positive
-from belvedere.world._elements import read_material, read_surface
+from belvedere.world._elements import read_colour, read_material, read_surface
 from belvedere.world._frames import FrameGraph, Matrix4
 from belvedere.world._model import (
+    Attenuation,
     Light,
+    Material,
     Physics,
     Plane,
     Polyline,
+    Scene,
     SDFError,
     Shape,
     Surface,
@@ -253,6 +257,7 @@ class _Reader:
             models=tuple(models),
             lights=tuple(placed_lights),
             frames=self._frames(graph),
+            scene=self.scene(_child(world_el, "scene")),
             path=self.path,
             sdf_version=self.version,
             warnings=tuple(self.warnings),
@@ -301,6 +306,17 @@ class _Reader:
             for name in graph.names("frame")
         )
 
+    def scene(self, el: Element | None) -> Scene:
+        """``<scene>``: ambient light, background colour, shadows (off unless asked for)."""
+        if el is None:
+            return Scene()
+        default = Scene()
+        return Scene(
+            ambient=read_colour(_child(el, "ambient"), default.ambient),
+            background=read_colour(_child(el, "background"), default.background),
+            shadows=_flag(el, "shadows", default.shadows),
+        )
+
     def physics(self, world_el: Element) -> Physics:
         physics_el = _child(world_el, "physics")
         gravity = (0.0, 0.0, -9.8)
@@ -321,18 +337,31 @@ class _Reader:
 
     def light(self, el: Element) -> Light:
         pose, _ = self.pose(el)
-        diffuse = _child(el, "diffuse")
         direction = _child(el, "direction")
-        d = _floats(diffuse) if diffuse is not None else (0.8, 0.8, 0.8, 1.0)
-        rgba = (d[0], d[1], d[2], d[3] if len(d) > 3 else 1.0)
         v = _floats(direction, 3) if direction is not None else (-0.5, 0.1, -0.9)
+        attenuation = _child(el, "attenuation")
+        fall = Attenuation()
+        if attenuation is not None:
+            fall = Attenuation(
+                range=_number(attenuation, "range", fall.range),
+                constant=_number(attenuation, "constant", fall.constant),
+                linear=_number(attenuation, "linear", fall.linear),
+                quadratic=_number(attenuation, "quadratic", fall.quadratic),
+            )
+        spot = _child(el, "spot")
         return Light(
             name=el.attrs.get("name", "light"),
             type=el.attrs.get("type", "point"),
             pose=pose,
-            diffuse=rgba,
+            diffuse=read_colour(_child(el, "diffuse"), (0.8, 0.8, 0.8, 1.0)),
             direction=(v[0], v[1], v[2]),
             cast_shadows=_flag(el, "cast_shadows", False),
+            specular=read_colour(_child(el, "specular"), (0.1, 0.1, 0.1, 1.0)),
+            attenuation=fall,
+            spot_inner_angle=_number(spot, "inner_angle", 0.0) if spot is not None else 0.0,
+            spot_outer_angle=_number(spot, "outer_angle", 0.0) if spot is not None else 0.0,
+            spot_falloff=_number(spot, "falloff", 0.0) if spot is not None else 0.0,
+            source=el.loc,
         )
 
     # --- includes ---------------------------------------------------------------------------------
@@ -438,11 +467,14 @@ class _Reader:
 
     def builtin(self, name: str, el: Element) -> WorldModelEntry | Light:
         if name == "sun":
-            return Light(
+            return Light(  # Gazebo's model://sun
                 name="sun",
                 type="directional",
                 pose=Pose((0.0, 0.0, 10.0)),
                 cast_shadows=True,
+                specular=(0.2, 0.2, 0.2, 1.0),
+                attenuation=Attenuation(1000.0, 0.9, 0.01, 0.001),
+                source=el.loc,
             )
         plane = Shape(
             "collision",
@@ -450,7 +482,14 @@ class _Reader:
             surface=Surface(mu=100.0, mu2=50.0),
             source=el.loc,
         )
-        visual = Shape("visual", Plane((0.0, 0.0, 1.0), (100.0, 100.0)), rgba=(0.7, 0.7, 0.7, 1.0))
+        grey = gazebo_material_colours("Gazebo/Grey")
+        assert grey is not None
+        visual = Shape(
+            "visual",
+            Plane((0.0, 0.0, 1.0), (100.0, 100.0)),
+            rgba=grey.diffuse,
+            material=Material(grey.ambient, grey.diffuse, grey.specular, shininess=grey.shininess),
+        )
         link = WorldLink("link", collisions=(plane,), visuals=(visual,), source=el.loc)
         return WorldModelEntry(
             name="ground_plane",
@@ -665,12 +704,14 @@ class _Reader:
         if geometry is None:
             return None
         name = el.attrs.get("name", el.tag)
+        material = read_material(_child(el, "material")) if el.tag == "visual" else None
         return Shape(
             name=name,
             geometry=geometry,
             pose=self.in_link(el, graph, link, f"{el.tag} {name!r}"),
             surface=read_surface(_child(el, "surface")) if el.tag == "collision" else None,
-            rgba=read_material(_child(el, "material")) if el.tag == "visual" else None,
+            rgba=material.diffuse if material is not None else None,
+            material=material,
             source=el.loc,
         )
 

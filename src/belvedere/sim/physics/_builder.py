@@ -20,7 +20,7 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
-from belvedere.description.gazebo_materials import gazebo_material_rgba
+from belvedere.description.gazebo_materials import gazebo_material_colours
 from belvedere.description.meshes import load_mesh, resolve_mesh_path
 from belvedere.description.urdf import (
     Box,
@@ -37,7 +37,17 @@ from belvedere.description.urdf import (
 )
 from belvedere.errors import ParseError, SourceLocation
 from belvedere.packages import PackageIndex
-from belvedere.world import Physics, Plane, Polyline, Shape, WorldGeometry, WorldModel
+from belvedere.sim.physics._lighting import apply_material
+from belvedere.world import (
+    Material,
+    Physics,
+    Plane,
+    Polyline,
+    Scene,
+    Shape,
+    WorldGeometry,
+    WorldModel,
+)
 
 __all__ = ["ModelError", "RobotBuild", "add_robot", "add_world", "new_spec"]
 
@@ -99,9 +109,15 @@ class RobotBuild:
 
 class _RobotBuilder:
     def __init__(
-        self, spec: mujoco.MjSpec, model: RobotModel, name: str, packages: PackageIndex | None
+        self,
+        spec: mujoco.MjSpec,
+        model: RobotModel,
+        name: str,
+        packages: PackageIndex | None,
+        scene: Scene | None = None,
     ) -> None:
         self.spec = spec
+        self.scene = scene
         self.model = model
         self.name = name
         self.packages = packages or PackageIndex.from_environment(near=model.path)
@@ -322,7 +338,7 @@ class _RobotBuilder:
         mu2 = self.fprop(link.name, "mu2")
         kp = self.fprop(link.name, "kp")
         kd = self.fprop(link.name, "kd")
-        gazebo_rgba = gazebo_material_rgba(self.prop(link.name, "material"))
+        gazebo = gazebo_material_colours(self.prop(link.name, "material"))
         caster = _is_caster(link, mu1, mu2)
         for i, collision in enumerate(link.collisions):
             geom = self._geom(
@@ -352,8 +368,13 @@ class _RobotBuilder:
             material = visual.material
             if material is None or material.rgba is None:
                 material = self.materials.get(visual.material_name or "")
-            rgba = gazebo_rgba or (material.rgba if material and material.rgba else None)
-            _as_visual(geom, rgba or (0.7, 0.7, 0.7, 1.0))
+            if gazebo is not None:  # <gazebo reference><material> wins, as in Gazebo
+                looks = Material(gazebo.ambient, gazebo.diffuse, gazebo.specular, shininess=1.0)
+            else:  # a URDF colour is ambient and diffuse (sdformat's URDF conversion)
+                rgba = material.rgba if material and material.rgba else (0.7, 0.7, 0.7, 1.0)
+                looks = Material(rgba, rgba)
+            _as_visual(geom)
+            apply_material(self.spec, geom, looks, scene=self.scene)
 
     def _geom(
         self,
@@ -394,13 +415,12 @@ def _as_collision(
         geom.solref = [-kp, -(kd if kd is not None and kd > 0 else 1.0)]
 
 
-def _as_visual(geom: mujoco.MjsGeom, rgba: tuple[float, ...]) -> None:
+def _as_visual(geom: mujoco.MjsGeom) -> None:
     """A geom only cameras see: visual group, no contacts, no mass."""
     geom.group = VISUAL_GROUP
     geom.contype = 0
     geom.conaffinity = 0
     geom.mass = 0.0
-    geom.rgba = list(rgba)
 
 
 def _is_caster(link: Link, mu1: float | None, mu2: float | None) -> bool:
@@ -473,9 +493,11 @@ def add_robot(
     name: str,
     pose: Pose = Pose(),
     packages: PackageIndex | None = None,
+    scene: Scene | None = None,
 ) -> RobotBuild:
-    """Add ``model`` as ``name`` at ``pose`` (its root link's pose in the world)."""
-    build = _RobotBuilder(spec, model, name, packages).build(pose)
+    """Add ``model`` as ``name`` at ``pose`` (its root link's pose in the world), its visuals
+    lit as in ``scene`` (default: Gazebo's)."""
+    build = _RobotBuilder(spec, model, name, packages, scene).build(pose)
     # Gazebo does not collide a model with itself unless <selfCollide> says so.
     self_collide = any(
         (v := _prop(model, link.name, "selfCollide")) is not None and v.lower() in ("1", "true")
@@ -497,9 +519,13 @@ def _prop(model: RobotModel, link: str, key: str) -> str | None:
     return None
 
 
-def add_world(spec: mujoco.MjSpec, world: WorldModel) -> dict[str, str]:
+def add_world(
+    spec: mujoco.MjSpec, world: WorldModel, *, scene: Scene | None = None
+) -> dict[str, str]:
     """Every model of the world: static ones welded to the world body, others one free rigid
-    body per model (its first link, the others fixed to it). Returns model → root body."""
+    body per model (its first link, the others fixed to it). Returns model → root body.
+    Visuals are lit as in ``scene`` (default: the world's)."""
+    scene = scene or world.scene
     roots: dict[str, str] = {}
     for model in world.models:
         if model.joints:
@@ -537,7 +563,9 @@ def add_world(spec: mujoco.MjSpec, world: WorldModel) -> dict[str, str]:
             for kind, shapes in (("collision", link.collisions), ("visual", link.visuals)):
                 for i, shape in enumerate(shapes):
                     name = f"{model.name}/{link.name}/{kind}_{i}"
-                    _world_shape(spec, body, name, shape, frame, visual=kind == "visual")
+                    _world_shape(
+                        spec, body, name, shape, frame, visual=kind == "visual", scene=scene
+                    )
     return roots
 
 
@@ -595,6 +623,7 @@ def _world_shape(
     frame: Matrix4,
     *,
     visual: bool,
+    scene: Scene,
 ) -> None:
     def mesh_file(mesh: Mesh, at: SourceLocation | None) -> Path:
         return Path(mesh.filename)
@@ -606,7 +635,12 @@ def _world_shape(
         return
     geom.typeinertia = mujoco.mjtGeomInertia.mjINERTIA_VOLUME
     if visual:
-        _as_visual(geom, shape.rgba or (0.75, 0.75, 0.75, 1.0))
+        _as_visual(geom)
+        material = shape.material
+        if material is None:
+            rgba = shape.rgba or (0.75, 0.75, 0.75, 1.0)
+            material = Material(rgba, rgba)
+        apply_material(spec, geom, material, scene=scene)
         return
     surface = shape.surface
     if surface is None:

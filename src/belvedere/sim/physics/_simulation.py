@@ -25,6 +25,7 @@ from belvedere.packages import PackageIndex
 from belvedere.sim.physics._builder import ModelError, RobotBuild, add_robot, add_world
 from belvedere.sim.physics._diff_drive import DiffDrive
 from belvedere.sim.physics._engine import Engine
+from belvedere.sim.physics._lighting import add_scene
 from belvedere.sim.physics._model_plugins import GroundTruth, JointStates, PlanarMove
 from belvedere.sim.physics._plugin import Plugin, PluginContext
 from belvedere.sim.physics._ros_control import RosControl
@@ -107,6 +108,7 @@ class PhysicsSimulation:
     def _build_world(self) -> None:
         try:
             self.world_roots = add_world(self.engine.spec, self.world)
+            add_scene(self.engine.spec, self.world)
             self.engine.compile()
         except ValueError as err:  # what the builder's checks do not catch first
             msg = f"MuJoCo refused the world: {err}"
@@ -132,7 +134,9 @@ class PhysicsSimulation:
             msg = f"a model named {name!r} already exists in the simulation"
             raise ModelError(msg)
         spec = self.engine.spec
-        build = add_robot(spec, model, name=name, pose=pose, packages=packages)
+        build = add_robot(
+            spec, model, name=name, pose=pose, packages=packages, scene=self.world.scene
+        )
         robot = SpawnedRobot(name, model, build)
         try:
             robot.plugins = self._make_plugins(robot)
@@ -398,7 +402,9 @@ class PhysicsSimulation:
             raise ModelError(msg)
         placed = replace(entry, name=name, pose=pose)
         try:
-            roots = add_world(self.engine.spec, WorldModel(models=(placed,)))
+            roots = add_world(
+                self.engine.spec, WorldModel(models=(placed,)), scene=self.world.scene
+            )
             self.engine.compile()
         except (ModelError, ValueError) as err:
             self._remove_from_spec(name)  # the world stays as it was
@@ -438,6 +444,9 @@ class PhysicsSimulation:
         for geom in list(spec.worldbody.geoms):
             if geom.name.startswith(prefix):
                 spec.delete(geom)
+        for material in list(spec.materials):
+            if material.name.startswith(prefix):
+                spec.delete(material)
 
     @property
     def paused(self) -> bool:
