@@ -13,6 +13,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+from typing import Final
 
 import mujoco
 import numpy as np
@@ -40,6 +41,10 @@ logger = logging.getLogger("belvedere.physics")
 Matrix4 = npt.NDArray[np.float64]
 
 PluginFactory = Callable[[PluginContext], Plugin]
+
+HEALTH_CHECK_STEPS: Final = 50
+"""How often the state is checked for NaN and absurd speeds (MuJoCo's own warnings, which
+catch most divergences, are read after every batch of steps)."""
 
 PLUGINS: dict[str, PluginFactory] = {
     "libgazebo_ros_diff_drive.so": DiffDrive,
@@ -242,7 +247,7 @@ class PhysicsSimulation:
             if warning.kind not in self.warned:
                 self.warned.add(warning.kind)
                 logger.warning("physics at t=%.3f s: %s", self.graph.now_ns() / 1e9, warning.text)
-        if self.steps // 10 != before // 10:
+        if self.steps // HEALTH_CHECK_STEPS != before // HEALTH_CHECK_STEPS:
             problem = engine.healthy()
             if problem is not None:
                 self._diverged(problem)
