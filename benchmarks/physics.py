@@ -125,8 +125,10 @@ def minimal_mjcf() -> str:
         <geom type="cylinder" size="0.06 0.0125" euler="90 0 0" mass="2"/></body>
       <body pos="0 -0.19 -0.05"><joint name="right" axis="0 1 0"/>
         <geom type="cylinder" size="0.06 0.0125" euler="90 0 0" mass="2"/></body>
-      <geom type="sphere" size="0.015" pos="0.18 0 -0.095" friction="0 0 0" mass="0.5"/>
-      <geom type="sphere" size="0.015" pos="-0.18 0 -0.095" friction="0 0 0" mass="0.5"/>
+      <geom type="sphere" size="0.015" pos="0.18 0 -0.095" friction="0 0 0" priority="1"
+        condim="1" mass="0.5"/>
+      <geom type="sphere" size="0.015" pos="-0.18 0 -0.095" friction="0 0 0" priority="1"
+        condim="1" mass="0.5"/>
     </body>
   </worldbody>
   <actuator>
