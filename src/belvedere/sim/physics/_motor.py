@@ -1,0 +1,78 @@
+"""A joint held at a commanded velocity by a force no larger than a cap: Gazebo's joint motor
+(``joint->SetParam("fmax", torque)`` and ``SetParam("vel", speed)``, a velocity constraint ODE
+solves with the contacts).
+
+In MuJoCo it is a velocity actuator, ``force = kv * (target - velocity)``, whose damping the
+implicit integrators (``implicitfast``, our default) fold into the step: the velocity the
+force acts on is the one at the *end* of the step, so a stiff ``kv`` cannot overshoot the way
+an explicit servo does on a light wheel. Two things keep it that way:
+
+* ``kv`` is matched to the joint's own inertia and the step (``STIFFNESS * M_jj / dt``): a
+  free wheel closes most of its velocity error in one step, one on the ground (carrying its
+  share of the robot) a little more slowly, but in a few steps.
+* The cap is met by lowering ``kv`` each step to ``cap / |error|`` when the error is large,
+  never by clamping the force: a clamped force is applied explicitly (MuJoCo drops its
+  derivative), and a 30 N*m cap on a 0.1 kg wheel then swings it by hundreds of rad/s per
+  step. With the lowered gain the force starts at the cap and fades as the wheel arrives.
+  ``forcerange`` still holds the cap, as a safety net.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+
+from belvedere.sim.physics._engine import Engine
+
+__all__ = ["STIFFNESS", "VelocityMotor"]
+
+STIFFNESS = 50.0
+"""``kv`` as a multiple of the joint's inertia per step (dimensionless)."""
+
+
+class VelocityMotor:
+    """One velocity-controlled joint: ``add_to`` a spec before compiling, ``bind`` after each
+    compile, ``command`` a target at any time, ``apply`` before every physics step."""
+
+    def __init__(self, actuator: str, joint: str, max_force: float) -> None:
+        """``joint``: the MuJoCo joint name; ``max_force``: N*m (or N), ``inf`` for none."""
+        self.actuator = actuator
+        self.joint = joint
+        self.max_force = max_force
+        self.target = 0.0
+        self.id = -1
+        self.dof = -1
+        self.kv_max = 0.0
+
+    def add_to(self, spec: mujoco.MjSpec) -> None:
+        actuator = spec.add_actuator(name=self.actuator)
+        actuator.target = self.joint
+        actuator.trntype = mujoco.mjtTrn.mjTRN_JOINT
+        actuator.set_to_velocity(kv=1.0)  # the gain is set by apply()
+        if math.isfinite(self.max_force):
+            actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
+            # a little above the cap: apply() keeps the force within it, and a force exactly
+            # at the range would count as clamped (and lose its implicit treatment)
+            cap = self.max_force * (1.0 + 1e-6)
+            actuator.forcerange = [-cap, cap]
+
+    def bind(self, engine: Engine) -> None:
+        m = engine.m
+        self.id = engine.actuator_id(self.actuator)
+        self.dof = engine.joint(self.joint).dof
+        self.kv_max = STIFFNESS * float(m.dof_M0[self.dof]) / float(m.opt.timestep)
+
+    def command(self, velocity: float) -> None:
+        self.target = velocity
+
+    def apply(self, engine: Engine) -> None:
+        """Set the gain and the target for the next step."""
+        m, d = engine.m, engine.d
+        error = abs(self.target - float(d.qvel[self.dof]))
+        kv = self.kv_max
+        if error * kv > self.max_force:
+            kv = self.max_force / error
+        m.actuator_gainprm[self.id, 0] = kv
+        m.actuator_biasprm[self.id, 2] = -kv
+        d.ctrl[self.id] = self.target
