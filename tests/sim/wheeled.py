@@ -34,7 +34,7 @@ class Wheeled:
 
     @property
     def width(self) -> float:
-        return max(0.02, 0.4 * self.wheel_radius)
+        return min(max(0.01, 0.4 * self.wheel_radius), 0.03)
 
     @property
     def base_radius(self) -> float:
@@ -210,3 +210,66 @@ def drive(
     graph.run(duration=duration)
     trial.stopped = sim.stopped_reason
     return trial
+
+
+GRAVITY = 9.81
+
+
+@dataclass(frozen=True)
+class Figures:
+    """The acceptance figures of one robot: a straight run and a turn in place."""
+
+    z_excursion: float
+    """m: how far the base footprint left its resting height, worst of both runs."""
+    heading_error: float
+    """rad: yaw change 2 s into the straight run."""
+    speed_error: float
+    """Relative error of the steady forward speed."""
+    turn_error: float
+    """Relative error of the steady turn rate."""
+    wrong_way: float
+    """rad: how far the turn went against its command first (0: never)."""
+    cap_limits: bool
+    """The torque cap (not the command) sets how long speeding up takes."""
+    stopped: str | None
+
+
+def settle_time(robot: Wheeled, speed: float) -> float:
+    """Seconds the torque cap (and wheelAcceleration) need to bring the robot to ``speed``."""
+    wheels = 4 if robot.plugin == "skid" else 2
+    # wheels roll (1.5 m each); the motors carry as much again as armature
+    total = 2 * (robot.base_mass + wheels * robot.wheel_mass * 1.5)
+    accel = wheels * robot.torque / robot.wheel_radius / total
+    if robot.acceleration > 0:
+        accel = min(accel, robot.acceleration)
+    return speed / accel
+
+
+def figures(robot: Wheeled, *, start: float, linear: float, angular: float) -> Figures:
+    """Drive ``robot`` straight at ``linear`` and, anew, turn it in place at ``angular``."""
+    urdf = robot.urdf()
+    turn_speed = angular * robot.separation / 2
+    ramp = max(settle_time(robot, linear), settle_time(robot, turn_speed))
+    duration = max(2.5, 1.5 + 2 * ramp)
+    straight = drive(urdf, start=start, linear=linear, angular=0.0, duration=duration)
+    turn = drive(urdf, start=start, linear=0.0, angular=angular, duration=duration)
+    window = straight.after(start + duration - 0.5)
+    begin = straight.after(start).start
+    yaw0 = straight.yaw[begin - 1] if begin else 0.0
+    at_2s = straight.after(start + 2.0).start
+    heading = abs(straight.yaw[min(at_2s, len(straight.yaw) - 1)] - yaw0)
+    speed = float(np.mean(straight.speed[window]))
+    t_window = turn.after(start + duration - 0.5)
+    t_begin = turn.after(start).start
+    t_yaw0 = turn.yaw[t_begin - 1] if t_begin else 0.0
+    rate = float(np.mean(turn.turn[t_window]))
+    swept = (np.asarray(turn.yaw[t_begin:]) - t_yaw0) * math.copysign(1.0, angular)
+    return Figures(
+        z_excursion=max(straight.max_z_excursion(), turn.max_z_excursion()),
+        heading_error=heading,
+        speed_error=abs(speed - linear) / abs(linear),
+        turn_error=abs(rate - angular) / abs(angular),
+        wrong_way=max(0.0, -float(np.min(swept))),
+        cap_limits=ramp > 0.5,
+        stopped=straight.stopped or turn.stopped,
+    )

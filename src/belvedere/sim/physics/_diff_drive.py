@@ -21,7 +21,7 @@ from belvedere.msgs import build
 from belvedere.sim._commands import CommandGate
 from belvedere.sim.physics._builder import ModelError
 from belvedere.sim.physics._engine import quat_xyzw, yaw_of
-from belvedere.sim.physics._motor import VelocityMotor
+from belvedere.sim.physics._motor import VelocityMotor, wheel_load
 from belvedere.sim.physics._plugin import Plugin, PluginContext, RateGate
 from belvedere.tf import TransformBroadcaster
 
@@ -119,8 +119,9 @@ class DiffDrive(Plugin):
 
     # --- model ---------------------------------------------------------------------------------
     def prepare(self, spec: mujoco.MjSpec) -> None:
+        carried = wheel_load(self.robot.model, len(self.motors), self.diameter / 2)
         for motor in self.motors:
-            motor.add_to(spec)
+            motor.add_to(spec, carried=carried)
 
     def _actuator(self, side: str) -> str:
         return f"{self.robot.name}/{self.ctx.name}/{side}"

@@ -23,12 +23,15 @@ import math
 
 import mujoco
 
+from belvedere.description.urdf import RobotModel
 from belvedere.sim.physics._engine import Engine
 
-__all__ = ["STIFFNESS", "VelocityMotor"]
+__all__ = ["STIFFNESS", "VelocityMotor", "wheel_load"]
 
-STIFFNESS = 50.0
+STIFFNESS = 1.0
 """``kv`` as a multiple of the joint's inertia per step (dimensionless)."""
+ARMATURE_SHARE = 1.0
+"""The share of a wheel's carried inertia given to it as armature."""
 
 
 class VelocityMotor:
@@ -45,7 +48,13 @@ class VelocityMotor:
         self.dof = -1
         self.kv_max = 0.0
 
-    def add_to(self, spec: mujoco.MjSpec) -> None:
+    def add_to(self, spec: mujoco.MjSpec, *, carried: float = 0.0) -> None:
+        """``carried``: inertia the joint moves beyond its own, kg*m^2 (a wheel: its share of
+        the robot's mass times its radius squared). A share of it becomes the joint's
+        armature (a motor's reflected rotor inertia), so the contact solver, which does not
+        see the actuator's implicit damping, sees a joint about as stiff as the motor."""
+        joint = spec.joint(self.joint)
+        joint.armature = max(float(joint.armature), ARMATURE_SHARE * carried)
         actuator = spec.add_actuator(name=self.actuator)
         actuator.target = self.joint
         actuator.trntype = mujoco.mjtTrn.mjTRN_JOINT
@@ -76,3 +85,10 @@ class VelocityMotor:
         m.actuator_gainprm[self.id, 0] = kv
         m.actuator_biasprm[self.id, 2] = -kv
         d.ctrl[self.id] = self.target
+
+
+def wheel_load(model: RobotModel, wheels: int, radius: float) -> float:
+    """The inertia one of ``wheels`` driven wheels of ``radius`` moves with the robot: its
+    share of the robot's mass, at the rim (kg*m^2)."""
+    mass = sum(link.inertial.mass for link in model.links if link.inertial is not None)
+    return max(mass, 0.0) / max(wheels, 1) * radius * radius

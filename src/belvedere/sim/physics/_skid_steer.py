@@ -21,7 +21,7 @@ from belvedere.msgs import build
 from belvedere.sim._commands import CommandGate
 from belvedere.sim.physics._builder import ModelError
 from belvedere.sim.physics._engine import quat_xyzw, yaw_of
-from belvedere.sim.physics._motor import VelocityMotor
+from belvedere.sim.physics._motor import VelocityMotor, wheel_load
 from belvedere.sim.physics._plugin import Plugin, PluginContext, RateGate
 from belvedere.tf import TransformBroadcaster
 
@@ -94,13 +94,15 @@ class SkidSteer(Plugin):
 
     # --- model ---------------------------------------------------------------------------------
     def prepare(self, spec: mujoco.MjSpec) -> None:
+        carried = wheel_load(self.robot.model, len(self.motors), self.diameter / 2)
         for motor in self.motors:
-            motor.add_to(spec)
+            motor.add_to(spec, carried=carried)
 
     def bind(self) -> None:
+        engine = self.engine
         for motor in self.motors:
-            motor.bind(self.engine)
-            motor.apply(self.engine)
+            motor.bind(engine)
+            motor.apply(engine)
         self.root_body = self.engine.body_id(self.robot.root_body)
 
     def reset(self) -> None:
