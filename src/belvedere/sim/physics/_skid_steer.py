@@ -4,8 +4,8 @@ each side at the same speed.
 As the original (gazebo_ros_pkgs): the last ``cmd_vel`` persists; each update (``updateRate``)
 publishes odometry from the model's true pose and velocity (x and y of the pose, its full
 orientation; the twist in the body's yaw frame), the ``odom`` TF when ``broadcastTF`` is set
-(default false), and sets each wheel's velocity ``(x ∓ rot * wheelSeparation / 2) / radius``
-(left −, right +) within ``torque``. ``robotNamespace`` defaults to the root namespace.
+(default false), and sets each wheel's velocity ``(x -+ rot * wheelSeparation / 2) / radius``
+(left -, right +) within ``torque``. ``robotNamespace`` defaults to the root namespace.
 """
 
 from __future__ import annotations
