@@ -31,6 +31,9 @@ __all__ = ["STIFFNESS", "VelocityMotor", "wheel_load"]
 STIFFNESS = 1.0
 """``kv`` as a multiple of the joint's inertia per step (dimensionless)."""
 ARMATURE_SHARE = 1.0
+INTEGRAL_TIME = 0.05
+"""s: how fast the motor learns a steady load (the velocity error it leaves, integrated), so
+the joint holds its command as Gazebo's constraint does rather than a damper's droop."""
 """The share of a wheel's carried inertia given to it as armature."""
 
 
@@ -44,6 +47,8 @@ class VelocityMotor:
         self.joint = joint
         self.max_force = max_force
         self.target = 0.0
+        self.offset = 0.0
+        """What the target is raised by to hold it against a steady load (rad/s)."""
         self.id = -1
         self.dof = -1
         self.kv_max = 0.0
@@ -73,18 +78,23 @@ class VelocityMotor:
         self.kv_max = STIFFNESS * float(m.dof_M0[self.dof]) / float(m.opt.timestep)
 
     def command(self, velocity: float) -> None:
+        if velocity != self.target:
+            self.offset = 0.0  # a new command starts without the old load's correction
         self.target = velocity
 
     def apply(self, engine: Engine) -> None:
         """Set the gain and the target for the next step."""
         m, d = engine.m, engine.d
-        error = abs(self.target - float(d.qvel[self.dof]))
+        signed = self.target - float(d.qvel[self.dof])
+        error = abs(signed)
         kv = self.kv_max
         if error * kv > self.max_force:
             kv = self.max_force / error
+        else:  # within the cap: integrate what a steady load leaves (none while capped)
+            self.offset += signed * float(m.opt.timestep) / INTEGRAL_TIME
         m.actuator_gainprm[self.id, 0] = kv
         m.actuator_biasprm[self.id, 2] = -kv
-        d.ctrl[self.id] = self.target
+        d.ctrl[self.id] = self.target + self.offset
 
 
 def wheel_load(model: RobotModel, wheels: int, radius: float) -> float:
