@@ -80,7 +80,7 @@ def test_laser_costs_nothing_without_subscribers() -> None:
     robot = sim.spawn(_model("mbot_with_laser_gazebo.xacro"), name="mbot")
     laser = next(p for p in robot.plugins if isinstance(p, LaserSensor))
     graph.run(duration=1.0)
-    assert laser.last_ns is None  # never cast a ray
+    assert laser.gate.last_ns is None  # never cast a ray
 
 
 COLOURED_BOX = """<sdf version='1.6'><world name='w'>

@@ -21,6 +21,7 @@ from belvedere.msgs import build
 from belvedere.sim._commands import CommandGate
 from belvedere.sim.physics._builder import ModelError
 from belvedere.sim.physics._engine import quat_xyzw, yaw_of
+from belvedere.sim.physics._motor import VelocityMotor, apply_motors, wheel_load
 from belvedere.sim.physics._plugin import Plugin, PluginContext, RateGate
 from belvedere.tf import TransformBroadcaster
 
@@ -29,7 +30,6 @@ __all__ = ["DiffDrive"]
 logger = logging.getLogger("belvedere.physics")
 
 POSE_COVARIANCE = (1e-5, 1e-5, 1e12, 1e12, 1e12, 1e-3)
-VELOCITY_GAIN = 200.0  # N*m*s/rad: stiff enough to track like Gazebo's joint motor
 
 
 class DiffDrive(Plugin):
@@ -103,6 +103,11 @@ class DiffDrive(Plugin):
         self.pose_encoder = [0.0, 0.0, 0.0]
         self.encoder_twist = (0.0, 0.0)
         self.last_step_ns = ctx.graph.now_ns()
+        self.applied_ns = ctx.graph.now_ns()
+        self.motors = [
+            VelocityMotor(self._actuator(side), self.robot.joints[joint], self.torque)
+            for side, joint in (("left", self.left_joint), ("right", self.right_joint))
+        ]
 
     def joint_names(self) -> tuple[str, ...]:
         return (self.left_joint, self.right_joint) if self.publish_joint_states else ()
@@ -115,23 +120,18 @@ class DiffDrive(Plugin):
 
     # --- model ---------------------------------------------------------------------------------
     def prepare(self, spec: mujoco.MjSpec) -> None:
-        for side, joint in (("left", self.left_joint), ("right", self.right_joint)):
-            actuator = spec.add_actuator(name=self._actuator(side))
-            actuator.target = self.robot.joints[joint]
-            actuator.trntype = mujoco.mjtTrn.mjTRN_JOINT
-            actuator.set_to_velocity(kv=VELOCITY_GAIN)
-            actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
-            actuator.forcerange = [-self.torque, self.torque]
+        carried = wheel_load(self.robot.model, len(self.motors), self.diameter / 2)
+        for motor in self.motors:
+            motor.add_to(spec, carried=carried)
 
     def _actuator(self, side: str) -> str:
         return f"{self.robot.name}/{self.ctx.name}/{side}"
 
     def bind(self) -> None:
         engine = self.engine
-        self.act = [
-            engine.actuator_id(self._actuator("left")),
-            engine.actuator_id(self._actuator("right")),
-        ]
+        for motor in self.motors:
+            motor.bind(engine)
+            motor.apply(engine)
         self.joints = [
             engine.joint(self.robot.joints[self.left_joint]),
             engine.joint(self.robot.joints[self.right_joint]),
@@ -143,25 +143,31 @@ class DiffDrive(Plugin):
         self.x = self.rot = 0.0
         self.instructions = [0.0, 0.0]
         self.pose_encoder = [0.0, 0.0, 0.0]
+        for motor in self.motors:
+            motor.command(0.0)
         now = self.ctx.graph.now_ns()
         self.gate.reset(now)
         self.last_step_ns = now
+        self.applied_ns = apply_motors(self.motors, self.engine, now, now, True)
 
     # --- stepping ------------------------------------------------------------------------------
     def next_update_ns(self, now_ns: int) -> int | None:
-        return None if self.source == "encoder" else self.gate.next_ns()
+        if self.source == "encoder" or any(m.capped for m in self.motors):
+            return None
+        return self.gate.next_ns()
 
     def update(self, now_ns: int) -> None:
         if self.source == "encoder":
             self._integrate_encoders(now_ns)
-        if not self.gate.due(now_ns):
-            return
-        self._publish_odometry(now_ns)
-        if self.publish_wheel_tf:
-            self._publish_wheel_tf(now_ns)
-        if self.joint_pub is not None:
-            self._publish_joint_states(now_ns)
-        self._set_wheels()
+        due = self.gate.due(now_ns)
+        if due:
+            self._publish_odometry(now_ns)
+            if self.publish_wheel_tf:
+                self._publish_wheel_tf(now_ns)
+            if self.joint_pub is not None:
+                self._publish_joint_states(now_ns)
+            self._set_wheels()
+        self.applied_ns = apply_motors(self.motors, self.engine, now_ns, self.applied_ns, due)
 
     def _wheel_speeds(self) -> tuple[float, float]:
         half = self.rot * self.separation / 2.0
@@ -184,7 +190,7 @@ class DiffDrive(Plugin):
                 step = max(-self.accel * dt, min(self.accel * dt, targets[i] - current[i]))
                 self.instructions[i] += step
                 command = self.instructions[i]
-            d.ctrl[self.act[i]] = command / radius
+            self.motors[i].command(command / radius)
 
     def _integrate_encoders(self, now_ns: int) -> None:
         dt = (now_ns - self.last_step_ns) / 1e9

@@ -22,7 +22,7 @@ from belvedere.graph import NS, Graph, Node
 from belvedere.sim.physics._builder import ModelError, RobotBuild
 from belvedere.sim.physics._engine import Engine
 
-__all__ = ["IDLE", "Plugin", "PluginContext"]
+__all__ = ["IDLE", "Plugin", "PluginContext", "RateGate"]
 
 IDLE: Final = 2**62
 """What :meth:`Plugin.next_update_ns` says when the plugin has nothing to do (nobody listens)."""
@@ -164,29 +164,48 @@ class Plugin:
 
 
 class RateGate:
-    """Gazebo's update-rate check: act when more than one period passed since the last
-    update; the last update time advances by whole periods (or to now when rate <= 0)."""
+    """When a rate-limited plugin or sensor acts, as Gazebo decides it: on the first step at or
+    past the next due time, with the due time advanced by whole periods from the previous one
+    — the overshoot of a step that lands late is carried into the next period, so the rate
+    averages the requested one (a 5.5 Hz laser on 10 ms steps fires after 190 or 180 ms,
+    5.5 times a second, not every 190 ms). It never fires twice in one step: after a gap of
+    more than a period (a pause, a reset, a rate above the step rate, a sensor nobody
+    listened to) it starts over from now. ``rate <= 0``: every step.
 
-    def __init__(self, rate: float, now_ns: int) -> None:
+    ``strict``: the plugins' ``elapsed > period`` (gazebo_ros_diff_drive and its peers) rather
+    than the sensors' ``elapsed >= period``. ``immediate``: fire on the first call (sensors
+    measure at once) rather than a period after ``now_ns``.
+    """
+
+    def __init__(
+        self, rate: float, now_ns: int, *, strict: bool = True, immediate: bool = False
+    ) -> None:
         self.period_ns = round(NS / rate) if rate > 0 else 0
-        self.last_ns = now_ns
+        self.strict = strict
+        self.immediate = immediate
+        self.last_ns: int | None = None if immediate else now_ns
 
     def due(self, now_ns: int) -> bool:
-        if self.period_ns == 0:
+        if self.period_ns == 0 or self.last_ns is None:
             self.last_ns = now_ns
             return True
-        if now_ns - self.last_ns > self.period_ns:
-            self.last_ns += self.period_ns
-            if now_ns - self.last_ns > self.period_ns:  # fell far behind (a pause, a reset)
-                self.last_ns = now_ns
-            return True
-        return False
+        if not self._passed(now_ns - self.last_ns):
+            return False
+        self.last_ns += self.period_ns
+        if self._passed(now_ns - self.last_ns):  # still due: fell behind, start over
+            self.last_ns = now_ns
+        return True
+
+    def _passed(self, elapsed_ns: int) -> bool:
+        if self.strict:
+            return elapsed_ns > self.period_ns
+        return elapsed_ns >= self.period_ns
 
     def next_ns(self) -> int | None:
-        """The earliest time at which :meth:`due` holds (None: every step)."""
-        if self.period_ns == 0:
+        """The earliest time at which :meth:`due` holds (None: every step, or now)."""
+        if self.period_ns == 0 or self.last_ns is None:
             return None
-        return self.last_ns + self.period_ns + 1
+        return self.last_ns + self.period_ns + (1 if self.strict else 0)
 
     def reset(self, now_ns: int) -> None:
-        self.last_ns = now_ns
+        self.last_ns = None if self.immediate else now_ns

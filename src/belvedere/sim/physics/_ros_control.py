@@ -25,7 +25,8 @@ from belvedere.msgs import build, message_from_data
 from belvedere.sim._commands import CommandGate
 from belvedere.sim.physics._builder import ModelError
 from belvedere.sim.physics._engine import JointRef
-from belvedere.sim.physics._plugin import Plugin, PluginContext
+from belvedere.sim.physics._motor import VelocityMotor
+from belvedere.sim.physics._plugin import Plugin, PluginContext, RateGate
 from belvedere.tf import TransformBroadcaster
 
 __all__ = ["CONTROLLER_TYPES", "RosControl", "spawner"]
@@ -87,6 +88,8 @@ class JointHandle:
     ref: JointRef | None = None
     actuator: int = -1
     pid: Pid | None = None
+    motor: VelocityMotor | None = None
+    """A velocity joint without PID gains: Gazebo's joint motor."""
     command: float | None = None
     position: float = 0.0
     velocity: float = 0.0
@@ -138,15 +141,11 @@ class JointStateController(Controller):
     def __init__(self, manager: ControllerManager, name: str, params: dict[str, Any]) -> None:
         super().__init__(manager, name, params)
         rate = float(params.get("publish_rate", 50.0))
-        self.period_ns = round(NS / rate) if rate > 0 else 0
-        self.last_ns: int | None = None
+        self.publish_gate = RateGate(rate, manager.graph.now_ns(), strict=False, immediate=True)
         self.pub = manager.node.publisher("joint_states", "sensor_msgs/JointState", queue_size=10)
 
     def update(self, now_ns: int, dt: float) -> None:
-        if self.last_ns is not None and now_ns - self.last_ns < self.period_ns:
-            return
-        self.last_ns = now_ns
-        if not self.pub.wanted:
+        if not self.publish_gate.due(now_ns) or not self.pub.wanted:
             return
         handles = list(self.manager.handles.values())
         self.pub.publish(
@@ -410,7 +409,7 @@ class DiffDriveController(Controller):
             self.radius = self.radius or rad
         self.timeout_ns = round(float(params.get("cmd_vel_timeout", 0.5)) * NS)
         rate = float(params.get("publish_rate", 50.0))
-        self.period_ns = round(NS / rate) if rate > 0 else 0
+        self.publish_gate = RateGate(rate, manager.graph.now_ns(), strict=False, immediate=True)
         self.base_frame = str(params.get("base_frame_id", "base_link"))
         self.odom_frame = str(params.get("odom_frame_id", "odom"))
         self.enable_tf = bool(params.get("enable_odom_tf", True))
@@ -428,7 +427,6 @@ class DiffDriveController(Controller):
         self.cmd_ns = 0
         self.x = self.y = self.heading = 0.0
         self.last_wheels: tuple[float, float] | None = None
-        self.last_pub_ns: int | None = None
         self.velocity = (0.0, 0.0)
         self.gate = CommandGate(self.node.resolve("~cmd_vel"), manager.graph, logger)
         self.node.subscribe("~cmd_vel", "geometry_msgs/Twist", self._on_cmd, queue_size=1)
@@ -472,9 +470,8 @@ class DiffDriveController(Controller):
             self.handle(j).command = left_speed
         for j in self.right:
             self.handle(j).command = right_speed
-        if self.last_pub_ns is not None and now_ns - self.last_pub_ns < self.period_ns:
+        if not self.publish_gate.due(now_ns):
             return
-        self.last_pub_ns = now_ns
         quat = (0.0, 0.0, math.sin(self.heading / 2), math.cos(self.heading / 2))
         position = (self.x, self.y, 0.0)
         if self.odom_pub.wanted:
@@ -714,6 +711,13 @@ class RosControl(Plugin):
             )
             if handle.pid is None and handle.interface != "effort":
                 missing.append(handle.name)
+        for handle in self.handles.values():
+            if handle.interface == "velocity" and handle.pid is None:
+                # Gazebo's joint motor: the velocity within the effort limit, as a constraint
+                joint = self.robot.joints[handle.name]
+                handle.motor = VelocityMotor(
+                    self._actuator(handle.name), joint, handle.effort_limit
+                )
         if missing:
             logger.warning(
                 "ros_control: no PID gains for %s (%s/gazebo_ros_control/pid_gains/<joint>): "
@@ -794,12 +798,13 @@ class RosControl(Plugin):
     # --- model -----------------------------------------------------------------------------------
     def prepare(self, spec: mujoco.MjSpec) -> None:
         for handle in self.handles.values():
+            if handle.motor is not None:
+                handle.motor.add_to(spec)
+                continue
             actuator = spec.add_actuator(name=self._actuator(handle.name))
             actuator.target = self.robot.joints[handle.name]
             actuator.trntype = mujoco.mjtTrn.mjTRN_JOINT
-            if handle.interface == "velocity" and handle.pid is None:
-                actuator.set_to_velocity(kv=200.0)
-            elif handle.interface == "position" and handle.pid is None:
+            if handle.interface == "position" and handle.pid is None:
                 actuator.set_to_position(kp=2000.0, dampratio=1.0)
             else:
                 actuator.set_to_motor()
@@ -814,8 +819,14 @@ class RosControl(Plugin):
         for handle in self.handles.values():
             handle.ref = self.engine.joint(self.robot.joints[handle.name])
             handle.actuator = self.engine.actuator_id(self._actuator(handle.name))
+            if handle.motor is not None:
+                handle.motor.bind(self.engine)
+                handle.motor.apply(self.engine)
 
     def update(self, now_ns: int) -> None:
+        for h in self.handles.values():
+            if h.motor is not None:
+                h.motor.apply(self.engine)
         if self.last_ns is not None and self.period_ns and now_ns - self.last_ns < self.period_ns:
             return
         dt = (now_ns - self.last_ns) / NS if self.last_ns is not None else 0.0
@@ -828,7 +839,11 @@ class RosControl(Plugin):
             h.effort = float(d.actuator_force[h.actuator])
         self.manager.update(now_ns, dt)
         for h in self.handles.values():
-            d.ctrl[h.actuator] = self._control(h, dt)
+            if h.motor is not None:
+                h.motor.command(self._control(h, dt))
+                h.motor.apply(self.engine)
+            else:
+                d.ctrl[h.actuator] = self._control(h, dt)
 
     def _control(self, h: JointHandle, dt: float) -> float:
         if h.command is None:

@@ -22,7 +22,7 @@ from belvedere.description.urdf import Pose, XmlData, transform
 from belvedere.msgs import build, types
 from belvedere.sim.physics._builder import COLLISION_GROUP, VISUAL_GROUP, ModelError
 from belvedere.sim.physics._engine import quat_xyzw
-from belvedere.sim.physics._plugin import IDLE, Plugin, PluginContext
+from belvedere.sim.physics._plugin import IDLE, Plugin, PluginContext, RateGate
 
 __all__ = [
     "IMAGE_FORMATS",
@@ -100,8 +100,7 @@ class _Sensor(Plugin):
         for tag in ("updateRate", "updateRateHZ"):  # the plugin's own rate wins
             plugin_rate = self.number(tag, 0.0)
             rate = plugin_rate if plugin_rate > 0 else rate
-        self.period_ns = round(1e9 / rate) if rate > 0 else 0
-        self.last_ns: int | None = None
+        self.gate = RateGate(rate, ctx.graph.now_ns(), strict=False, immediate=True)
         self.frame = (self.text("frameName") or self.link).lstrip("/")
 
     def bind(self) -> None:
@@ -114,10 +113,10 @@ class _Sensor(Plugin):
         return result
 
     def due(self, now_ns: int) -> bool:
-        if self.last_ns is not None and self.period_ns and now_ns - self.last_ns < self.period_ns:
-            return False
-        self.last_ns = now_ns
-        return True
+        return self.gate.due(now_ns)
+
+    def reset(self) -> None:
+        self.gate.reset(self.ctx.graph.now_ns())
 
     def wanted(self) -> bool:
         """Whether anyone listens to what the sensor publishes."""
@@ -126,9 +125,7 @@ class _Sensor(Plugin):
     def next_update_ns(self, now_ns: int) -> int | None:
         if not self.wanted():
             return IDLE
-        if self.last_ns is None or not self.period_ns:
-            return None
-        return self.last_ns + self.period_ns
+        return self.gate.next_ns()
 
 
 class LaserSensor(_Sensor):

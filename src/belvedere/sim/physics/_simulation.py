@@ -31,6 +31,7 @@ from belvedere.sim.physics._model_plugins import GroundTruth, JointStates, Plana
 from belvedere.sim.physics._plugin import Plugin, PluginContext
 from belvedere.sim.physics._ros_control import RosControl
 from belvedere.sim.physics._sensors import CameraSensor, DepthCamera, ImuSensor, LaserSensor
+from belvedere.sim.physics._skid_steer import SkidSteer
 from belvedere.tf import Transform
 from belvedere.world import WorldModel, WorldModelEntry, empty_world
 
@@ -51,6 +52,7 @@ PLUGINS: dict[str, PluginFactory] = {
     "libgazebo_ros_p3d.so": GroundTruth,
     "libgazebo_ros_joint_state_publisher.so": JointStates,
     "libgazebo_ros_planar_move.so": PlanarMove,
+    "libgazebo_ros_skid_steer_drive.so": SkidSteer,
     "libgazebo_ros_imu.so": ImuSensor,
     "libgazebo_ros_control.so": RosControl,
 }
