@@ -3,6 +3,8 @@ running many steps at once) sees and changes nothing the others would notice."""
 
 from __future__ import annotations
 
+import itertools
+
 import pytest
 
 from belvedere.graph._executor import MAX_BATCH_NS, NS, Executor
@@ -94,3 +96,29 @@ def test_wall_clock_graphs_do_not_batch() -> None:
     ex.run(duration=0.01, rtf=None)
     horizon, after = seen[0]
     assert horizon <= after  # the wall clock's now: nothing to run ahead of
+
+
+def test_an_idle_timer_does_not_stop_a_batch() -> None:
+    """A timer whose callback would do nothing (a /clock nobody listens to) lets a batch run
+    past it; it fires once, late, when the batch ends, and on time again once it has work."""
+    ex = Executor(sim_time=True)
+    listening = [False]
+    fired: list[int] = []
+    clock = ex.add_timer(0.01, lambda: fired.append(ex.now_ns()))
+    clock.idle = lambda: not listening[0]
+    horizons: list[int] = []
+
+    def physics() -> None:
+        horizons.append(ex.horizon_ns())
+        ex.advance_to(min(ex.horizon_ns(), ex.now_ns() + 14 * MS))
+
+    ex.add_timer(0.001, physics)
+    ex.run(duration=0.05, rtf=None)
+    assert horizons[0] == MS + MAX_BATCH_NS  # not stopped at the timer's 10 ms
+    assert fired[0] == 15 * MS  # late, once, after the first batch
+    listening[0] = True
+    before = len(fired)
+    ex.run(duration=0.05, rtf=None)
+    on_time = fired[before + 1 :]
+    assert len(on_time) >= 3
+    assert {b - a for a, b in itertools.pairwise(on_time)} == {10 * MS}

@@ -37,7 +37,7 @@ class _Deliverable(Protocol):
 class Timer:
     """A periodic (or one-shot) callback; cancel with :meth:`cancel`."""
 
-    __slots__ = ("_cancelled", "callback", "due_ns", "oneshot", "period_ns")
+    __slots__ = ("_cancelled", "callback", "due_ns", "idle", "oneshot", "period_ns")
 
     def __init__(
         self, period_ns: int, callback: Callable[[], object], due_ns: int, oneshot: bool
@@ -47,6 +47,9 @@ class Timer:
         self.due_ns = due_ns
         self.oneshot = oneshot
         self._cancelled = False
+        self.idle: Callable[[], bool] | None = None
+        """Whether the callback would do nothing now (a publisher nobody listens to): a batch
+        may then run past the timer, which fires late, once, when the batch ends."""
 
     def cancel(self) -> None:
         self._cancelled = True
@@ -159,8 +162,9 @@ class Executor:
         if not self._inbox.empty() or self._ready:
             return now
         limit = now + MAX_BATCH_NS
-        if self._timers:
-            limit = min(limit, self._timers[0][0] - 1)
+        for due, _, timer in self._timers:
+            if due - 1 < limit and not (timer.idle is not None and timer.idle()):
+                limit = due - 1
         for bound in (self._end_ns, self._step_to):
             if bound is not None:
                 limit = min(limit, bound)

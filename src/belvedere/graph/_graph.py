@@ -387,7 +387,7 @@ class Graph:
                 ns = self.now_ns()
                 pub.publish(clock_type(time_type(ns // NS, ns % NS)))
 
-            clock.timer(1.0 / clock_hz, tick)
+            clock.timer(1.0 / clock_hz, tick).idle = lambda: not pub.wanted
 
     # --- time ----------------------------------------------------------------------------------
     @property

@@ -83,7 +83,8 @@ def new_spec(physics: Physics, *, name: str = "belvedere") -> mujoco.MjSpec:
     spec.option.timestep = physics.max_step_size
     spec.option.gravity = list(physics.gravity)
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
+    # ODE's default friction model is a pyramid too; MuJoCo's pyramid solves ~1.7x faster
+    spec.option.cone = mujoco.mjtCone.mjCONE_PYRAMIDAL
     spec.compiler.autolimits = True
     spec.compiler.degree = False  # joint ranges in radians, as URDF has them
     return spec
@@ -411,6 +412,9 @@ def _as_collision(
     geom.rgba = [0.5, 0.5, 0.5, 0.5]
     geom.priority = priority
     geom.friction = [mu, 0.005, 0.0001] if rolling else [mu, 0.0, 0.0]
+    # Frictionless: a normal force only. (With friction 0 a pyramidal cone's edges coincide
+    # and the contact is degenerate; it is also the cheapest contact.)
+    geom.condim = 1 if mu <= 0 else 3
     if kp is not None and kp > 0:
         geom.solref = [-kp, -(kd if kd is not None and kd > 0 else 1.0)]
 
@@ -642,8 +646,12 @@ def _world_shape(
             material = Material(rgba, rgba)
         apply_material(spec, geom, material, scene=scene)
         return
+    # A moving model's own friction decides against the static world (the ground's mu 100
+    # would otherwise win: MuJoCo takes the larger of two equal-priority geoms', ODE the smaller)
+    priority = 0 if body.name == "world" else 1
     surface = shape.surface
     if surface is None:
-        _as_collision(geom, mu=1.0)
+        _as_collision(geom, mu=1.0, priority=priority)
     else:
-        _as_collision(geom, mu=min(surface.mu, surface.mu2), kp=surface.kp, kd=surface.kd)
+        mu = min(surface.mu, surface.mu2)
+        _as_collision(geom, mu=mu, kp=surface.kp, kd=surface.kd, priority=priority)

@@ -219,9 +219,11 @@ class DiffDrive(Plugin):
             linear = (v, 0.0, 0.0)
             angular = (0.0, 0.0, w)
         else:
-            pose = self.engine.body_pose(self.root_body)
-            if self.base_link is not None:
-                pose = self.engine.link_pose(self.robot, self.base_link)
+            pose = (
+                self.engine.link_pose(self.robot, self.base_link)
+                if self.base_link is not None
+                else self.engine.body_pose(self.root_body)
+            )
             position = (float(pose[0, 3]), float(pose[1, 3]), float(pose[2, 3]))
             quat = quat_xyzw(pose)
             vel = self.engine.body_velocity(self.root_body)

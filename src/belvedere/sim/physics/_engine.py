@@ -64,6 +64,9 @@ class MujocoWarning:
     """True when MuJoCo found the state unusable and reset it."""
 
 
+_LAST_ROW = np.array([0.0, 0.0, 0.0, 1.0])
+
+
 class DivergenceError(Exception):
     """The simulation produced NaN or exploded."""
 
@@ -86,9 +89,11 @@ class Engine:
         self.model: mujoco.MjModel | None = None
         self.data: mujoco.MjData | None = None
         self.on_recompile: list[Callable[[], None]] = []
+        self._body_ids: dict[str, int] = {}
 
     # --- compiling -------------------------------------------------------------------------------
     def compile(self) -> None:
+        self._body_ids.clear()
         if self.model is None or self.data is None:
             self.model = self.spec.compile()
             self.data = mujoco.MjData(self.model)
@@ -112,7 +117,12 @@ class Engine:
     def body_id(self, name: str) -> int:
         if name == "world":
             return 0
-        return int(mujoco.mj_name2id(self.m, mujoco.mjtObj.mjOBJ_BODY, name))
+        found = self._body_ids.get(name)
+        if found is None:
+            found = self._body_ids[name] = int(
+                mujoco.mj_name2id(self.m, mujoco.mjtObj.mjOBJ_BODY, name)
+            )
+        return found
 
     def joint(self, name: str) -> JointRef:
         jid = int(mujoco.mj_name2id(self.m, mujoco.mjtObj.mjOBJ_JOINT, name))
@@ -126,9 +136,11 @@ class Engine:
 
     # --- state -----------------------------------------------------------------------------------
     def body_pose(self, body_id: int) -> Matrix4:
-        t = np.eye(4)
-        t[:3, :3] = self.d.xmat[body_id].reshape(3, 3)
-        t[:3, 3] = self.d.xpos[body_id]
+        d = self.d
+        t = np.empty((4, 4))
+        t[:3, :3] = d.xmat[body_id].reshape(3, 3)
+        t[:3, 3] = d.xpos[body_id]
+        t[3] = _LAST_ROW
         return t
 
     def link_pose(self, build: RobotBuild, link: str) -> Matrix4:
