@@ -20,7 +20,7 @@ import numpy as np
 from belvedere.msgs import build
 from belvedere.sim._commands import CommandGate
 from belvedere.sim.physics._builder import ModelError
-from belvedere.sim.physics._engine import quat_xyzw, yaw_of
+from belvedere.sim.physics._engine import quat_xyzw
 from belvedere.sim.physics._motor import VelocityMotor, apply_motors, wheel_load
 from belvedere.sim.physics._plugin import Plugin, PluginContext, RateGate
 from belvedere.tf import TransformBroadcaster
@@ -104,6 +104,8 @@ class DiffDrive(Plugin):
         self.encoder_twist = (0.0, 0.0)
         self.last_step_ns = ctx.graph.now_ns()
         self.applied_ns = ctx.graph.now_ns()
+        self.covariance = np.zeros(36)
+        self.covariance[[0, 7, 14, 21, 28, 35]] = POSE_COVARIANCE
         self.motors = [
             VelocityMotor(self._actuator(side), self.robot.joints[joint], self.torque)
             for side, joint in (("left", self.left_joint), ("right", self.right_joint))
@@ -138,6 +140,11 @@ class DiffDrive(Plugin):
         ]
         self.base_link = self.base_frame if self.base_frame in self.robot.link_body else None
         self.root_body = engine.body_id(self.robot.root_body)
+        self.odom_body = (
+            engine.frame_of(self.robot, self.base_link)
+            if self.base_link is not None
+            else (self.root_body, None)
+        )
 
     def reset(self) -> None:
         self.x = self.rot = 0.0
@@ -219,15 +226,10 @@ class DiffDrive(Plugin):
             linear = (v, 0.0, 0.0)
             angular = (0.0, 0.0, w)
         else:
-            pose = (
-                self.engine.link_pose(self.robot, self.base_link)
-                if self.base_link is not None
-                else self.engine.body_pose(self.root_body)
-            )
-            position = (float(pose[0, 3]), float(pose[1, 3]), float(pose[2, 3]))
-            quat = quat_xyzw(pose)
+            position, quat = self.engine.position_quat(*self.odom_body)
+            qx, qy, qz, qw = quat
+            yaw = math.atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
             vel = self.engine.body_velocity(self.root_body)
-            yaw = yaw_of(pose)
             vx, vy = float(vel[3]), float(vel[4])
             linear = (
                 math.cos(yaw) * vx + math.sin(yaw) * vy,
@@ -238,8 +240,7 @@ class DiffDrive(Plugin):
         if self.publish_tf and self.publish_odom_tf:
             self.tf.send(self.odom_frame, self.base_frame, position, quat, now_ns)
         if self.odom_pub is not None and self.odom_pub.wanted:
-            covariance = np.zeros(36)
-            covariance[[0, 7, 14, 21, 28, 35]] = POSE_COVARIANCE
+            covariance = self.covariance.copy()
             self.odom_pub.publish(
                 build.odometry(
                     stamp_ns=now_ns,

@@ -149,6 +149,26 @@ class Engine:
         result: Matrix4 = self.body_pose(self.body_id(body)) @ offset
         return result
 
+    def frame_of(self, build: RobotBuild, link: str) -> tuple[int, Matrix4 | None]:
+        """A URDF link's body id and its offset in it (None when the link is the body's
+        origin, the common case): for :meth:`position_quat`."""
+        body, offset = build.link_body[link]
+        return self.body_id(body), None if np.array_equal(offset, np.eye(4)) else offset
+
+    def position_quat(
+        self, body_id: int, offset: Matrix4 | None
+    ) -> tuple[tuple[float, float, float], tuple[float, float, float, float]]:
+        """A frame's world position and orientation (quaternion xyzw), read straight from
+        MuJoCo's body state when the frame is the body's origin."""
+        d = self.d
+        if offset is None:
+            x, y, z = d.xpos[body_id].tolist()
+            w, qx, qy, qz = d.xquat[body_id].tolist()
+            return (x, y, z), (qx, qy, qz, w)
+        pose = self.body_pose(body_id) @ offset
+        px, py, pz = pose[:3, 3].tolist()
+        return (px, py, pz), quat_xyzw(pose)
+
     def body_velocity(self, body_id: int, *, local: bool = False) -> npt.NDArray[np.float64]:
         """(angular xyz, linear xyz) at the body's origin, world (or body) axes. (XBODY: the
         body's own frame; BODY would be its principal-inertia frame.)"""
