@@ -90,6 +90,7 @@ class Engine:
         self.data: mujoco.MjData | None = None
         self.on_recompile: list[Callable[[], None]] = []
         self._body_ids: dict[str, int] = {}
+        self._warning_counts: npt.NDArray[np.int32] = np.zeros(0, np.int32)
 
     # --- compiling -------------------------------------------------------------------------------
     def compile(self) -> None:
@@ -100,6 +101,7 @@ class Engine:
         else:
             self.model, self.data = self.spec.recompile(self.model, self.data)
         mujoco.mj_forward(self.model, self.data)
+        self._warning_counts = self.data.warning.number  # a view into MjData
         for hook in self.on_recompile:
             hook()
 
@@ -198,8 +200,8 @@ class Engine:
 
     def take_warnings(self) -> list[MujocoWarning]:
         """The warnings MuJoCo counted since the last call (cheap when there are none)."""
-        counts = self.d.warning.number
-        if not counts.any():
+        counts = self._warning_counts
+        if not np.count_nonzero(counts):  # (the cheapest test on numpy's small arrays)
             return []
         out = []
         for kind in np.flatnonzero(counts):
