@@ -12,17 +12,14 @@ from __future__ import annotations
 
 import logging
 import math
-from typing import Any
 
-import mujoco
 import numpy as np
 
 from belvedere.msgs import build
-from belvedere.sim._commands import CommandGate
 from belvedere.sim.physics._builder import ModelError
 from belvedere.sim.physics._engine import quat_xyzw
-from belvedere.sim.physics._motor import VelocityMotor, apply_motors, wheel_load
-from belvedere.sim.physics._plugin import Plugin, PluginContext, RateGate
+from belvedere.sim.physics._motor import MotorDrive, VelocityMotor
+from belvedere.sim.physics._plugin import PluginContext, RateGate
 from belvedere.tf import TransformBroadcaster
 
 __all__ = ["DiffDrive"]
@@ -32,7 +29,7 @@ logger = logging.getLogger("belvedere.physics")
 POSE_COVARIANCE = (1e-5, 1e-5, 1e12, 1e12, 1e12, 1e-3)
 
 
-class DiffDrive(Plugin):
+class DiffDrive(MotorDrive):
     NAMESPACE_DEFAULTS_TO_MODEL = True
 
     def __init__(self, ctx: PluginContext) -> None:
@@ -95,15 +92,11 @@ class DiffDrive(Plugin):
             if self.publish_joint_states
             else None
         )
-        self.x = 0.0
-        self.rot = 0.0
-        self.commands = CommandGate(self.ctx.name, ctx.graph, logger)
         self.instructions = [0.0, 0.0]
         self.gate = RateGate(self.rate, ctx.graph.now_ns())
         self.pose_encoder = [0.0, 0.0, 0.0]
         self.encoder_twist = (0.0, 0.0)
         self.last_step_ns = ctx.graph.now_ns()
-        self.applied_ns = ctx.graph.now_ns()
         self.covariance = np.zeros(36)
         self.covariance[[0, 7, 14, 21, 28, 35]] = POSE_COVARIANCE
         self.motors = [
@@ -114,26 +107,13 @@ class DiffDrive(Plugin):
     def joint_names(self) -> tuple[str, ...]:
         return (self.left_joint, self.right_joint) if self.publish_joint_states else ()
 
-    def _on_cmd(self, msg: Any) -> None:
-        x, rot = float(msg.linear.x), float(msg.angular.z)
-        if not self.commands.accept(linear={"linear.x": x}, angular={"angular.z": rot}):
-            return
-        self.x, self.rot = x, rot
-
     # --- model ---------------------------------------------------------------------------------
-    def prepare(self, spec: mujoco.MjSpec) -> None:
-        carried = wheel_load(self.robot.model, len(self.motors), self.diameter / 2)
-        for motor in self.motors:
-            motor.add_to(spec, carried=carried)
-
     def _actuator(self, side: str) -> str:
         return f"{self.robot.name}/{self.ctx.name}/{side}"
 
     def bind(self) -> None:
         engine = self.engine
-        for motor in self.motors:
-            motor.bind(engine)
-            motor.apply(engine)
+        self.bind_motors()
         self.joints = [
             engine.joint(self.robot.joints[self.left_joint]),
             engine.joint(self.robot.joints[self.right_joint]),
@@ -147,21 +127,14 @@ class DiffDrive(Plugin):
         )
 
     def reset(self) -> None:
-        self.x = self.rot = 0.0
         self.instructions = [0.0, 0.0]
         self.pose_encoder = [0.0, 0.0, 0.0]
-        for motor in self.motors:
-            motor.command(0.0)
-        now = self.ctx.graph.now_ns()
-        self.gate.reset(now)
-        self.last_step_ns = now
-        self.applied_ns = apply_motors(self.motors, self.engine, now, now, True)
+        self.last_step_ns = self.ctx.graph.now_ns()
+        self.stop_motors()
 
     # --- stepping ------------------------------------------------------------------------------
     def next_update_ns(self, now_ns: int) -> int | None:
-        if self.source == "encoder" or any(m.capped for m in self.motors):
-            return None
-        return self.gate.next_ns()
+        return None if self.source == "encoder" else super().next_update_ns(now_ns)
 
     def update(self, now_ns: int) -> None:
         if self.source == "encoder":
@@ -174,7 +147,7 @@ class DiffDrive(Plugin):
             if self.joint_pub is not None:
                 self._publish_joint_states(now_ns)
             self._set_wheels()
-        self.applied_ns = apply_motors(self.motors, self.engine, now_ns, self.applied_ns, due)
+        self.apply_motors(now_ns, due=due)
 
     def _wheel_speeds(self) -> tuple[float, float]:
         half = self.rot * self.separation / 2.0

@@ -19,14 +19,20 @@ an explicit servo does on a light wheel. Two things keep it that way:
 
 from __future__ import annotations
 
+import logging
 import math
+from typing import Any
 
 import mujoco
 
 from belvedere.description.urdf import RobotModel
+from belvedere.sim._commands import CommandGate
 from belvedere.sim.physics._engine import Engine
+from belvedere.sim.physics._plugin import Plugin, PluginContext, RateGate
 
-__all__ = ["STIFFNESS", "VelocityMotor", "apply_motors", "wheel_load"]
+__all__ = ["STIFFNESS", "MotorDrive", "VelocityMotor", "wheel_load"]
+
+logger = logging.getLogger("belvedere.physics")
 
 STIFFNESS = 1.0
 """``kv`` as a multiple of the joint's inertia per step (dimensionless)."""
@@ -104,21 +110,64 @@ class VelocityMotor:
         d.ctrl[self.id] = self.target + self.offset
 
 
-def apply_motors(
-    motors: list[VelocityMotor], engine: Engine, now_ns: int, applied_ns: int, due: bool
-) -> int:
-    """A drive plugin's motors after its step: applied when the plugin acted (``due``) or
-    while one is capped; the time they were last applied."""
-    if not due and not any(m.capped for m in motors):
-        return applied_ns
-    elapsed = max(now_ns - applied_ns, 0) / 1e9 or None
-    for motor in motors:
-        motor.apply(engine, elapsed)
-    return now_ns
-
-
 def wheel_load(model: RobotModel, wheels: int, radius: float) -> float:
     """The inertia one of ``wheels`` driven wheels of ``radius`` moves with the robot: its
     share of the robot's mass, at the rim (kg*m^2)."""
     mass = sum(link.inertial.mass for link in model.links if link.inertial is not None)
     return max(mass, 0.0) / max(wheels, 1) * radius * radius
+
+
+class MotorDrive(Plugin):
+    """What the wheel-driving plugins (diff drive, skid steer) share: a Twist command checked
+    by the command gate, velocity motors on the wheels (added before compiling, bound after),
+    re-applied when the plugin acts at its rate or, while one is capped, every step."""
+
+    diameter: float
+    """The wheels' diameter (m), read by the plugin."""
+    gate: RateGate
+    """The plugin's update rate, set by the plugin."""
+
+    def __init__(self, ctx: PluginContext) -> None:
+        super().__init__(ctx)
+        self.motors: list[VelocityMotor] = []
+        self.commands = CommandGate(ctx.name, ctx.graph, logger)
+        self.x = self.rot = 0.0
+        self.applied_ns = ctx.graph.now_ns()
+
+    def _on_cmd(self, msg: Any) -> None:
+        x, rot = float(msg.linear.x), float(msg.angular.z)
+        if not self.commands.accept(linear={"linear.x": x}, angular={"angular.z": rot}):
+            return
+        self.x, self.rot = x, rot
+
+    def prepare(self, spec: mujoco.MjSpec) -> None:
+        carried = wheel_load(self.robot.model, len(self.motors), self.diameter / 2)
+        for motor in self.motors:
+            motor.add_to(spec, carried=carried)
+
+    def bind_motors(self) -> None:
+        for motor in self.motors:
+            motor.bind(self.engine)
+            motor.apply(self.engine)
+
+    def stop_motors(self) -> None:
+        """After a world reset: no command, the gate and the motors started over."""
+        self.x = self.rot = 0.0
+        for motor in self.motors:
+            motor.command(0.0)
+        now = self.ctx.graph.now_ns()
+        self.gate.reset(now)
+        self.apply_motors(now, due=True)
+
+    def next_update_ns(self, now_ns: int) -> int | None:
+        return None if any(m.capped for m in self.motors) else self.gate.next_ns()
+
+    def apply_motors(self, now_ns: int, *, due: bool) -> None:
+        """The motors after a step: applied when the plugin acted (``due``) or while one is
+        capped, with the time since they were last applied."""
+        if not due and not any(m.capped for m in self.motors):
+            return
+        elapsed = max(now_ns - self.applied_ns, 0) / 1e9 or None
+        for motor in self.motors:
+            motor.apply(self.engine, elapsed)
+        self.applied_ns = now_ns

@@ -12,17 +12,14 @@ from __future__ import annotations
 
 import logging
 import math
-from typing import Any
 
-import mujoco
 import numpy as np
 
 from belvedere.msgs import build
-from belvedere.sim._commands import CommandGate
 from belvedere.sim.physics._builder import ModelError
 from belvedere.sim.physics._engine import quat_xyzw, yaw_of
-from belvedere.sim.physics._motor import VelocityMotor, apply_motors, wheel_load
-from belvedere.sim.physics._plugin import Plugin, PluginContext, RateGate
+from belvedere.sim.physics._motor import MotorDrive, VelocityMotor
+from belvedere.sim.physics._plugin import PluginContext, RateGate
 from belvedere.tf import TransformBroadcaster
 
 __all__ = ["SkidSteer"]
@@ -41,7 +38,7 @@ UNKNOWN = 1e12
 """The covariance the original gives z, roll and pitch."""
 
 
-class SkidSteer(Plugin):
+class SkidSteer(MotorDrive):
     def __init__(self, ctx: PluginContext) -> None:
         super().__init__(ctx)
         self.command_topic = self.text("commandTopic", "cmd_vel") or "cmd_vel"
@@ -82,41 +79,17 @@ class SkidSteer(Plugin):
         self.node.subscribe(self.command_topic, "geometry_msgs/Twist", self._on_cmd, queue_size=1)
         self.odom_pub = self.node.publisher(self.odom_topic, "nav_msgs/Odometry", queue_size=1)
         self.tf = TransformBroadcaster(self.node)
-        self.commands = CommandGate(ctx.name, ctx.graph, logger)
-        self.x = self.rot = 0.0
         self.gate = RateGate(self.rate, ctx.graph.now_ns())
-        self.applied_ns = ctx.graph.now_ns()
-
-    def _on_cmd(self, msg: Any) -> None:
-        x, rot = float(msg.linear.x), float(msg.angular.z)
-        if not self.commands.accept(linear={"linear.x": x}, angular={"angular.z": rot}):
-            return
-        self.x, self.rot = x, rot
 
     # --- model ---------------------------------------------------------------------------------
-    def prepare(self, spec: mujoco.MjSpec) -> None:
-        carried = wheel_load(self.robot.model, len(self.motors), self.diameter / 2)
-        for motor in self.motors:
-            motor.add_to(spec, carried=carried)
-
     def bind(self) -> None:
-        engine = self.engine
-        for motor in self.motors:
-            motor.bind(engine)
-            motor.apply(engine)
+        self.bind_motors()
         self.root_body = self.engine.body_id(self.robot.root_body)
 
     def reset(self) -> None:
-        self.x = self.rot = 0.0
-        for motor in self.motors:
-            motor.command(0.0)
-        now = self.ctx.graph.now_ns()
-        self.gate.reset(now)
-        self.applied_ns = apply_motors(self.motors, self.engine, now, now, True)
+        self.stop_motors()
 
     # --- stepping ------------------------------------------------------------------------------
-    def next_update_ns(self, now_ns: int) -> int | None:
-        return None if any(m.capped for m in self.motors) else self.gate.next_ns()
 
     def update(self, now_ns: int) -> None:
         due = self.gate.due(now_ns)
@@ -125,7 +98,7 @@ class SkidSteer(Plugin):
             radius = self.diameter / 2.0
             for motor, (_, side) in zip(self.motors, self.joints, strict=True):
                 motor.command((self.x + side * self.rot * self.separation / 2.0) / radius)
-        self.applied_ns = apply_motors(self.motors, self.engine, now_ns, self.applied_ns, due)
+        self.apply_motors(now_ns, due=due)
 
     def _publish_odometry(self, now_ns: int) -> None:
         pose = self.engine.body_pose(self.root_body)
