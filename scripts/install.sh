@@ -5,8 +5,17 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # check_urdf (URDF oracle), the viewer's browser tests, software OpenGL through EGL (Mesa
-# llvmpipe) for MuJoCo's offscreen camera rendering
-DEBIAN_PACKAGES=(liburdfdom-tools chromium libegl1 libegl-mesa0 libgl1-mesa-dri)
+# llvmpipe) for MuJoCo's offscreen camera rendering, and Debian's ROS 1 (ros_comm 1.15:
+# roscore, roslaunch, rospy, robot_state_publisher, tf) with the message packages rospack
+# needs, as the oracle of the differential tests
+DEBIAN_PACKAGES=(
+  liburdfdom-tools chromium libegl1 libegl-mesa0 libgl1-mesa-dri
+  ros-base ros-robot-state-publisher python3-rospy python3-roslaunch python3-rostopic
+  python3-rosservice python3-tf2-ros python3-tf python3-actionlib python3-std-srvs
+  libstd-msgs-dev libgeometry-msgs-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev
+  libros-rosgraph-msgs-dev libactionlib-msgs-dev libtrajectory-msgs-dev
+  libvisualization-msgs-dev libdiagnostic-msgs-dev libstd-srvs-dev
+)
 
 if [ ${#DEBIAN_PACKAGES[@]} -gt 0 ] && command -v apt-get >/dev/null 2>&1; then
   missing=()
