@@ -11,13 +11,14 @@ from pathlib import Path
 
 import yaml
 
+from belvedere import nodes
 from belvedere.cli._args import add_viewer_options, mappings_only
 from belvedere.cli._script import ScriptOptions, add_script_options, install_script
 from belvedere.cli._tool import add_graph_options, open_transport
 from belvedere.errors import BelvedereError
 from belvedere.graph import Graph
 from belvedere.launch import LaunchConfig, LaunchError, load_launch
-from belvedere.launch._runtime import NODE_TYPES, LaunchRuntime
+from belvedere.launch._runtime import LaunchRuntime
 from belvedere.packages import PackageIndex
 
 __all__ = ["add_parser", "run"]
@@ -96,7 +97,7 @@ def run(args: argparse.Namespace) -> int:
         if spec is None:
             msg = f"no node {args.node_args!r} in this launch"
             raise LaunchError(msg, hint="see --nodes")
-        how = "in-process" if (spec.pkg, spec.type) in NODE_TYPES else "not available"
+        how = "in-process" if nodes.find(spec.pkg, spec.type) else "not available"
         sys.stdout.write(
             f"{spec.pkg}/{spec.type} {spec.args} __name:={spec.name} __ns:={spec.namespace}"
             f"  # {how}\n"

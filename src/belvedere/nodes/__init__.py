@@ -1,0 +1,31 @@
+"""The ROS executables belvedere has, one module per ROS package, for ``launch`` and ``run``.
+
+Each module names its package (``PACKAGE``) and its executables by their ROS names
+(``EXECUTABLES``: name → starter); a starter gets the running :class:`Session`, the node's
+:class:`NodeSpec` (what ``<node>`` or ``rosrun`` said) and its graph node. Adding a package
+is adding one module to :data:`MODULES`.
+"""
+
+from __future__ import annotations
+
+from belvedere.nodes._registry import (
+    MODULES,
+    NodeSpec,
+    Session,
+    Starter,
+    StartError,
+    executables,
+    find,
+    package_names,
+)
+
+__all__ = [
+    "MODULES",
+    "NodeSpec",
+    "Session",
+    "StartError",
+    "Starter",
+    "executables",
+    "find",
+    "package_names",
+]

@@ -1,0 +1,107 @@
+"""Where :func:`find` looks: the package modules, imported only when asked for."""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, Final, Protocol
+
+from belvedere.errors import ParseError, SourceLocation
+from belvedere.graph import Graph, Node
+from belvedere.packages import PackageIndex
+
+if TYPE_CHECKING:
+    from belvedere.tf import JointStatePublisher
+
+__all__ = [
+    "MODULES",
+    "NodeSpec",
+    "Session",
+    "StartError",
+    "Starter",
+    "executables",
+    "find",
+    "package_names",
+]
+
+
+class StartError(ParseError):
+    """A node that cannot start as its ``<node>`` (or command line) asks, at that line."""
+
+
+class NodeSpec(Protocol):
+    """What starting one node needs to know (a launch file's ``<node>``, a ``rosrun``)."""
+
+    @property
+    def pkg(self) -> str: ...
+    @property
+    def type(self) -> str: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def namespace(self) -> str: ...
+    @property
+    def args(self) -> str: ...
+    @property
+    def source(self) -> SourceLocation | None: ...
+    @property
+    def full_name(self) -> str: ...
+
+
+class Session(Protocol):
+    """What a running launch (or ``run``) offers its nodes: the graph and packages, the one
+    physics simulation, the viewer's wishes, and actions for after every node exists."""
+
+    graph: Graph
+    packages: PackageIndex
+    sim: Any
+    joint_publisher: JointStatePublisher | None
+    gui_joints: bool
+    rviz_config: str | None
+    want_viewer: bool
+    deferred: list[Callable[[], None]]
+    """Run after every node exists (spawn_model)."""
+    controllers: list[Callable[[], None]]
+    """Run after that (controller spawners)."""
+    spawned: dict[str, Any]
+    """Model name → the node spec that spawned it."""
+
+
+Starter = Callable[[Session, NodeSpec, Node], None]
+
+MODULES: Final = {
+    "arbotix_python": "arbotix_python",
+    "controller_manager": "controller_manager",
+    "depthimage_to_laserscan": "depthimage_to_laserscan",
+    "gazebo_ros": "gazebo_ros",
+    "joint_state_publisher": "joint_state_publisher",
+    "joint_state_publisher_gui": "joint_state_publisher_gui",
+    "robot_state_publisher": "robot_state_publisher",
+    "rviz": "rviz",
+    "teleop_twist_keyboard": "teleop_twist_keyboard",
+    "tf": "tf",
+    "tf2_ros": "tf2_ros",
+}
+"""ROS package → the module here that provides its executables."""
+
+
+def _module_executables(package: str) -> dict[str, Starter]:
+    module = importlib.import_module(f"belvedere.nodes.{MODULES[package]}")
+    table: dict[str, Starter] = module.EXECUTABLES
+    return table
+
+
+def find(package: str, executable: str) -> Starter | None:
+    """The starter of ``package``'s ``executable``, if belvedere has it."""
+    if package not in MODULES:
+        return None
+    return _module_executables(package).get(executable)
+
+
+def executables(package: str) -> list[str]:
+    """The executables belvedere has for ``package`` (none if it has not the package)."""
+    return sorted(_module_executables(package)) if package in MODULES else []
+
+
+def package_names() -> list[str]:
+    return sorted(MODULES)

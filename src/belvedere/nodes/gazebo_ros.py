@@ -1,0 +1,94 @@
+"""gazebo_ros: gzserver (the physics simulation), gzclient (the viewer), spawn_model."""
+
+from __future__ import annotations
+
+import os
+import shlex
+import sys
+from pathlib import Path
+
+from belvedere.graph import Node
+from belvedere.nodes._registry import NodeSpec, Session, Starter, StartError
+from belvedere.packages import BUILTIN_PACKAGES
+
+__all__ = ["EXECUTABLES", "PACKAGE"]
+
+PACKAGE = "gazebo_ros"
+
+
+def _gzserver(session: Session, spec: NodeSpec, node: Node) -> None:
+    from belvedere.sim.physics import GazeboRos, PhysicsSimulation
+    from belvedere.world import empty_world, read_world
+
+    words = shlex.split(spec.args)
+    paused = "-u" in words
+    files = [
+        w for w in words if not w.startswith("-") and w not in ("ode", "bullet", "dart", "simbody")
+    ]
+    world = empty_world()
+    if files:
+        path = Path(files[-1])
+        if not path.is_absolute() and not os.path.exists(path):
+            resource = os.environ.get("GAZEBO_RESOURCE_PATH", "")
+            candidates = [Path(d) / path for d in resource.split(":") if d]
+            candidates.append(BUILTIN_PACKAGES / "gazebo_ros" / path)
+            path = next((c for c in candidates if os.path.isfile(c)), path)
+        world = read_world(path, packages=session.packages)
+        for warning in world.warnings:
+            sys.stderr.write(f"{warning}\n")
+    session.sim = PhysicsSimulation(session.graph, world, node=node)
+    GazeboRos(session.sim, packages=session.packages)
+    if paused:
+        session.graph.executor.pause(True)
+
+
+def _gzclient(session: Session, spec: NodeSpec, node: Node) -> None:
+    session.want_viewer = True
+
+
+def _spawn_model(session: Session, spec: NodeSpec, node: Node) -> None:
+    from belvedere.sim.physics import parse_spawn_args, spawn_model
+
+    def spawn() -> None:
+        if session.sim is None:
+            msg = "spawn_model: no simulation is running (include gazebo_ros/empty_world.launch)"
+            raise StartError(msg, spec.source)
+        words = shlex.split(spec.args)
+        name = parse_spawn_args(words).model
+        _check_spawn_name(session, spec, name)
+        spawn_model(node, words)
+        session.spawned[name] = spec
+
+    session.deferred.append(spawn)
+
+
+def _check_spawn_name(session: Session, spec: NodeSpec, name: str) -> None:
+    """Gazebo refuses to spawn a model under a name the world already has (a world saved
+    with the robot in it, then launched with its spawner): one error naming both places."""
+    earlier = session.spawned.get(name)
+    if earlier is not None:
+        msg = (
+            f"spawn_model -model {name}: {earlier.full_name} (at {earlier.source}) already "
+            "spawned a model of that name; Gazebo refuses a second one"
+        )
+        raise StartError(msg, spec.source, hint="give each spawn_model its own -model name")
+    entry = session.sim.world.model(name)
+    if entry is not None:
+        where = entry.source or session.sim.world.path or "the world"
+        msg = (
+            f"spawn_model -model {name}: the world already has a model named {name!r} "
+            f"(at {where}); Gazebo refuses to spawn it again"
+        )
+        raise StartError(
+            msg,
+            spec.source,
+            hint="remove that <model> from the world file (a world saved while the robot was "
+            "in it keeps a copy), or spawn under another -model name",
+        )
+
+
+EXECUTABLES: dict[str, Starter] = {
+    "gzserver": _gzserver,
+    "gzclient": _gzclient,
+    "spawn_model": _spawn_model,
+}
