@@ -33,6 +33,8 @@ _VERBS = (
     "service",
     "node",
     "tf",
+    "run",
+    "rospack",
 )
 """The verbs, in the order ``--help`` lists them; each is the module ``belvedere.cli.VERB``.
 Only the verb being run is imported (``xacro`` need not load the simulator)."""

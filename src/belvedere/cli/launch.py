@@ -6,19 +6,17 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-import time
 from pathlib import Path
 
 import yaml
 
 from belvedere import nodes
 from belvedere.cli._args import add_viewer_options, mappings_only
-from belvedere.cli._script import ScriptOptions, add_script_options, install_script
-from belvedere.cli._tool import add_graph_options, open_transport
+from belvedere.cli._script import ScriptOptions, add_script_options
+from belvedere.cli._session import run_session
+from belvedere.cli._tool import add_graph_options
 from belvedere.errors import BelvedereError
-from belvedere.graph import Graph
 from belvedere.launch import LaunchConfig, LaunchError, load_launch
-from belvedere.launch._runtime import LaunchRuntime
 from belvedere.packages import PackageIndex
 
 __all__ = ["add_parser", "run"]
@@ -79,7 +77,7 @@ def run(args: argparse.Namespace) -> int:
     path = _launch_file(args, packages)
     packages = packages.with_workspace_of(path)
     mappings = mappings_only(list(args.extra))
-    script = ScriptOptions.from_args(args)
+    ScriptOptions.from_args(args)  # bad --pub/--echo fail before anything starts
     config = load_launch(path, args=mappings, packages=packages)
     for warning in config.warnings:
         sys.stderr.write(f"{warning}\n")
@@ -103,50 +101,7 @@ def run(args: argparse.Namespace) -> int:
             f"  # {how}\n"
         )
         return 0
-    graph = Graph(sim_time=True, seed=args.seed, transport=open_transport(args))
-    runtime = LaunchRuntime(
-        config,
-        graph,
-        packages,
-        headless=args.headless,
-        viewer_options={
-            "host": args.host,
-            "port": args.port,
-            "allow_origins": args.allow_origins,
-        },
-    )
-    try:
-        runtime.start()
-        install_script(graph, script)
-        _run(graph, runtime, args)
-    except KeyboardInterrupt:
-        pass
-    finally:
-        sys.stdout.flush()
-        runtime.close()
-        graph.shutdown()
-    return 0
-
-
-def _run(graph: Graph, runtime: LaunchRuntime, args: argparse.Namespace) -> None:
-    started = time.monotonic()
-    last_check = [0.0]
-
-    def required_exited() -> bool:
-        now = time.monotonic()
-        if now - last_check[0] < 0.2:
-            return False
-        last_check[0] = now
-        spec = runtime.poll_processes()
-        if spec is not None:
-            sys.stderr.write(f"required node {spec.full_name} exited: shutting down\n")
-            return True
-        return False
-
-    graph.run(duration=args.duration, rtf=args.rtf, until=required_exited)
-    if args.duration is not None:
-        wall = time.monotonic() - started
-        sys.stderr.write(f"simulated {args.duration:g} s in {wall:.3f} s\n")
+    return run_session(config, packages, args)
 
 
 def _dump(config: LaunchConfig) -> str:

@@ -91,7 +91,7 @@ class LaunchRuntime:
         if starter is None:
             script = self._user_script(spec)
             if script is not None:
-                self._run_script(spec, script)
+                self.run_script(spec, script)
                 return
             self.missing.append(f"{spec.pkg}/{spec.type} ({spec.full_name}, {spec.source})")
             return
@@ -135,7 +135,9 @@ class LaunchRuntime:
             "BELVEDERE_ENDPOINT": transport.endpoint,
         }
 
-    def _run_script(self, spec: LaunchNode, script: Path) -> None:
+    def run_script(self, spec: LaunchNode, script: Path) -> None:
+        """Run a user's script as the node ``spec`` (its name, namespace and remaps as
+        arguments, the graph's domain and endpoint in its environment)."""
         text = script.read_text(errors="replace")
         if "import rospy" in text or "from rospy" in text:
             logger.warning(
@@ -170,7 +172,7 @@ class LaunchRuntime:
                     self.processes.pop(i)
                     script = self._user_script(spec)
                     if script is not None:
-                        self._run_script(spec, script)
+                        self.run_script(spec, script)
                     break
         return None
 

@@ -1,0 +1,140 @@
+"""``belvedere run PKG EXECUTABLE [args…]`` (rosrun), or ``belvedere run SCRIPT [args…]``.
+
+An executable belvedere has (:mod:`belvedere.nodes`) runs in this process, as one node on
+the graph; any other is looked for in the package as rosrun looks (the package's
+``scripts/``, ``nodes/``, then anywhere below it) and runs as the user's script. ROS's
+arguments work as with rosrun: ``from:=to`` remaps, ``_param:=value`` sets the node's
+private parameter (a YAML value), ``__name:=`` and ``__ns:=`` rename and place it. ``xacro
+xacro`` runs ``belvedere xacro``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shlex
+from pathlib import Path
+
+import yaml
+
+from belvedere import nodes
+from belvedere.cli._args import add_viewer_options
+from belvedere.cli._script import add_script_options
+from belvedere.cli._session import run_session
+from belvedere.cli._tool import add_graph_options
+from belvedere.errors import BelvedereError
+from belvedere.launch import LaunchConfig, LaunchNode
+from belvedere.packages import BUILTIN_PACKAGES, PackageIndex, find_package_root
+
+__all__ = ["add_parser", "run"]
+
+TOOLS = {("xacro", "xacro"): "xacro", ("xacro", "xacro.py"): "xacro"}
+"""Executables that are belvedere verbs rather than nodes."""
+
+
+def add_parser(
+    sub: argparse._SubParsersAction[argparse.ArgumentParser], common: argparse.ArgumentParser
+) -> None:
+    p = sub.add_parser(
+        "run",
+        parents=[common],
+        help="run a package's executable, as rosrun",
+        description="belvedere run [options] PKG EXECUTABLE [args…] or belvedere run "
+        "[options] SCRIPT [args…]; from:=to remaps, _param:=value, __name:=NAME, __ns:=NS as "
+        "with rosrun. belvedere's options come first: everything after the executable is "
+        "its own.",
+    )
+    p.add_argument("target", metavar="PKG|SCRIPT", help="a package, or a script's path")
+    p.add_argument("words", nargs=argparse.REMAINDER, metavar="ARGS", help="the executable…")
+    p.add_argument("--headless", action="store_true", help="no viewer (rviz)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the simulation's randomness")
+    add_viewer_options(p)
+    add_script_options(p)
+    add_graph_options(p)
+    p.set_defaults(run=run)
+
+
+def split_ros_args(
+    words: list[str],
+) -> tuple[list[str], dict[str, str], dict[str, object], str | None, str | None]:
+    """rosrun's arguments: (plain arguments, remaps, private parameters, __name, __ns)."""
+    plain: list[str] = []
+    remaps: dict[str, str] = {}
+    params: dict[str, object] = {}
+    name = namespace = None
+    for word in words:
+        key, sep, value = word.partition(":=")
+        if not sep or not key:
+            plain.append(word)
+        elif key == "__name":
+            name = value
+        elif key == "__ns":
+            namespace = value
+        elif key.startswith("__"):
+            continue  # __log:=, __ip:=, __hostname:=, __master:= mean nothing here
+        elif key.startswith("_"):
+            try:
+                params[key[1:]] = yaml.safe_load(value) if value else ""
+            except yaml.YAMLError:
+                params[key[1:]] = value
+        else:
+            remaps[key] = value
+    return plain, remaps, params, name, namespace
+
+
+def _script_in_package(root: Path, executable: str) -> Path | None:
+    """Where rosrun finds ``executable`` in the package at ``root``."""
+    for candidate in (root / "scripts" / executable, root / "nodes" / executable):
+        if candidate.is_file():
+            return candidate
+    found = sorted(p for p in root.rglob(executable) if p.is_file())
+    return found[0] if found else None
+
+
+def run(args: argparse.Namespace) -> int:
+    target, words = args.target, list(args.words)
+    script: Path | None = None
+    if os.path.isfile(target):
+        script = Path(target)
+        root = find_package_root(script.resolve())
+        package = root.name if root is not None else ""
+        executable = script.name
+    else:
+        if not words:
+            msg = f"belvedere run {target}: which executable? (run PKG EXECUTABLE [args])"
+            raise BelvedereError(msg)
+        package, executable, words = target, words[0], words[1:]
+    if (package, executable) in TOOLS:
+        from belvedere.cli import main
+
+        return main([TOOLS[package, executable], *words])
+    packages = PackageIndex.from_environment(
+        package_path=args.package_path, near=script if script is not None else None
+    )
+    if script is None and nodes.find(package, executable) is None:
+        root = packages.find(package)
+        script = (
+            None if root.is_relative_to(BUILTIN_PACKAGES) else _script_in_package(root, executable)
+        )
+        if script is None:
+            have = ", ".join(nodes.executables(package)) or "none"
+            msg = f"package {package!r} has no executable {executable!r}"
+            raise BelvedereError(msg, hint=f"belvedere has for {package}: {have}")
+    plain, remaps, params, name, namespace = split_ros_args(words)
+    spec = LaunchNode(
+        pkg=package,
+        type=executable,
+        name=name or executable.removesuffix(".py"),
+        namespace="/" + (namespace or "").strip("/"),
+        args=shlex.join(plain),
+        output="screen",
+        required=True,
+        remappings=tuple(remaps.items()),
+    )
+    config = LaunchConfig()
+    for key, value in params.items():
+        config.set_param(f"{spec.full_name}/{key}", value, None)
+    if script is None:
+        config.nodes.append(spec)
+        return run_session(config, packages, args)
+    return run_session(config, packages, args, script=(spec, script))

@@ -1,0 +1,133 @@
+"""``belvedere run`` (rosrun) and ``belvedere rospack``: executables from belvedere's node
+registry and from the user's packages, ROS's command-line arguments, and rospack's answers
+(against Debian's rospack where it is installed)."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from belvedere.cli import main
+from belvedere.cli.run import split_ros_args
+from tests.conftest import EXAMPLES
+
+BELVEDERE = [sys.executable, "-m", "belvedere"]
+
+
+def _package(root: Path, name: str, deps: str = "") -> Path:
+    pkg = root / name
+    (pkg / "scripts").mkdir(parents=True)
+    (pkg / "package.xml").write_text(
+        f'<package format="2"><name>{name}</name><version>0.0.1</version>'
+        f"<description>d</description><maintainer email='a@b.c'>a</maintainer>"
+        f"<license>BSD</license><buildtool_depend>catkin</buildtool_depend>{deps}</package>"
+    )
+    return pkg
+
+
+def test_ros_arguments_are_split_as_rosrun_does() -> None:
+    plain, remaps, params, name, ns = split_ros_args(
+        ["-d", "x.rviz", "chatter:=/talk", "_rate:=10", "_gain:=0.5", "_label:=hi", "_on:=true",
+         "__name:=mine", "__ns:=/robot", "__log:=/tmp/x"]
+    )  # fmt: skip
+    assert plain == ["-d", "x.rviz"]
+    assert remaps == {"chatter": "/talk"}
+    assert params == {"rate": 10, "gain": 0.5, "label": "hi", "on": True}
+    assert (name, ns) == ("mine", "/robot")
+
+
+def test_a_users_script_runs_as_its_node(tmp_path: Path) -> None:
+    pkg = _package(tmp_path, "learner")
+    script = pkg / "scripts" / "hello.py"
+    script.write_text("import sys\nprint('argv', sys.argv[1:], flush=True)\n")
+    done = subprocess.run(
+        [*BELVEDERE, "run", "--package-path", str(tmp_path), "--headless", "learner", "hello.py",
+         "one", "chatter:=/talk", "__ns:=/r", "_k:=2"],
+        capture_output=True, text=True, timeout=60, check=False,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    assert "argv ['one', '__name:=hello', '__ns:=/r', 'chatter:=/talk']" in done.stdout
+    assert "required node /r/hello exited" in done.stderr
+
+
+def test_a_script_by_its_path(tmp_path: Path) -> None:
+    script = tmp_path / "alone.py"
+    script.write_text("print('ran', flush=True)\n")
+    done = subprocess.run(
+        [*BELVEDERE, "run", "--headless", str(script), "__name:=solo"],
+        capture_output=True, text=True, timeout=60, check=False,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    assert done.stdout == "ran\n"
+
+
+def test_a_registry_node_runs_in_process(capsys: pytest.CaptureFixture[str]) -> None:
+    code = main(
+        ["run", "--rtf", "max", "--duration", "0.2", "--echo", "/tf_static", "--headless",
+         "tf2_ros", "static_transform_publisher", "1", "2", "3", "0", "0", "0", "map", "odom",
+         "__name:=stp"]
+    )  # fmt: skip
+    assert code == 0
+    out = capsys.readouterr().out
+    assert 'frame_id: "map"' in out
+    assert 'child_frame_id: "odom"' in out
+    assert "x: 1.0" in out
+
+
+def test_xacro_runs_the_xacro_verb(capsys: pytest.CaptureFixture[str]) -> None:
+    model = EXAMPLES / "mbot_description/urdf/urdf/mbot_base.urdf"
+    assert main(["run", "xacro", "xacro", str(model)]) == 0
+    assert '<robot name="mbot">' in capsys.readouterr().out
+
+
+def test_what_run_cannot_find(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    _package(tmp_path, "learner")
+    assert main(["run", "--package-path", str(tmp_path), "learner", "nope.py"]) == 1
+    assert "package 'learner' has no executable 'nope.py'" in capsys.readouterr().err
+    assert main(["run", "robot_state_publisher", "rsp"]) == 1
+    err = capsys.readouterr().err
+    assert "belvedere has for robot_state_publisher: robot_state_publisher, state_publisher" in err
+    assert main(["run", "--package-path", str(tmp_path), "learner"]) == 1
+    assert "which executable?" in capsys.readouterr().err
+
+
+def test_rospack_find_list_and_dependencies(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    _package(tmp_path, "base_pkg", "<exec_depend>a_system_lib</exec_depend>")
+    _package(tmp_path, "mid", "<depend>base_pkg</depend><test_depend>nosetests</test_depend>")
+    _package(tmp_path, "top", "<exec_depend>mid</exec_depend><build_depend>base_pkg</build_depend>")
+    path = ["--package-path", str(tmp_path)]
+    assert main(["rospack", "find", "top", *path]) == 0
+    assert capsys.readouterr().out == f"{tmp_path / 'top'}\n"
+    assert main(["rospack", "list-names", *path]) == 0
+    assert capsys.readouterr().out == "base_pkg\nmid\ntop\n"
+    assert main(["rospack", "depends1", "top", *path]) == 0
+    assert capsys.readouterr().out == "mid\n"  # build-only and system dependencies left out
+    assert main(["rospack", "depends", "top", *path]) == 0
+    assert capsys.readouterr().out == "base_pkg\nmid\n"
+    assert main(["rospack", "find", "gazebo_ros", *path]) == 1  # not on the path
+    assert "not found" in capsys.readouterr().err
+
+
+@pytest.mark.skipif(shutil.which("rospack", path="/usr/bin") is None, reason="no rospack")
+@pytest.mark.parametrize("command", ["depends", "depends1"])
+@pytest.mark.parametrize("package", ["mbot_gazebo", "mbot_description", "marm_description"])
+def test_rospack_answers_as_debians(
+    command: str, package: str, capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """Over the examples and Debian's ROS packages (/usr/share): the same lines in the same
+    order as the real rospack."""
+    env = {**os.environ, "PATH": "/usr/bin:" + os.environ["PATH"], "ROS_HOME": str(tmp_path)}
+    env["ROS_PACKAGE_PATH"] = f"{EXAMPLES}:/usr/share"
+    real = subprocess.run(
+        ["rospack", command, package], capture_output=True, text=True, env=env, check=True
+    ).stdout
+    assert main(["rospack", command, package, "--package-path", str(EXAMPLES),
+                 "--package-path", "/usr/share"]) == 0  # fmt: skip
+    assert capsys.readouterr().out == real
