@@ -131,3 +131,19 @@ def test_rospack_answers_as_debians(
     assert main(["rospack", command, package, "--package-path", str(EXAMPLES),
                  "--package-path", "/usr/share"]) == 0  # fmt: skip
     assert capsys.readouterr().out == real
+
+
+def test_a_python_2_script_runs(tmp_path: Path) -> None:
+    pkg = _package(tmp_path, "course")
+    (pkg / "scripts" / "old.py").write_bytes(b"#!/usr/bin/env python\r\nprint 'old', 2\r\n")
+    done = subprocess.run(
+        [*BELVEDERE, "run", "--package-path", str(tmp_path), "--headless", "course", "old.py"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+        env={**os.environ, "XDG_CACHE_HOME": str(tmp_path / "cache")},
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout == "old 2\n"
+    assert "old.py: a Python 2 script: running its Python 3 form" in done.stderr

@@ -40,8 +40,8 @@ def run_session(
     )
     try:
         runtime.start()
-        if script is not None:
-            runtime.run_script(*script)
+        if script is not None and not runtime.run_script(*script):
+            return 1
         install_script(graph, ScriptOptions.from_args(args))
         _run(graph, runtime, args)
     except KeyboardInterrupt:

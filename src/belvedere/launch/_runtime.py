@@ -26,6 +26,7 @@ from belvedere.fileio import FileWriteError, write_file
 from belvedere.graph import Graph, ZenohTransport
 from belvedere.launch._model import LaunchConfig, LaunchError, LaunchNode
 from belvedere.packages import BUILTIN_PACKAGES, PackageIndex
+from belvedere.pyscripts import ScriptError, script_command
 from belvedere.tf import JointStatePublisher
 
 __all__ = ["LaunchRuntime"]
@@ -135,9 +136,10 @@ class LaunchRuntime:
             "BELVEDERE_ENDPOINT": transport.endpoint,
         }
 
-    def run_script(self, spec: LaunchNode, script: Path) -> None:
+    def run_script(self, spec: LaunchNode, script: Path) -> bool:
         """Run a user's script as the node ``spec`` (its name, namespace and remaps as
-        arguments, the graph's domain and endpoint in its environment)."""
+        arguments, the graph's domain and endpoint in its environment); False, with one
+        message, if it cannot run."""
         text = script.read_text(errors="replace")
         if "import rospy" in text or "from rospy" in text:
             logger.warning(
@@ -145,9 +147,14 @@ class LaunchRuntime:
                 spec.source,
                 script,
             )
-            return
+            return False
+        try:
+            command = script_command(script)
+        except ScriptError as err:
+            logger.error("%s: %s (node %s not started)", err.location, err.message, spec.full_name)
+            return False
         env = {**os.environ, **self._graph_env(), **dict(spec.env)}
-        argv = [sys.executable, str(script), *shlex.split(spec.args)]
+        argv = [*command, *shlex.split(spec.args)]
         argv.append(f"__name:={spec.name}")
         if spec.namespace != "/":
             argv.append(f"__ns:={spec.namespace}")
@@ -155,6 +162,7 @@ class LaunchRuntime:
         output = None if spec.output == "screen" else subprocess.DEVNULL
         process = subprocess.Popen(argv, env=env, cwd=spec.cwd, stdout=output, stderr=output)
         self.processes.append((spec, process))
+        return True
 
     def poll_processes(self) -> LaunchNode | None:
         """A required node that has exited (the launch then ends), if any; nodes with

@@ -1,0 +1,109 @@
+"""The user's Python scripts as belvedere runs them (``launch``'s script nodes, ``run``).
+
+The course's scripts are often Python 2 (``print "..."``) and sometimes have Windows line ends,
+which break their shebang. A script that does not compile as Python 3 is translated with
+fissix (a maintained lib2to3) once per content — the translation is cached — with one notice
+naming it; it then runs as itself (its ``__file__``, ``sys.argv[0]`` and directory on the path
+are the original's). A script that compiles neither way is one error at its line.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import logging
+import os
+import sys
+from pathlib import Path
+from typing import Final
+
+from belvedere.errors import ParseError, SourceLocation
+from belvedere.fileio import write_file
+
+__all__ = ["ScriptError", "cache_dir", "script_command"]
+
+logger = logging.getLogger("belvedere.scripts")
+
+_BOOT: Final = """\
+import sys
+original, runnable = sys.argv[1], sys.argv[2]
+sys.argv = [original, *sys.argv[3:]]
+sys.path[0] = __import__("os").path.dirname(__import__("os").path.abspath(original))
+with open(runnable, encoding="utf-8") as f:
+    code = compile(f.read(), original, "exec")
+namespace = {"__name__": "__main__", "__file__": original, "__builtins__": __builtins__}
+exec(code, namespace)
+"""
+"""Runs a translation as if it were the original file (argv, __file__, sys.path[0], and
+tracebacks name the original's lines, which the translation keeps)."""
+
+
+class ScriptError(ParseError):
+    """A script that compiles neither as Python 3 nor as translated Python 2."""
+
+
+def cache_dir() -> Path:
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "belvedere" / "scripts"
+
+
+def _decode(data: bytes) -> str:
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:
+        return data.decode("latin-1")  # Python 2's default source encoding was ASCII-ish
+
+
+def _compiles(text: str, path: Path) -> SyntaxError | None:
+    try:
+        compile(text, str(path), "exec", dont_inherit=True)
+    except SyntaxError as err:
+        return err
+    return None
+
+
+def _translate(text: str, path: Path) -> str:
+    from fissix import refactor
+    from fissix.pgen2.parse import ParseError as GrammarError
+
+    fixers = refactor.get_fixers_from_package("fissix.fixes")
+    tool = refactor.RefactoringTool(fixers)
+    source = text if text.endswith("\n") else text + "\n"
+    try:
+        return str(tool.refactor_string(source, str(path)))
+    except GrammarError as err:
+        line, col = err.context[1] if err.context else (0, 0)
+        msg = "not valid Python 3, and not Python 2 that can be translated"
+        raise ScriptError(msg, SourceLocation(str(path), line, col + 1)) from None
+
+
+def script_command(path: Path, python: str = sys.executable) -> list[str]:
+    """The command that runs ``path`` (before its own arguments)."""
+    data = path.read_bytes()
+    text = _decode(data)
+    crlf = "\r\n" in text
+    if crlf:
+        text = text.replace("\r\n", "\n")
+    problem = _compiles(text, path)
+    if problem is None and not crlf:
+        return [python, str(path)]
+    what = "Windows line ends"
+    if problem is not None:
+        translated = _translate(text, path)
+        still = _compiles(translated, path)
+        if still is not None:
+            where = SourceLocation(str(path), problem.lineno or 0, problem.offset or 0)
+            msg = f"not valid Python (3, or 2 translated): {problem.msg}"
+            raise ScriptError(msg, where)
+        text, what = translated, "Python 2"
+    digest = hashlib.sha256(data).hexdigest()[:20]
+    runnable = cache_dir() / f"{digest}.py"
+    if not runnable.is_file():
+        runnable.parent.mkdir(parents=True, exist_ok=True)
+        write_file(runnable, text)
+    logger.warning(
+        "%s: %s: running its Python 3 form (cached as %s)",
+        path,
+        "a Python 2 script" if what == "Python 2" else "Windows line ends",
+        runnable,
+    )
+    return [python, "-c", _BOOT, str(path), str(runnable)]
