@@ -122,3 +122,24 @@ def test_an_idle_timer_does_not_stop_a_batch() -> None:
     on_time = fired[before + 1 :]
     assert len(on_time) >= 3
     assert {b - a for a, b in itertools.pairwise(on_time)} == {10 * MS}
+
+
+def test_a_planned_batch_holds_when_something_arrives_meanwhile() -> None:
+    """Another thread's message (or a /clock subscriber appearing) while physics steps a
+    planned batch: the batch still ends where it was planned; the news waits for it."""
+    ex = Executor(sim_time=True)
+    ends: list[int] = []
+    listening = [False]
+    clock = ex.add_timer(0.01, lambda: None)
+    clock.idle = lambda: not listening[0]
+
+    def physics() -> None:
+        planned = ex.horizon_ns()
+        ex.post(lambda: None)  # arrives while the steps run
+        listening[0] = True
+        ex.advance_to(planned)
+        ends.append(planned)
+
+    ex.add_timer(0.001, physics, oneshot=True)
+    ex.run(duration=0.05, rtf=None)
+    assert ends == [MS + MAX_BATCH_NS]

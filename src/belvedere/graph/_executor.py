@@ -158,13 +158,20 @@ class Executor:
         are waiting. Wall-clock graphs cannot run ahead."""
         if not self.sim_time:
             return self.now_ns()
-        now = self._sim_ns
         if not self._inbox.empty() or self._ready:
-            return now
+            return self._sim_ns
+        return self._limit_ns(planning=True)
+
+    def _limit_ns(self, *, planning: bool) -> int:
+        """How far simulated time may run ahead. Planning, an idle timer does not count; once
+        a batch is taken, no timer that may be idle does (it may have found work since, from
+        another thread: it then fires late, once), nor anything that arrived from outside."""
+        now = self._sim_ns
         limit = now + MAX_BATCH_NS
         for due, _, timer in self._timers:
-            if due - 1 < limit and not (timer.idle is not None and timer.idle()):
-                limit = due - 1
+            if due - 1 >= limit or (timer.idle is not None and (not planning or timer.idle())):
+                continue
+            limit = due - 1
         for bound in (self._end_ns, self._step_to):
             if bound is not None:
                 limit = min(limit, bound)
@@ -172,10 +179,10 @@ class Executor:
 
     def advance_to(self, ns: int) -> None:
         """Move simulated time on to ``ns`` from inside a timer callback (a batch of physics
-        steps): at most :meth:`horizon_ns`, never back."""
-        if ns < self._sim_ns or ns > self.horizon_ns():
-            msg = f"cannot advance simulated time to {ns} ns (now {self._sim_ns}, horizon"
-            msg += f" {self.horizon_ns()})"
+        steps planned with :meth:`horizon_ns`), never back, never past another timer."""
+        limit = self._limit_ns(planning=False)
+        if not self.sim_time or ns < self._sim_ns or ns > limit:
+            msg = f"cannot advance simulated time to {ns} ns (now {self._sim_ns}, limit {limit})"
             raise ValueError(msg)
         self._sim_ns = ns
 
