@@ -34,7 +34,8 @@ def test_scripted_run_prints_odometry(endpoint: str, capsys: pytest.CaptureFixtu
     odom = _documents(out)
     assert len(odom) == 100
     last = odom[-1]
-    assert last["header"] == {"seq": 0, "stamp": {"secs": 10, "nsecs": 0}, "frame_id": "odom"}
+    # arbotix_python is a rospy node: header.seq counts the messages sent, from 1
+    assert last["header"] == {"seq": 100, "stamp": {"secs": 10, "nsecs": 0}, "frame_id": "odom"}
     assert last["child_frame_id"] == "base_footprint"
     position = last["pose"]["pose"]["position"]  # type: ignore[index]
     x, y = position["x"], position["y"]

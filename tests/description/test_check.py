@@ -286,3 +286,25 @@ def test_diff_drive_wheel_on_a_cycle_apart_from_the_tree(
         "the root link 'base', so it cannot drive the robot"
     ) in err
     assert "Traceback" not in err
+
+
+def test_lint_non_unit_axis(tmp_path: Path) -> None:
+    limit = '<limit lower="0" upper="1" effort="1" velocity="1"/>'
+    body = (
+        '<link name="a"/><link name="b"/><link name="c"/><link name="d"/>\n'
+        '<joint name="slide" type="prismatic"><parent link="a"/><child link="b"/>'
+        f'<axis xyz="0 0 2"/>{limit}</joint>\n'
+        '<joint name="turn" type="continuous"><parent link="b"/><child link="c"/>'
+        '<axis xyz="1 1 0"/></joint>\n'
+        '<joint name="near" type="continuous"><parent link="c"/><child link="d"/>'
+        '<axis xyz="0.707 0 0.707"/></joint>\n'
+    )
+    text = "\n".join(_messages(write(tmp_path, body)))
+    path = tmp_path / "robot.urdf"
+    assert (
+        f"{path}:4:1: warning: joint 'slide': axis 0 0 2 has length 2, not 1: "
+        "robot_state_publisher (KDL) and simulators use the unit axis 0 0 1, so a prismatic "
+        "joint at q moves q metres"
+    ) in text
+    assert f"{path}:5:1: warning: joint 'turn': axis 1 1 0 has length 1.41421" in text
+    assert "'near'" not in text

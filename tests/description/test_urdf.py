@@ -254,3 +254,13 @@ def robots(draw: st.DrawFn) -> RobotModel:
 @given(robots())
 def test_write_then_parse_gives_an_equal_model(model: RobotModel) -> None:
     assert RobotModel.from_string(model.to_urdf()) == model
+
+
+def test_prismatic_axis_is_made_unit_length_as_kdl_does() -> None:
+    model = RobotModel.from_string(
+        '<robot name="r"><link name="a"/><link name="b"/>'
+        '<joint name="s" type="prismatic"><parent link="a"/><child link="b"/>'
+        '<axis xyz="0 3 4"/><limit lower="0" upper="1" effort="1" velocity="1"/></joint></robot>'
+    )
+    pose = model.forward_kinematics({"s": 0.5})["b"]
+    assert pose[:3, 3] == pytest.approx([0.0, 0.3, 0.4])

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import pytest
@@ -11,7 +12,8 @@ from hypothesis import strategies as st
 
 from belvedere.description.urdf import RobotModel, rpy_to_matrix
 from belvedere.errors import BelvedereError
-from belvedere.graph import Graph
+from belvedere.graph import NS, Graph
+from belvedere.msgs import build
 from belvedere.tf import (
     JointStatePublisher,
     RobotStatePublisher,
@@ -169,3 +171,69 @@ def test_static_transform_publisher_and_bad_args() -> None:
     assert listener.buffer.lookup_transform("base", "cam").translation == (0, 0, 1)
     with pytest.raises(BelvedereError, match="wrong number of arguments"):
         parse_static_transform_args(["1", "2"])
+
+
+RSP_MODEL = (
+    '<robot name="r"><link name="base"/><link name="a"/><link name="b"/><link name="c"/>'
+    '<joint name="lead" type="continuous"><parent link="base"/><child link="a"/>'
+    '<axis xyz="0 0 1"/></joint>'
+    '<joint name="slide" type="prismatic"><parent link="a"/><child link="b"/>'
+    '<axis xyz="0 0 2"/><limit lower="-9" upper="9" effort="1" velocity="1"/>'
+    '<mimic joint="lead" multiplier="2" offset="0.5"/></joint>'
+    '<joint name="tip" type="fixed"><parent link="b"/><child link="c"/>'
+    '<origin xyz="1 0 0"/></joint></robot>'
+)
+
+
+def test_robot_state_publisher_publishes_each_message_with_its_stamp() -> None:
+    g = Graph(clock_hz=None)
+    node = g.create_node("robot_state_publisher", params={"publish_frequency": 10.0})
+    RobotStatePublisher(node, RobotModel.from_string(RSP_MODEL))
+    tf: list[Any] = []
+    static: list[Any] = []
+    listener = g.create_node("listener")
+    listener.subscribe("/tf", "tf2_msgs/TFMessage", tf.append, queue_size=100)
+    listener.subscribe("/tf_static", "tf2_msgs/TFMessage", static.append, queue_size=100)
+    states = listener.publisher("joint_states", "sensor_msgs/JointState")
+    g.run(duration=0.05)
+    assert not static  # one-shot, 1/publish_frequency after the start
+    g.run(duration=0.1)
+    assert len(static) == 1
+    (fixed,) = static[0].transforms
+    assert (fixed.header.frame_id, fixed.child_frame_id) == ("b", "c")
+    assert fixed.header.stamp.nanosec == 100_000_000
+    g.run(duration=6.0)  # past the stamps: "now" bounds the throttle too, as in ROS
+    assert not tf  # nothing without joint_states, however long
+    for stamp_ns in (5 * NS, 5 * NS + 50_000_000, 5 * NS + 100_000_000):
+        states.publish(build.joint_state(stamp_ns, ["lead"], [0.25]))
+        g.spin_once()
+    assert [
+        m.transforms[0].header.stamp.sec * NS + m.transforms[0].header.stamp.nanosec for m in tf
+    ] == [5 * NS, 5 * NS + 100_000_000]  # the second within 0.1 s: left out
+    lead, slide = tf[0].transforms
+    assert (lead.child_frame_id, slide.child_frame_id) == ("a", "b")
+    # the mimic follows at 2 * 0.25 + 0.5 = 1 along the axis made unit length
+    assert (slide.transform.translation.x, slide.transform.translation.z) == (0.0, 1.0)
+    assert lead.transform.rotation.z == pytest.approx(math.sin(0.125))
+
+
+def test_publishers_number_header_seq_as_ros1() -> None:
+    g = Graph(clock_hz=None)
+    a, b = g.create_node("a"), g.create_node("b")
+    got: list[tuple[str, int]] = []
+    cpp = a.publisher("/js", "sensor_msgs/JointState")
+    cpp.publish(build.joint_state(0, [], []))  # roscpp counts messages nobody hears
+    py = b.publisher("/js", "sensor_msgs/JointState", seq_rule="rospy")
+    py.publish(build.joint_state(0, [], []))  # rospy does not
+    a.subscribe("/js", "sensor_msgs/JointState", lambda m: got.append(("msg", m.header.seq)))
+    sent = build.joint_state(0, [], [])
+    for _ in range(2):
+        cpp.publish(sent)
+        py.publish(sent)
+    g.spin_once()
+    assert got == [("msg", 1), ("msg", 1), ("msg", 2), ("msg", 2)]
+    assert sent.header.seq == 0  # the caller's message is left alone
+    # a second publisher of the same node on the same topic shares the count
+    a.publisher("/js", "sensor_msgs/JointState").publish(build.joint_state(0, [], []))
+    g.spin_once()
+    assert got[-1] == ("msg", 3)

@@ -8,6 +8,7 @@ whose wheels are swapped, Gazebo blocks for links that do not exist.
 
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import dataclass, field
 from typing import Any, Final
@@ -31,6 +32,9 @@ from belvedere.packages import PackageIndex
 __all__ = ["CheckReport", "check_file", "format_tree", "lint"]
 
 DIFF_DRIVE_PLUGINS: Final = ("libgazebo_ros_diff_drive.so", "gazebo_ros_diff_drive")
+AXIS_LENGTH_TOLERANCE: Final = 1e-3
+"""How far from 1 an axis's length may be before ``check`` warns (``0.707 0 0.707`` is unit
+enough; ``0 0 2`` is not)."""
 
 
 @dataclass
@@ -217,6 +221,17 @@ def lint(
             )
         if j.type not in ("fixed", "floating") and j.axis == (0.0, 0.0, 0.0):
             warn(f"joint '{j.name}' has a zero axis (<axis> without xyz)", j.source)
+        elif j.type in ("revolute", "continuous", "prismatic"):
+            length = math.sqrt(sum(c * c for c in j.axis))
+            if abs(length - 1.0) > AXIS_LENGTH_TOLERANCE:
+                unit = " ".join(f"{c / length:.6g}" for c in j.axis)
+                warn(
+                    f"joint '{j.name}': axis {' '.join(f'{c:g}' for c in j.axis)} has length "
+                    f"{length:.6g}, not 1: robot_state_publisher (KDL) and simulators use the "
+                    f"unit axis {unit}, so a {j.type} joint at q "
+                    f"{'moves q metres' if j.type == 'prismatic' else 'turns q radians'}",
+                    j.source,
+                )
         if j.mimic is not None and j.mimic.joint not in {k.name for k in model.joints}:
             warn(f"joint '{j.name}' mimics unknown joint '{j.mimic.joint}'", j.source)
 

@@ -12,7 +12,8 @@ import time
 from collections import deque
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import Any, Protocol
+from dataclasses import replace as _replace
+from typing import Any, Literal, Protocol
 
 from belvedere.errors import BelvedereError
 from belvedere.graph._executor import NS, Executor, Timer
@@ -26,6 +27,7 @@ __all__ = [
     "Node",
     "Publisher",
     "Rate",
+    "SeqRule",
     "ServiceServer",
     "Subscription",
     "Topic",
@@ -69,15 +71,41 @@ class Topic:
     remote: bool = False
     """A subscriber in another process wants this topic."""
 
+    @property
+    def has_header(self) -> bool:
+        """Messages of this type start with a ``std_msgs/Header`` (whose ``seq`` publishers
+        count up, as ROS 1's do)."""
+        cached: bool | None = self.__dict__.get("_has_header")
+        if cached is None:
+            fields = getattr(types().cls(self.type), "__dataclass_fields__", {})
+            field_ = fields.get("header")
+            cached = field_ is not None and "Header" in str(field_.type)
+            self.__dict__["_has_header"] = cached
+        return cached
+
+
+SeqRule = Literal["roscpp", "rospy"]
+"""How a publisher numbers ``header.seq``: roscpp from 0, counting every message published;
+rospy from 1, counting only messages sent to a subscriber."""
+
 
 class Publisher:
     """Publishes messages of one type on one topic."""
 
-    def __init__(self, node: Node, topic: Topic, *, latch: bool, queue_size: int) -> None:
+    def __init__(
+        self,
+        node: Node,
+        topic: Topic,
+        *,
+        latch: bool,
+        queue_size: int,
+        seq_rule: SeqRule = "roscpp",
+    ) -> None:
         self.node = node
         self.topic = topic
         self.latch = latch
         self.queue_size = queue_size
+        self.seq_rule: SeqRule = seq_rule
         self.count = 0
 
     @property
@@ -105,6 +133,8 @@ class Publisher:
             return
         if self.node.closed:
             return  # its node was shut down: rospy's publish after shutdown goes nowhere too
+        if topic.has_header:
+            msg = self._numbered(msg)
         self.count += 1
         if self.latch:
             topic.latched[self] = msg
@@ -113,6 +143,24 @@ class Publisher:
         transport = graph.transport
         if transport is not None and topic.remote:
             transport.send(topic, msg)
+
+    def _numbered(self, msg: Any) -> Any:
+        """``msg`` with the next ``header.seq`` of this node's publications on the topic (a
+        copy: the caller's message and what other subscribers hold stay as they are)."""
+        counters = self.node.seqs
+        topic = self.topic
+        if self.seq_rule == "rospy":
+            if not (topic.subscriptions or topic.remote):
+                return msg  # rospy numbers only what it sends
+            seq = counters.get(topic.name, 0) + 1
+            counters[topic.name] = seq
+        else:
+            seq = counters.get(topic.name, 0)
+            counters[topic.name] = seq + 1
+        header = msg.header
+        if header.seq == seq:
+            return msg
+        return _replace(msg, header=_replace(header, seq=seq & 0xFFFFFFFF))
 
     def publish_data(self, data: Any = None) -> Any:
         """Publish a message built from YAML-like data (``{'linear': {'x': 0.2}}``)."""
@@ -233,6 +281,9 @@ class Node:
         self.subscriptions: list[Subscription] = []
         self.services: list[ServiceServer] = []
         self.timers: list[Timer] = []
+        self.seqs: dict[str, int] = {}
+        """The ``header.seq`` counters of its publications, by topic (ROS 1 counts per topic
+        per process: the publishers of one node on one topic share one)."""
         self.logger = logging.getLogger(f"belvedere.node.{name}")
         self.closed = False
         """Shut down: off the graph, its publishers silent, its callbacks never called."""
@@ -265,10 +316,17 @@ class Node:
 
     # --- topics --------------------------------------------------------------------------------
     def publisher(
-        self, topic: str, msg_type: str, *, queue_size: int = 10, latch: bool = False
+        self,
+        topic: str,
+        msg_type: str,
+        *,
+        queue_size: int = 10,
+        latch: bool = False,
+        seq_rule: SeqRule = "roscpp",
     ) -> Publisher:
+        """``seq_rule``: how ``header.seq`` is numbered (roscpp's or rospy's rule)."""
         t = self.graph.topic(self.resolve(topic), msg_type)
-        pub = Publisher(self, t, latch=latch, queue_size=queue_size)
+        pub = Publisher(self, t, latch=latch, queue_size=queue_size, seq_rule=seq_rule)
         self.publishers.append(pub)
         t.publishers.append(pub)
         if self.graph.transport is not None:

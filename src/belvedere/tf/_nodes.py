@@ -9,7 +9,7 @@ from typing import Any
 
 from belvedere.description.urdf import Joint, RobotModel
 from belvedere.errors import BelvedereError
-from belvedere.graph import Node
+from belvedere.graph import NS, Node
 from belvedere.msgs import build
 from belvedere.tf._buffer import TFBuffer
 from belvedere.tf._math import Transform, quat_xyzw_from_rpy
@@ -69,9 +69,25 @@ class TransformListener:
 
 
 class RobotStatePublisher:
-    """``joint_states`` + the robot model → ``/tf`` (movable joints) and ``/tf_static``
-    (fixed joints, latched, once). Parameters: ``~publish_frequency`` (50 Hz), ``~tf_prefix``;
-    the model comes from the argument or the ``robot_description`` parameter."""
+    """ROS 1's robot_state_publisher (1.15): ``joint_states`` + the robot model → ``/tf``
+    and ``/tf_static``.
+
+    As the original does:
+
+    - each ``joint_states`` message is published at once, stamped with its own stamp, with a
+      transform for each of its joints in the model (and each mimic joint whose leader it
+      carries: ``multiplier * leader + offset``, unless the message names the follower
+      too), ordered by joint name; a message is left out when all its joints were published
+      less than ``1 / ~publish_frequency`` (50 Hz, at least 1 Hz) before its stamp, unless
+      ``~ignore_timestamp``; one whose names and positions differ in number is refused;
+    - the fixed joints (and planar ones, which KDL holds fixed) go once on ``/tf_static``
+      (latched), ``1 / ~publish_frequency`` after the start, stamped with that time; with
+      ``~use_tf_static`` false they go on ``/tf`` at that rate instead, stamped half a second
+      ahead; floating joints are never published;
+    - frames are resolved against ``tf_prefix``, searched from the node's private namespace
+      up, as tf::resolve does.
+
+    The model comes from the argument or the ``robot_description`` parameter."""
 
     def __init__(self, node: Node, model: RobotModel | None = None) -> None:
         self.node = node
@@ -82,52 +98,107 @@ class RobotStatePublisher:
                 raise BelvedereError(msg, hint="load the URDF into robot_description first")
             model = RobotModel.from_string(text, path="robot_description")
         self.model = model
-        prefix = str(node.get_param("~tf_prefix", "")).strip("/")
-        self.prefix = f"{prefix}/" if prefix else ""
-        self.positions: dict[str, float] = {}
+        self.prefix = str(_search_param(node, "tf_prefix", ""))
+        freq = float(node.get_param("~publish_frequency", 50.0))
+        self.use_tf_static = bool(node.get_param("~use_tf_static", True))
+        self.ignore_timestamp = bool(node.get_param("~ignore_timestamp", False))
+        self.interval_ns = round(NS / max(freq, 1.0))
+        self.segments = {j.name: j for j in model.joints if j.type in _MOVING}
+        self.fixed = sorted(
+            (j for j in model.joints if j.type not in _MOVING and j.type != "floating"),
+            key=lambda j: j.name,
+        )
+        self.mimic = sorted((j.name, j.mimic) for j in model.joints if j.mimic is not None)
+        self.last_publish_ns: dict[str, int] = {}
+        self.last_callback_ns = 0
         self._cache: dict[str, tuple[float, Transform]] = {}
+        self._said: set[str] = set()
         self.tf_pub = node.publisher("/tf", "tf2_msgs/TFMessage", queue_size=100)
         self.static_pub = node.publisher("/tf_static", "tf2_msgs/TFMessage", latch=True)
-        self.movable = [
-            j for j in model.joints if j.type in ("revolute", "continuous", "prismatic")
-        ]
-        self._publish_static()
-        node.subscribe(
-            "joint_states", "sensor_msgs/JointState", self._on_joint_states, queue_size=10
+        node.subscribe("joint_states", "sensor_msgs/JointState", self.on_joint_states, queue_size=1)
+        node.timer(self.interval_ns / NS, self.publish_fixed, oneshot=self.use_tf_static)
+
+    def frame(self, link: str) -> str:
+        """tf::resolve: ``prefix/link``; a leading slash on the link keeps it unprefixed."""
+        return _resolve_frame(self.prefix, link)
+
+    def publish_fixed(self) -> None:
+        """The fixed joints' transforms, stamped now (half a second ahead on ``/tf``)."""
+        stamp = self.node.now_ns()
+        pub = self.static_pub
+        if not self.use_tf_static:
+            stamp += NS // 2
+            pub = self.tf_pub
+        pub.publish(
+            build.tf_message([self._stamped(j, self._transform(j, 0.0), stamp) for j in self.fixed])
         )
-        freq = float(node.get_param("~publish_frequency", 50.0))
-        if freq <= 0:
-            msg = f"robot_state_publisher: publish_frequency must be positive, got {freq}"
-            raise BelvedereError(msg)
-        node.timer(1.0 / freq, self.publish)
+
+    def on_joint_states(self, msg: Any) -> None:
+        names, positions = list(msg.name), list(msg.position)
+        if len(names) != len(positions):
+            if not positions:
+                self._warn_once(
+                    "empty",
+                    "Robot state publisher ignored a JointState message about joint(s) "
+                    f'"{names[0]}"(,...) whose position member was empty.',
+                )
+            else:
+                self.node.logger.error(
+                    "Robot state publisher ignored an invalid JointState message"
+                )
+            return
+        now = self.node.now_ns()
+        if self.last_callback_ns > now:
+            self.node.logger.warning(
+                "Moved backwards in time (probably because ROS clock was reset), "
+                "re-publishing joint transforms!"
+            )
+            self.last_publish_ns.clear()
+        self.last_callback_ns = now
+        stamp = msg.header.stamp.sec * NS + msg.header.stamp.nanosec
+        last_published = now
+        for name in names:
+            last_published = min(last_published, self.last_publish_ns.get(name, 0))
+        if not (self.ignore_timestamp or stamp >= last_published + self.interval_ns):
+            return
+        values: dict[str, float] = {}
+        for name, value in zip(names, positions, strict=True):
+            values.setdefault(name, float(value))  # std::map::insert keeps the first
+        for follower, mimic in self.mimic:
+            if mimic.joint in values:
+                values.setdefault(follower, values[mimic.joint] * mimic.multiplier + mimic.offset)
+        transforms = []
+        for name in sorted(values):
+            joint = self.segments.get(name)
+            if joint is None:
+                self._warn_once(
+                    f"unknown {name}",
+                    f'Joint state with name: "{name}" was received but not found in URDF',
+                )
+                continue
+            transforms.append(
+                self._stamped(joint, self._cached_transform(joint, values[name]), stamp)
+            )
+        self.tf_pub.publish(build.tf_message(transforms))
+        for name in names:
+            self.last_publish_ns[name] = stamp
+
+    def _warn_once(self, key: str, text: str) -> None:
+        # The original throttles these (to one per 10 s, 300 s); here once per node.
+        if key not in self._said:
+            self._said.add(key)
+            self.node.logger.warning(text)
 
     def _transform(self, joint: Joint, q: float) -> Transform:
         return Transform.from_matrix(self.model.joint_transform(joint, q))
-
-    def frame(self, link: str) -> str:
-        return self.prefix + link
-
-    def _publish_static(self) -> None:
-        stamp = self.node.now_ns()
-        fixed = [
-            self._stamped(j, self._transform(j, 0.0), stamp)
-            for j in self.model.joints
-            if j.type == "fixed"
-        ]
-        if fixed:
-            self.static_pub.publish(build.tf_message(fixed))
 
     def _stamped(self, joint: Joint, t: Transform, stamp: int) -> Any:
         return build.transform_stamped(
             self.frame(joint.parent), self.frame(joint.child), t.translation, t.quat_xyzw, stamp
         )
 
-    def _on_joint_states(self, msg: Any) -> None:
-        for name, value in zip(msg.name, msg.position, strict=False):
-            self.positions[name] = float(value)
-
     def _cached_transform(self, joint: Joint, q: float) -> Transform:
-        # Joints mostly sit still between publications: recompute only when one moves.
+        # Joints mostly sit still between messages: recompute only when one moves.
         cached = self._cache.get(joint.name)
         if cached is not None and cached[0] == q:
             return cached[1]
@@ -135,18 +206,28 @@ class RobotStatePublisher:
         self._cache[joint.name] = (q, t)
         return t
 
-    def publish(self) -> None:
-        if not self.tf_pub.wanted:
-            return
-        stamp = self.node.now_ns()
-        positions = self.positions
-        transforms = [
-            self._stamped(j, self._cached_transform(j, positions[j.name]), stamp)
-            for j in self.movable
-            if j.name in positions
-        ]
-        if transforms:
-            self.tf_pub.publish(build.tf_message(transforms))
+
+_MOVING = ("revolute", "continuous", "prismatic")
+
+
+def _search_param(node: Node, key: str, default: Any) -> Any:
+    """ROS's searchParam from the node's private namespace: the closest ``key`` upward."""
+    parts = [p for p in node.full_name.split("/") if p]
+    while True:
+        name = "/" + "/".join([*parts, key])
+        if node.graph.params.has(name):
+            return node.graph.params.get(name)
+        if not parts:
+            return default
+        parts.pop()
+
+
+def _resolve_frame(prefix: str, frame: str) -> str:
+    if frame.startswith("/"):
+        return frame[1:]
+    if prefix:
+        return f"{prefix.removeprefix('/')}/{frame}"
+    return frame
 
 
 class JointStatePublisher:
@@ -195,7 +276,10 @@ class JointStatePublisher:
             self.positions[j.name] = float(zeros.get(j.name, default))
         for topic in node.get_param("~source_list", []) or []:
             node.subscribe(topic, "sensor_msgs/JointState", self._on_source, queue_size=10)
-        self.pub = node.publisher("joint_states", "sensor_msgs/JointState", queue_size=10)
+        # joint_state_publisher is a rospy node: its header.seq counts from 1
+        self.pub = node.publisher(
+            "joint_states", "sensor_msgs/JointState", queue_size=10, seq_rule="rospy"
+        )
         rate = float(node.get_param("~rate", 10.0))
         node.timer(1.0 / rate, self.publish)
 

@@ -223,15 +223,21 @@ class RobotModel:
     # --- kinematics ----------------------------------------------------------------------------
     def joint_transform(self, joint: Joint, q: float = 0.0) -> Matrix4:
         """parent link → child link at the joint's own position ``q`` (for a mimic joint,
-        its own value: ``multiplier * leader + offset``, as joint_states carry it)."""
+        its own value: ``multiplier * leader + offset``, as joint_states carry it). Revolute
+        and prismatic joints turn about and move along their axis made unit length, as KDL
+        does."""
         t = transform(joint.origin)
         if joint.type in ("revolute", "continuous"):
             motion = np.eye(4)
             motion[:3, :3] = _axis_angle(joint.axis, q)
             return t @ motion
         if joint.type == "prismatic":
+            # KDL (and so robot_state_publisher) moves along the unit axis, whatever its length
+            axis = np.asarray(joint.axis, dtype=float)
+            norm = float(np.linalg.norm(axis))
             motion = np.eye(4)
-            motion[:3, 3] = np.asarray(joint.axis, dtype=float) * q
+            if norm != 0.0:
+                motion[:3, 3] = axis / norm * q
             return t @ motion
         return t
 

@@ -46,7 +46,7 @@ class DiffController:
         self.last_cmd_ns = now
         self.gate = CommandGate(node.resolve("cmd_vel"), node.graph, logger)
         node.subscribe("cmd_vel", "geometry_msgs/Twist", self.on_cmd_vel, queue_size=10)
-        self.odom_pub = node.publisher("odom", "nav_msgs/Odometry", queue_size=5)
+        self.odom_pub = node.publisher("odom", "nav_msgs/Odometry", queue_size=5, seq_rule="rospy")
         self.tf = TransformBroadcaster(node)
         node.timer(1.0 / config.rate, self.update)
         logger.info(

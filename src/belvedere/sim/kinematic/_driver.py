@@ -61,8 +61,12 @@ class ArbotixDriver:
                 self.controllers.append(FollowController(node, c, self.servos))
         for name in ("SetupAnalogIn", "SetupDigitalIn", "SetupDigitalOut"):
             node.service(f"~{name}", "arbotix_msgs/SetupChannel", lambda _: {})
-        self.joint_pub = node.publisher("joint_states", "sensor_msgs/JointState", queue_size=5)
-        self.diag_pub = node.publisher("diagnostics", "diagnostic_msgs/DiagnosticArray")
+        self.joint_pub = node.publisher(
+            "joint_states", "sensor_msgs/JointState", queue_size=5, seq_rule="rospy"
+        )
+        self.diag_pub = node.publisher(
+            "diagnostics", "diagnostic_msgs/DiagnosticArray", seq_rule="rospy"
+        )
         node.timer(1.0 / config.read_rate, self.publish_joint_states)
         node.timer(1.0 / config.diagnostic_rate, self.publish_diagnostics)
         logger.info("ArbotiX being simulated.")
