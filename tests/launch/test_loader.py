@@ -165,10 +165,10 @@ def test_xacro_command_runs_in_process(tmp_path: Path) -> None:
         ("<launch>\n  <node pkg='a' type='b'/>\n</launch>", {}, ":2:", "<node> needs a name"),
         ("<robot/>", {}, ":1:", "root must be <launch>"),
         (
-            "<launch>\n  <param name='p' value='1e309'/>\n</launch>",
+            "<launch>\n  <param name='p' value='1.0e309'/>\n</launch>",
             {},
             ":2:3:",
-            "param value '1e309' is not a finite number\n  hint: the largest double is "
+            "param value '1.0e309' is not a finite number\n  hint: the largest double is "
             '±1.7976931348623157e+308; for text, add type="str"',
         ),
         (

@@ -428,6 +428,7 @@ NODE_TYPES: dict[tuple[str, str], Starter] = {
     ("rviz", "rviz"): _rviz,
     ("arbotix_python", "arbotix_driver"): _arbotix,
     ("gazebo_ros", "gzserver"): _gzserver,
+    ("gazebo_ros", "debug"): _gzserver,  # empty_world.launch's debug:=true (gzserver in gdb)
     ("gazebo_ros", "gzclient"): _gzclient,
     ("gazebo_ros", "spawn_model"): _spawn_model,
     ("controller_manager", "spawner"): _spawner,
