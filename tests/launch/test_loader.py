@@ -165,10 +165,10 @@ def test_xacro_command_runs_in_process(tmp_path: Path) -> None:
         ("<launch>\n  <node pkg='a' type='b'/>\n</launch>", {}, ":2:", "<node> needs a name"),
         ("<robot/>", {}, ":1:", "root must be <launch>"),
         (
-            "<launch>\n  <param name='p' value='1e309'/>\n</launch>",
+            "<launch>\n  <param name='p' value='1.0e309'/>\n</launch>",
             {},
             ":2:3:",
-            "param value '1e309' is not a finite number\n  hint: the largest double is "
+            "param value '1.0e309' is not a finite number\n  hint: the largest double is "
             '±1.7976931348623157e+308; for text, add type="str"',
         ),
         (
@@ -278,4 +278,55 @@ def test_groups_nested_beyond_the_limit_are_one_error(
     assert err == (
         f"{path}:1:{column}: error: elements nest more than 256 levels deep (the nesting limit)\n"
         "  hint: no robot, world or launch file needs as many\n"
+    )
+
+
+def test_roslaunch_scoping_rules(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The rules the differential tests check against roslaunch, here without it."""
+    from belvedere.cli import main
+
+    path = _launch(
+        tmp_path,
+        """<launch>
+  <param name="~early" value="1"/>
+  <param name="use gui" value="true"/>
+  <param name="text" value="1e5"/>
+  <group ns="g">
+    <param name="~in_group" value="2"/>
+    <remap from="a" to="b"/>
+    <node pkg="p" type="t" name="n" args="x 'y z'">
+      <param name="/slash" value="3"/>
+      <rosparam>{"/k": 4, j: 5}</rosparam>
+      <remap from="a" to="c"/>
+      <env name="BELVEDERE_TEST_E" value="v w"/>
+    </node>
+  </group>
+  <node pkg="p" type="t" name="later"/>
+  <test test-name="a_test" pkg="p" type="t"/>
+</launch>""",
+    )
+    config = load_launch(path, packages=PackageIndex([EXAMPLES]))
+    params = {k: p.value for k, p in config.params.items()}
+    assert params == {
+        "/use gui": True,
+        "/text": "1e5",
+        "/k": 4,
+        "/g/n/j": 5,
+        "/g/n/early": 1,
+        "/g/n/in_group": 2,
+        "/g/n/slash": 3,
+        "/later/early": 1,
+        "/a_test/early": 1,
+    }
+    assert f"{path}:3:3: warning: parameter name 'use gui' is not a legal ROS name" in " ".join(
+        config.warnings
+    )
+    assert main(["launch", str(path), "--nodes"]) == 0
+    assert capsys.readouterr().out == "/g/n\n/later\n/a_test\n"
+    assert main(["launch", str(path), "--dump-params"]) == 0
+    assert capsys.readouterr().out.startswith("/a_test/early: 1\n/g/n/early: 1\n")
+    assert main(["launch", str(path), "--args", "/g/n"]) == 0
+    out = capsys.readouterr().out
+    assert out.endswith(' ROS_NAMESPACE="/g" BELVEDERE_TEST_E="v w" p/t x y z a:=c __name:=n\n'), (
+        out
     )

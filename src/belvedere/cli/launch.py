@@ -8,8 +8,6 @@ import os
 import sys
 from pathlib import Path
 
-import yaml
-
 from belvedere import nodes
 from belvedere.cli._args import add_viewer_options, mappings_only
 from belvedere.cli._script import ScriptOptions, add_script_options
@@ -17,6 +15,7 @@ from belvedere.cli._session import run_session
 from belvedere.cli._tool import add_graph_options
 from belvedere.errors import BelvedereError
 from belvedere.launch import LaunchConfig, LaunchError, load_launch
+from belvedere.launch._listing import dump_params, find_executable, node_command, node_list
 from belvedere.packages import PackageIndex
 
 __all__ = ["add_parser", "run"]
@@ -82,37 +81,39 @@ def run(args: argparse.Namespace) -> int:
     for warning in config.warnings:
         sys.stderr.write(f"{warning}\n")
     if args.dump_params:
-        sys.stdout.write(_dump(config))
+        sys.stdout.write(dump_params(config))
         return 0
     if args.nodes:
-        sys.stdout.write("".join(f"{n.full_name}\n" for n in config.nodes))
+        sys.stdout.write(node_list(config))
         return 0
     if args.files:
         sys.stdout.write("".join(f"{f}\n" for f in dict.fromkeys(config.files)))
         return 0
     if args.node_args:
-        spec = config.node(args.node_args)
-        if spec is None:
-            msg = f"no node {args.node_args!r} in this launch"
-            raise LaunchError(msg, hint="see --nodes")
-        how = "in-process" if nodes.find(spec.pkg, spec.type) else "not available"
-        sys.stdout.write(
-            f"{spec.pkg}/{spec.type} {spec.args} __name:={spec.name} __ns:={spec.namespace}"
-            f"  # {how}\n"
-        )
+        sys.stdout.write(_node_args(config, args.node_args, packages) + "\n")
         return 0
     return run_session(config, packages, args)
 
 
-def _dump(config: LaunchConfig) -> str:
-    tree: dict[str, object] = {}
-    for name, param in sorted(config.params.items()):
-        node = tree
-        parts = [p for p in name.split("/") if p]
-        for part in parts[:-1]:
-            child = node.setdefault(part, {})
-            assert isinstance(child, dict)
-            node = child
-        value = param.value
-        node[parts[-1]] = value.decode("latin-1") if isinstance(value, bytes) else value
-    return yaml.safe_dump(tree, default_flow_style=False, sort_keys=True)
+def _node_args(config: LaunchConfig, name: str, packages: PackageIndex) -> str:
+    """roslaunch's ``--args NODE`` line; a node with no executable in its package (one that
+    belvedere runs in process, or cannot run) shows as ``PKG/TYPE`` in its place."""
+    spec = config.node(name)
+    if spec is None:
+        listed = ", ".join(n.full_name for n in [*config.nodes, *config.tests]) or "none"
+        msg = f"no node {name!r} in this launch (nodes: {listed})"
+        raise LaunchError(msg, hint="see --nodes")
+    try:
+        executable = find_executable(packages.find(spec.pkg, requested_at=spec.source), spec.type)
+    except BelvedereError:
+        executable = None
+    if executable is None:
+        how = (
+            "belvedere runs it in process"
+            if nodes.find(spec.pkg, spec.type) is not None
+            else ("belvedere has no such node yet")
+        )
+        sys.stderr.write(
+            f"{spec.source}: note: no executable {spec.type!r} in package {spec.pkg!r}: {how}\n"
+        )
+    return node_command(spec, str(executable or f"{spec.pkg}/{spec.type}"))

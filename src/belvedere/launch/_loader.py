@@ -27,9 +27,8 @@ from belvedere.description.xacro._interpreter import ExpressionError
 from belvedere.description.xacro._run import run_command
 from belvedere.description.xacro._substitutions import Substitutions
 from belvedere.errors import BelvedereError, ParseError, SourceLocation, pinpoint
-from belvedere.graph import resolve_name
-from belvedere.graph._names import GraphNameError
 from belvedere.launch._model import LaunchConfig, LaunchError, LaunchNode
+from belvedere.launch._names import canonical, child_namespace, global_ns, is_legal, ns_join
 from belvedere.packages import PackageIndex
 from belvedere.xmldom import Element, parse_file
 from belvedere.yamlfile import load_yaml, load_yaml_file
@@ -48,11 +47,30 @@ class _Scope:
 
     file: str
     namespace: str = "/"
+    """With a trailing slash, as roslaunch keeps it (``/``, ``/robot1/``)."""
     args: dict[str, str] = field(default_factory=dict)
     passed: dict[str, str] = field(default_factory=dict)
     used: set[str] = field(default_factory=set)
     remappings: tuple[tuple[str, str], ...] = ()
     env: tuple[tuple[str, str], ...] = ()
+    private: list[_Private] = field(default_factory=list)
+    """``~params`` declared outside a node: every later node in this scope gets them. A group
+    starts with a copy; an included file, as roslaunch has it, shares the list once it holds
+    one (so a ``~param`` declared in the included file reaches the includer's later nodes too)
+    and starts a list of its own while it is empty."""
+
+    def child(self, namespace: str) -> _Scope:
+        """The scope of a ``<group>``."""
+        return replace(self, namespace=namespace, private=list(self.private))
+
+
+@dataclass(frozen=True)
+class _Private:
+    """A ``~param`` outside a node: its name without the ``~``, its value, where it is."""
+
+    name: str
+    value: Any
+    source: SourceLocation | None
 
 
 def load_launch(
@@ -242,28 +260,38 @@ class _Loader:
         if name in scope.passed:
             scope.used.add(name)
 
-    def tag_param(self, el: Element, scope: _Scope, private_ns: str | None = None) -> None:
-        name = self.required(el, "name", scope)
-        full = self._param_name(name, scope, private_ns, el.loc)
+    def tag_param(
+        self, el: Element, scope: _Scope, node_params: list[_Private] | None = None
+    ) -> None:
+        """A ``<param>``: inside a node (``node_params``) it is the node's whatever its name
+        says (``x``, ``~x`` and ``/x`` all become ``/ns/node/x``); ``~x`` elsewhere waits for
+        the nodes declared after it; any other name joins the namespace."""
+        raw = self.attr(el, "name", scope)
+        if raw is None:
+            msg = "<param> needs a 'name' attribute"
+            raise LaunchError(msg, el.loc)
+        name = raw.strip()
         value = self._param_value(el, scope)
-        self.config.set_param(full, value, el.loc)
+        self._check_name(name, el)
+        if node_params is not None or name.startswith("~"):
+            target = scope.private if node_params is None else node_params
+            bare = name[1:] if name.startswith("~") else name
+            target[:] = [p for p in target if p.name != bare]
+            target.append(_Private(bare, value, el.loc))
+            return
+        self.config.set_param(canonical(ns_join(scope.namespace, name)), value, el.loc)
 
-    def _param_name(
-        self, name: str, scope: _Scope, private_ns: str | None, at: SourceLocation | None
-    ) -> str:
-        try:
-            if name.startswith("~"):
-                if private_ns is None:
-                    msg = f"private parameter {name!r} outside a <node>"
-                    raise LaunchError(msg, at)
-                return private_ns.rstrip("/") + "/" + name[1:]
-            base = private_ns or scope.namespace
-            return resolve_name(name, namespace=base)
-        except GraphNameError as err:
-            raise LaunchError(err.message, at) from None
+    def _check_name(self, name: str, el: Element) -> None:
+        """roslaunch sets a parameter under any name; one ROS tools cannot look up is only
+        worth a warning."""
+        if not is_legal(name):
+            self.config.warnings.append(
+                f"{el.loc}: warning: parameter name {name!r} is not a legal ROS name (letters, "
+                "digits, '_' and '/'): it is set as written, but nodes may not find it"
+            )
 
     def _param_value(self, el: Element, scope: _Scope) -> Any:
-        kind = self.attr(el, "type", scope, "auto") or "auto"
+        kind = (el.attrs.get("type") or "auto").strip().lower()
         sources = [k for k in ("value", "textfile", "binfile", "command") if k in el.attrs]
         if len(sources) != 1:
             msg = "<param> needs exactly one of value, textfile, binfile, command"
@@ -271,15 +299,17 @@ class _Loader:
         source = sources[0]
         raw = self.attr(el, source, scope) or ""
         if source == "value":
-            return _typed(raw, kind, el.loc)
+            return _typed(raw.strip(), kind, el.loc)
         if source in ("textfile", "binfile"):
             try:
                 data = Path(raw).read_bytes()
             except OSError as err:
                 msg = f"cannot read {source} {raw!r}: {err.strerror}"
                 raise LaunchError(msg, el.loc) from None
-            return data.decode("utf-8", errors="replace") if source == "textfile" else data
-        return _typed(self.command(raw, el.loc), kind if kind != "auto" else "str", el.loc)
+            if source == "binfile":
+                return data
+            return _typed(data.decode("utf-8", errors="replace"), kind, el.loc)
+        return _typed(self.command(raw, el.loc), kind, el.loc)
 
     def command(self, command: str, at: SourceLocation | None) -> str:
         """A ``<param command>``: xacro runs here, in process; anything else as a program."""
@@ -310,25 +340,24 @@ class _Loader:
             raise LaunchError(msg, at)
         return done.stdout
 
-    def tag_rosparam(self, el: Element, scope: _Scope, private_ns: str | None = None) -> None:
+    def tag_rosparam(self, el: Element, scope: _Scope, node_ns: str | None = None) -> None:
+        """``<rosparam>``: ``ns`` and ``param`` join (either may be global), then join the
+        node's private namespace inside a node (``node_ns``), the scope's elsewhere; keys of
+        the YAML join the same way, so ``{"/k": v}`` is the global ``/k`` even in a node."""
         command = self.attr(el, "command", scope, "load") or "load"
         ns = self.attr(el, "ns", scope)
-        base = private_ns or scope.namespace
-        if ns:
-            base = self._param_name(ns, replace(scope, namespace=base), None, el.loc)
-        param = self.attr(el, "param", scope)
-        target = (
-            self._param_name(param, replace(scope, namespace=base), None, el.loc) if param else base
-        )
+        param = ns_join(ns or "", self.attr(el, "param", scope) or "")
+        base = node_ns or scope.namespace
+        target = ns_join(base, param) if param else base
         if command == "delete":
-            self.config.deletions.append(target)
+            self.config.deletions.append(canonical(target))
             return
         if command == "dump":
             file = self.attr(el, "file", scope)
             if not file:
                 msg = "<rosparam command='dump'> needs a file"
                 raise LaunchError(msg, el.loc)
-            self.config.dumps.append((file, target))
+            self.config.dumps.append((file, canonical(target)))
             return
         if command != "load":
             msg = f"<rosparam command={command!r}>: expected load, dump or delete"
@@ -355,53 +384,63 @@ class _Loader:
             doc = load_yaml("\n" * max(0, line - 1) + text, path=scope.file)
         data = doc.data
         if data is None:
-            return
+            data = {}
         if not isinstance(data, dict) and not param:
             msg = "<rosparam> YAML must be a mapping unless the element has a 'param'"
             raise LaunchError(msg, el.loc)
-        self.config.set_param(target, data, el.loc)
+        self._unroll(target, data, el.loc)
+
+    def _unroll(self, name: str, value: Any, at: SourceLocation | None) -> None:
+        """Set a rosparam value: a mapping sets each of its leaves (an empty one, nothing)."""
+        if isinstance(value, dict):
+            for key, sub in value.items():
+                self._unroll(ns_join(name, str(key)), sub, at)
+            return
+        if canonical(name) == "/":
+            msg = "only a mapping can be loaded into the root namespace '/'"
+            raise LaunchError(msg, at)
+        self.config.set_param(canonical(name), value, at)
 
     def tag_node(self, el: Element, scope: _Scope, *, test: bool = False) -> None:
-        if test:
-            self.config.warnings.append(
-                f"{el.loc}: note: <test> {el.attrs.get('test-name', '')} skipped (tests are "
-                "not run by belvedere launch)"
-            )
-            return
+        """A ``<node>`` (or ``<test>``): its ``<param>``s, ``<remap>``s and ``<env>``s, and the
+        ``~params`` declared before it in its scope."""
         pkg = self.required(el, "pkg", scope)
         kind = self.required(el, "type", scope)
         name = self.attr(el, "name", scope)
+        if test:
+            test_name = self.required(el, "test-name", scope)
+            name = name or test_name
         if not name:
-            msg = "<node> needs a name"
+            msg = f"<{el.tag}> needs a name"
             raise LaunchError(msg, el.loc)
-        ns = scope.namespace
-        node_ns = self.attr(el, "ns", scope)
-        if node_ns:
-            ns = resolve_name(node_ns, namespace=ns)
-        private = ns.rstrip("/") + "/" + name
+        if not is_legal(name) or "/" in name:
+            self.config.warnings.append(
+                f"{el.loc}: warning: node name {name!r} is not a legal ROS base name"
+            )
+        ns = child_namespace(scope.namespace, self.attr(el, "ns", scope))
+        private = global_ns(ns_join(ns, name))
         if self.boolean(el, "clear_params", scope, False):
-            self.config.clear.append(private)
+            self.config.clear.append(canonical(private))
         remaps = list(scope.remappings)
         env = list(scope.env)
+        node_params: list[_Private] = []
         for child in el.elements():
             if not self.active(child, scope):
                 continue
             if child.tag == "remap":
-                remaps.append(
-                    (self.required(child, "from", scope), self.required(child, "to", scope))
-                )
+                remaps = _remapped(remaps, self._remap(child, scope))
             elif child.tag == "param":
-                self.tag_param(child, scope, private_ns=private)
+                self.tag_param(child, scope, node_params)
             elif child.tag == "rosparam":
-                self.tag_rosparam(child, scope, private_ns=private)
+                self.tag_rosparam(child, scope, node_ns=private)
             elif child.tag == "env":
-                env.append(
-                    (self.required(child, "name", scope), self.required(child, "value", scope))
-                )
+                env.append(self._env(child, scope))
             else:
                 self.config.warnings.append(
-                    f"{child.loc}: warning: <{child.tag}> inside <node> ignored"
+                    f"{child.loc}: warning: <{child.tag}> inside <{el.tag}> ignored"
                 )
+        for param in [*scope.private, *node_params]:
+            self.config.set_param(canonical(private + param.name), param.value, param.source)
         prefix = self.attr(el, "launch-prefix", scope)
         if prefix:
             self.config.warnings.append(
@@ -411,12 +450,12 @@ class _Loader:
             self.config.warnings.append(
                 f"{el.loc}: note: machine={el.attrs['machine']!r}: the node runs on this machine"
             )
-        self.config.nodes.append(
+        (self.config.tests if test else self.config.nodes).append(
             LaunchNode(
                 pkg=pkg,
                 type=kind,
                 name=name,
-                namespace=ns,
+                namespace=canonical(ns),
                 args=self.attr(el, "args", scope, "") or "",
                 output=self.attr(el, "output", scope, "log") or "log",
                 respawn=self.boolean(el, "respawn", scope, False),
@@ -433,19 +472,22 @@ class _Loader:
         )
 
     def tag_test(self, el: Element, scope: _Scope) -> None:
+        """A ``<test>``: read as roslaunch reads it (``--nodes`` lists it), never started."""
+        self.config.warnings.append(
+            f"{el.loc}: note: <test> {el.attrs.get('test-name', '')} skipped (tests are "
+            "not run by belvedere launch)"
+        )
         self.tag_node(el, scope, test=True)
 
     def tag_include(self, el: Element, scope: _Scope) -> None:
         file = self.required(el, "file", scope)
-        ns = scope.namespace
         include_ns = self.attr(el, "ns", scope)
-        if include_ns:
-            ns = resolve_name(include_ns, namespace=ns)
+        ns = child_namespace(scope.namespace, include_ns)
         if self.boolean(el, "clear_params", scope, False):
             if not include_ns:
                 msg = "clear_params on an <include> needs an ns"
                 raise LaunchError(msg, el.loc)
-            self.config.clear.append(ns)
+            self.config.clear.append(canonical(ns))
         passed: dict[str, str] = {}
         if self.boolean(el, "pass_all_args", scope, False):
             passed.update(scope.args)
@@ -463,41 +505,63 @@ class _Loader:
                     raise LaunchError(msg, child.loc)
                 passed[name] = value
             elif child.tag == "env":
-                env.append(
-                    (self.required(child, "name", scope), self.required(child, "value", scope))
-                )
+                env.append(self._env(child, scope))
         inner = _Scope(
-            file, namespace=ns, passed=passed, remappings=scope.remappings, env=tuple(env)
+            file,
+            namespace=ns,
+            passed=passed,
+            remappings=scope.remappings,
+            env=tuple(env),
+            private=scope.private or [],
         )
         if self.boolean(el, "pass_all_args", scope, False):
             inner.used |= set(scope.args)  # passing all is not "unused"
         self.file(Path(file), inner, at=el.loc)
 
     def tag_group(self, el: Element, scope: _Scope) -> None:
-        ns = scope.namespace
         group_ns = self.attr(el, "ns", scope)
-        if group_ns:
-            ns = resolve_name(group_ns, namespace=ns)
+        ns = child_namespace(scope.namespace, group_ns)
         if self.boolean(el, "clear_params", scope, False):
-            self.config.clear.append(ns)
-        inner = replace(scope, namespace=ns)
+            self.config.clear.append(canonical(ns))
+        inner = scope.child(ns)
         self.children(el, inner)
         # args declared in a group belong to the file (roslaunch scoping)
         scope.args.update(inner.args)
         scope.used |= inner.used
 
+    def _remap(self, el: Element, scope: _Scope) -> tuple[str, str]:
+        pair = (
+            canonical(self.required(el, "from", scope)),
+            canonical(self.required(el, "to", scope)),
+        )
+        for name in pair:
+            if not name or not is_legal(name):
+                msg = f"remap {pair[0]!r} -> {pair[1]!r}: {name!r} is not a valid ROS name"
+                raise LaunchError(msg, el.loc)
+        return pair
+
     def tag_remap(self, el: Element, scope: _Scope) -> None:
-        pair = (self.required(el, "from", scope), self.required(el, "to", scope))
-        scope.remappings = (*scope.remappings, pair)
+        scope.remappings = tuple(_remapped(list(scope.remappings), self._remap(el, scope)))
+
+    def _env(self, el: Element, scope: _Scope) -> tuple[str, str]:
+        name = self.required(el, "name", scope)
+        if not name:
+            msg = "<env> needs a non-empty name"
+            raise LaunchError(msg, el.loc)
+        return name, self.required(el, "value", scope)
 
     def tag_env(self, el: Element, scope: _Scope) -> None:
-        pair = (self.required(el, "name", scope), self.required(el, "value", scope))
-        scope.env = (*scope.env, pair)
+        scope.env = (*scope.env, self._env(el, scope))
 
     def tag_machine(self, el: Element, scope: _Scope) -> None:
         self.config.warnings.append(
             f"{el.loc}: note: <machine {el.attrs.get('name', '')}> ignored: everything runs here"
         )
+
+
+def _remapped(remaps: list[tuple[str, str]], pair: tuple[str, str]) -> list[tuple[str, str]]:
+    """A later remapping of the same name replaces the earlier one, and comes last."""
+    return [r for r in remaps if r[0] != pair[0]] + [pair]
 
 
 def _bool(value: str, what: str, at: SourceLocation | None) -> bool:
@@ -511,6 +575,7 @@ def _bool(value: str, what: str, at: SourceLocation | None) -> bool:
 
 
 def _typed(raw: str, kind: str, at: SourceLocation | None) -> Any:
+    """A ``<param>`` value of ``type`` ``kind`` (``auto`` guesses as roslaunch does)."""
     try:
         if kind == "str" or kind == "string":
             return raw
@@ -528,18 +593,18 @@ def _typed(raw: str, kind: str, at: SourceLocation | None) -> Any:
     if kind != "auto":
         msg = f"unknown param type {kind!r} (str, int, double, bool, yaml, auto)"
         raise LaunchError(msg, at)
-    stripped = raw.strip()
-    if stripped.lower() in ("true", "false"):
-        return stripped.lower() == "true"
+    # roslaunch's guess: a '.' means a double, else an int (but "1_000" stays text: Python
+    # would read it as 1000), then true/false in any case, else the text itself
     try:
-        return int(stripped)
+        if "." in raw:
+            return _finite(float(raw), raw, at)
+        if "_" not in raw:
+            return int(raw)
     except ValueError:
         pass
-    try:
-        number = float(stripped)
-    except ValueError:
-        return raw
-    return _finite(number, raw, at)
+    if raw.lower() in ("true", "false"):
+        return raw.lower() == "true"
+    return raw
 
 
 def _finite(value: float, raw: str, at: SourceLocation | None) -> float:

@@ -54,6 +54,8 @@ class LaunchConfig:
 
     params: dict[str, LaunchParam] = field(default_factory=dict)
     nodes: list[LaunchNode] = field(default_factory=list)
+    tests: list[LaunchNode] = field(default_factory=list)
+    """``<test>`` nodes: listed and looked up as roslaunch does, never started."""
     files: list[str] = field(default_factory=list)
     deletions: list[str] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
@@ -63,15 +65,11 @@ class LaunchConfig:
     """Namespaces whose parameters are cleared before setting (``clear_params``)."""
 
     def node(self, name: str) -> LaunchNode | None:
+        """The node (or test) of this full name (``/ns/name``; a relative name is global)."""
         wanted = name if name.startswith("/") else "/" + name
-        return next((n for n in self.nodes if n.full_name == wanted), None)
+        return next((n for n in [*self.nodes, *self.tests] if n.full_name == wanted), None)
 
     def set_param(self, name: str, value: Any, source: SourceLocation | None) -> None:
-        """Set a parameter; a dictionary sets every leaf below ``name`` (as rosparam)."""
-        if isinstance(value, dict):
-            for key, sub in value.items():
-                self.set_param(f"{name.rstrip('/')}/{key}", sub, source)
-            if not value:
-                self.params[name] = LaunchParam(name, {}, source)
-            return
+        """Set one parameter (a dictionary value stays one value, as ``type="yaml"`` sets it;
+        the loader unrolls ``<rosparam>`` mappings itself)."""
         self.params[name] = LaunchParam(name, value, source)

@@ -1,4 +1,5 @@
-"""gazebo_ros: gzserver (the physics simulation), gzclient (the viewer), spawn_model."""
+"""gazebo_ros: gzserver (the physics simulation; also ``debug``, gzserver in gdb),
+gzclient (the viewer), spawn_model."""
 
 from __future__ import annotations
 
@@ -89,6 +90,7 @@ def _check_spawn_name(session: Session, spec: NodeSpec, name: str) -> None:
 
 EXECUTABLES: dict[str, Starter] = {
     "gzserver": _gzserver,
+    "debug": _gzserver,  # empty_world.launch's debug:=true (gzserver in gdb)
     "gzclient": _gzclient,
     "spawn_model": _spawn_model,
 }
