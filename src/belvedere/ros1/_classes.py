@@ -22,6 +22,7 @@ from belvedere.ros1._message import DeserializationError, Message
 from belvedere.ros1._rostime import Duration, Time
 from belvedere.ros1._spec import (
     DURATION,
+    PLACEHOLDER,
     TIME,
     FieldSpec,
     MessageSpec,
@@ -117,7 +118,7 @@ def _serialize(self: Message, buff: _Writable) -> None:
     except struct.error as err:
         self._check_types(struct.error(f"{type(err)}: '{err}' when writing '{self}'"))
         raise
-    except (TypeError, ValueError, AttributeError, OverflowError) as err:
+    except (TypeError, ValueError, OverflowError) as err:
         self._check_types(ValueError(f"{type(err)}: '{err}' when writing '{self}'"))
         raise
     buff.write(bytes(data))
@@ -196,6 +197,9 @@ def _to_store(full: str) -> Convert:
     spec = message_spec(full)
     make = types().store.types[full]
     fields = tuple((f.name, _field_to_store(f)) for f in spec.fields)
+    if not fields:
+        empty = make(**{PLACEHOLDER: 0})
+        return lambda _msg: empty
 
     def convert(msg: Any) -> Any:
         return make(*[conv(getattr(msg, name)) for name, conv in fields])
@@ -207,8 +211,16 @@ def _identity(value: Any) -> Any:
     return value
 
 
-def _text(value: Any) -> Any:
-    return value.decode() if isinstance(value, bytes) else value
+def _text(value: Any) -> str:
+    if isinstance(value, str):
+        return value
+    if isinstance(value, bytes):
+        return value.decode()
+    # What genpy's generated code runs into: len() of a value that has none (TypeError,
+    # reported as a SerializationError), else encode() of a sized non-string.
+    len(value)
+    msg = f"'{type(value).__name__}' object has no attribute 'encode'"
+    raise AttributeError(msg)
 
 
 def _field_to_store(field: FieldSpec) -> Convert:
@@ -239,7 +251,17 @@ def _single_to_store(field: FieldSpec) -> Convert:
         return _to_store(field.base)
     if field.base == "string":
         return _text
+    if field.base == "bool":
+        return _flag
     return _identity
+
+
+def _flag(value: Any) -> bool:
+    """A ``bool`` field's value: what genpy's packing takes (a bool or an integer)."""
+    if isinstance(value, bool | int | np.bool_ | np.integer):
+        return bool(value)
+    msg = f"a bool is required, not {type(value).__name__}"
+    raise TypeError(msg)
 
 
 # --- conversion from the store's objects -------------------------------------------------------

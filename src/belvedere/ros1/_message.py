@@ -24,7 +24,13 @@ __all__ = [
 
 
 class MessageException(BelvedereError):  # noqa: N818 (genpy's name, which rospy code catches)
-    """A message could not be built, (de)serialized or filled."""
+    """A message could not be built, (de)serialized or filled.
+
+    ``str()`` is the bare message, as genpy's (rospy code logs and compares it); the CLI's
+    ``error: …`` line comes from :meth:`describe`."""
+
+    def __str__(self) -> str:
+        return self.message
 
 
 class SerializationError(MessageException):

@@ -32,6 +32,7 @@ TIME: Final = "builtin_interfaces/msg/Time"
 DURATION: Final = "builtin_interfaces/msg/Duration"
 _SPECIAL: Final = {TIME: "time", DURATION: "duration"}
 _SEPARATOR: Final = "=" * 80
+PLACEHOLDER: Final = "structure_needs_at_least_one_member"
 
 
 @dataclass(frozen=True)
@@ -131,6 +132,8 @@ def message_spec(name: str) -> MessageSpec:
     """The spec of a message type, by its store name."""
     full = store_name(name)
     constants, fielddefs = types().store.fielddefs[full]
+    if [f[0] for f in fielddefs] == [PLACEHOLDER]:
+        fielddefs = []  # how the store keeps a message with no fields
     fields: list[FieldSpec] = []
     md5_lines = [f"{typ} {cname}={_constant_text(typ, value)}" for cname, typ, value in constants]
     text_lines = list(md5_lines)
