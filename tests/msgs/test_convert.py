@@ -288,3 +288,14 @@ def test_a_time_beyond_int32_seconds_is_a_clear_error(stamp: Any) -> None:
 def test_a_time_just_below_a_whole_second_carries() -> None:
     msg = message_from_data("std_msgs/Header", {"stamp": 1.9999999999})
     assert (msg.stamp.sec, msg.stamp.nanosec) == (2, 0)
+
+
+def test_byte_is_ros1s_signed_8_bit_integer() -> None:
+    """ROS 1's ``byte`` is int8 (genpy packs it as 'b'): -1 fits and is sent as 0xff; 200 is
+    one clear error at the publisher, not a struct error when serializing."""
+    msg = message_from_args("std_msgs/Byte", ["-1"])
+    assert types().serialize(msg)[-1:] == b"\xff"
+    with pytest.raises(MessageValueError, match=r"200 does not fit byte \(-128 to 127\)"):
+        message_from_args("std_msgs/Byte", ["200"])
+    raw = message_from_data("std_msgs/ByteMultiArray", {"data": b"\x01\xff"})
+    assert raw.data.tolist() == [1, -1]

@@ -24,7 +24,8 @@ from belvedere.cli._session import run_session
 from belvedere.cli._tool import add_graph_options
 from belvedere.errors import BelvedereError
 from belvedere.launch import LaunchConfig, LaunchNode
-from belvedere.packages import BUILTIN_PACKAGES, PackageIndex, find_package_root
+from belvedere.launch._runtime import find_script
+from belvedere.packages import PackageIndex, find_package_root
 
 __all__ = ["add_parser", "run"]
 
@@ -82,15 +83,6 @@ def split_ros_args(
     return plain, remaps, params, name, namespace
 
 
-def _script_in_package(root: Path, executable: str) -> Path | None:
-    """Where rosrun finds ``executable`` in the package at ``root``."""
-    for candidate in (root / "scripts" / executable, root / "nodes" / executable):
-        if candidate.is_file():
-            return candidate
-    found = sorted(p for p in root.rglob(executable) if p.is_file())
-    return found[0] if found else None
-
-
 def run(args: argparse.Namespace) -> int:
     target, words = args.target, list(args.words)
     script: Path | None = None
@@ -112,10 +104,7 @@ def run(args: argparse.Namespace) -> int:
         package_path=args.package_path, near=script if script is not None else None
     )
     if script is None and nodes.find(package, executable) is None:
-        root = packages.find(package)
-        script = (
-            None if root.is_relative_to(BUILTIN_PACKAGES) else _script_in_package(root, executable)
-        )
+        script = find_script(packages.find(package), executable)
         if script is None:
             have = ", ".join(nodes.executables(package)) or "none"
             msg = f"package {package!r} has no executable {executable!r}"

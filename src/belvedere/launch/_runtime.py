@@ -29,9 +29,25 @@ from belvedere.packages import BUILTIN_PACKAGES, PackageIndex
 from belvedere.pyscripts import ScriptError, script_command
 from belvedere.tf import JointStatePublisher
 
-__all__ = ["LaunchRuntime"]
+__all__ = ["LaunchRuntime", "find_script"]
 
 logger = logging.getLogger("belvedere.launch")
+
+
+def find_script(root: Path, executable: str) -> Path | None:
+    """Where rosrun (and roslaunch) finds a package's ``executable``: ``scripts/``,
+    ``nodes/``, the package's top, then anywhere below it. None in the packages belvedere
+    provides (their executables are belvedere's own nodes)."""
+    if root.is_relative_to(BUILTIN_PACKAGES):
+        return None
+    for candidate in (
+        root / "scripts" / executable,
+        root / "nodes" / executable,
+        root / executable,
+    ):
+        if candidate.is_file():
+            return candidate
+    return next((p for p in sorted(root.rglob(executable)) if p.is_file()), None)
 
 
 @dataclass
@@ -115,16 +131,7 @@ class LaunchRuntime:
             root = self.packages.find(spec.pkg, requested_at=spec.source)
         except BelvedereError:
             return None
-        if root.is_relative_to(BUILTIN_PACKAGES):
-            return None
-        for candidate in (
-            root / "scripts" / spec.type,
-            root / "nodes" / spec.type,
-            root / spec.type,
-        ):
-            if os.path.isfile(candidate):
-                return candidate
-        return next(iter(sorted(root.rglob(spec.type))), None)
+        return find_script(root, spec.type)
 
     def _graph_env(self) -> dict[str, str]:
         """What a script node needs to join this launch's graph (its domain and endpoint)."""

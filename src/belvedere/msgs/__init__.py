@@ -4,6 +4,7 @@ conversion from/to the YAML that ``rostopic pub`` takes and ``rostopic echo`` pr
 
 from belvedere.msgs import _build as build
 from belvedere.msgs._convert import (
+    NUMPY_DTYPES,
     MessageValueError,
     default_message,
     message_from_args,
@@ -14,6 +15,7 @@ from belvedere.msgs._convert import (
 from belvedere.msgs._types import MessageTypeError, TypeRegistry, canonical, short, types
 
 __all__ = [
+    "NUMPY_DTYPES",
     "MessageTypeError",
     "MessageValueError",
     "TypeRegistry",

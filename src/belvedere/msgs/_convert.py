@@ -35,7 +35,7 @@ BASE, NAME, ARRAY, SEQUENCE = 1, 2, 3, 4
 _INT_RANGES: Final = {
     "int8": (-(2**7), 2**7 - 1),
     "uint8": (0, 2**8 - 1),
-    "byte": (0, 2**8 - 1),
+    "byte": (-(2**7), 2**7 - 1),  # ROS 1's byte is a signed 8-bit integer (genpy's 'b')
     "char": (0, 2**8 - 1),
     "int16": (-(2**15), 2**15 - 1),
     "uint16": (0, 2**16 - 1),
@@ -44,11 +44,11 @@ _INT_RANGES: Final = {
     "int64": (-(2**63), 2**63 - 1),
     "uint64": (0, 2**64 - 1),
 }
-_DTYPES: Final = {
+NUMPY_DTYPES: Final = {
     "bool": np.bool_,
     "int8": np.int8,
     "uint8": np.uint8,
-    "byte": np.uint8,
+    "byte": np.int8,
     "char": np.uint8,
     "int16": np.int16,
     "uint16": np.uint16,
@@ -59,6 +59,7 @@ _DTYPES: Final = {
     "float32": np.float32,
     "float64": np.float64,
 }
+"""ROS 1's numeric field types as numpy dtypes (``byte`` is int8, ``char`` uint8)."""
 _FLOAT_LIMITS: Final = {
     "float32": f"±{np.finfo(np.float32).max!s}",
     "float64": f"±{sys.float_info.max}",
@@ -232,14 +233,15 @@ class _Builder:
             if size is not None:
                 value = [_MISSING] * size
         if kind == BASE and detail[0] in ("uint8", "byte", "char") and isinstance(value, bytes):
-            value = list(value)
+            signed = detail[0] == "byte"
+            value = [v - 256 if signed and v > 127 else v for v in value]
         if not isinstance(value, list | tuple | np.ndarray):
             raise _fail(path, "a list", value)
         if size is not None and len(value) != size:
             raise _fail(path, f"a list of exactly {size} values", value)
         items = [self.field(kind, detail, v, f"{path}[{i}]") for i, v in enumerate(value)]
-        if kind == BASE and detail[0] in _DTYPES:
-            return np.array(items, dtype=_DTYPES[detail[0]])
+        if kind == BASE and detail[0] in NUMPY_DTYPES:
+            return np.array(items, dtype=NUMPY_DTYPES[detail[0]])
         return items
 
 

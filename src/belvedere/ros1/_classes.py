@@ -17,7 +17,7 @@ from typing import Any, Final, Protocol
 import numpy as np
 from rosbags.serde import SerdeError
 
-from belvedere.msgs import types
+from belvedere.msgs import NUMPY_DTYPES, types
 from belvedere.ros1._message import DeserializationError, Message
 from belvedere.ros1._rostime import Duration, Time
 from belvedere.ros1._spec import (
@@ -35,21 +35,6 @@ __all__ = ["Service", "from_store", "message_class", "service_class", "to_store"
 
 Convert = Callable[[Any], Any]
 
-_DTYPES: Final = {
-    "bool": np.bool_,
-    "int8": np.int8,
-    "byte": np.int8,
-    "uint8": np.uint8,
-    "char": np.uint8,
-    "int16": np.int16,
-    "uint16": np.uint16,
-    "int32": np.int32,
-    "uint32": np.uint32,
-    "int64": np.int64,
-    "uint64": np.uint64,
-    "float32": np.float32,
-    "float64": np.float64,
-}
 _SCALAR_DEFAULTS: Final[dict[str, Any]] = {
     **dict.fromkeys(("byte", "char", "int8", "uint8", "int16", "uint16"), 0),
     **dict.fromkeys(("int32", "uint32", "int64", "uint64"), 0),
@@ -227,7 +212,7 @@ def _field_to_store(field: FieldSpec) -> Convert:
     single = _single_to_store(field)
     if field.array is None:
         return single
-    dtype = _DTYPES.get(field.base)
+    dtype = NUMPY_DTYPES.get(field.base)
     if dtype is None:
         return lambda values: [single(v) for v in values]
     if field.base in ("uint8", "char"):
@@ -310,7 +295,7 @@ def _field_from_store(field: FieldSpec) -> Convert:
         return single
     if field.base in ("uint8", "char"):
         return _octets_from_store
-    if field.base in _DTYPES:
+    if field.base in NUMPY_DTYPES:
         return _numbers_from_store
     return lambda values: [single(v) for v in values]
 
