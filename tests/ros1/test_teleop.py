@@ -71,9 +71,7 @@ def test_the_course_teleop_drives_the_simulation(endpoint: str, engine: str) -> 
         wait_until(lambda: poses[-1][0] - start[0] > 0.1, what="the robot to drive forward")
         turned_from = poses[-1]
         _type(main_fd, "j", 1.5)
-        wait_until(
-            lambda: abs(poses[-1][2] - turned_from[2]) > 0.3, what="the robot to turn left"
-        )
+        wait_until(lambda: abs(poses[-1][2] - turned_from[2]) > 0.3, what="the robot to turn left")
         os.write(main_fd, b"\x03")  # Ctrl-C, as a raw terminal passes it: the script quits
         assert teleop.wait(timeout=DEADLINE) == 0, teleop.stderr.read() if teleop.stderr else ""
         assert teleop.stderr is not None
