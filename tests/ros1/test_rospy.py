@@ -243,3 +243,63 @@ def test_a_python_2_rospy_script_with_windows_line_ends_runs(tmp_path: Path) -> 
     assert done.returncode == 0, done.stderr
     assert done.stdout.splitlines() == ["speed 0.5", "/teleop"]
     assert "a Python 2 script: running its Python 3 form" in done.stderr
+
+
+def test_rospy_is_only_on_the_path_of_the_scripts_belvedere_runs() -> None:
+    import importlib.util
+
+    assert importlib.util.find_spec("rospy") is None
+    assert importlib.util.find_spec("belvedere.ros1.rospy") is not None
+
+
+LOGGER = """\
+    import rospy
+
+    rospy.init_node("logger")
+    rospy.sleep(0.5)
+    for i in range(3):
+        rospy.loginfo("step %d", i)
+        rospy.logwarn_once("only once")
+        rospy.logerr_throttle(60, "throttled")
+    rospy.logdebug("not shown at INFO")
+"""
+
+
+def test_log_lines_go_to_their_streams_and_to_rosout(tmp_path: Path, endpoint: str) -> None:
+    from typing import Any
+
+    from belvedere.graph import Graph, ZenohTransport
+
+    host = subprocess.Popen(  # a graph for the script to join, as a simulation would be
+        [*BELVEDERE, "run", str(_script(tmp_path, "idle.py", "import time\ntime.sleep(60)\n"))],
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    assert host.stderr is not None
+    assert "listening" in host.stderr.readline()
+    logs: list[tuple[int, str, str]] = []
+    watcher = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint, serve_params=False))
+
+    def on_log(msg: Any) -> None:
+        logs.append((msg.level, msg.name, msg.msg))
+
+    watcher.create_node("watcher").subscribe("/rosout", "rosgraph_msgs/Log", on_log, queue_size=0)
+    watcher.start(rtf=None)
+    try:
+        done = _run(str(_script(tmp_path, "logger.py", LOGGER)))
+    finally:
+        watcher.shutdown()
+        host.terminate()
+        host.wait(timeout=DEADLINE)
+    assert done.returncode == 0, done.stderr
+    assert _masked(done.stdout).splitlines() == [f"[INFO] [T]: step {i}" for i in range(3)]
+    assert _masked(done.stderr).splitlines() == ["[WARN] [T]: only once", "[ERROR] [T]: throttled"]
+    # in simulated time (the run's graph sets /use_sim_time) the stamp shows both clocks
+    assert re.search(r"^\[INFO\] \[\d+\.\d{6}, \d+\.\d{6}\]: step 0$", done.stdout, re.M)
+    assert logs == [
+        (2, "/logger", "step 0"),
+        (4, "/logger", "only once"),
+        (8, "/logger", "throttled"),
+        (2, "/logger", "step 1"),
+        (2, "/logger", "step 2"),
+    ]
