@@ -269,7 +269,6 @@ def test_log_lines_go_to_their_streams_and_to_rosout(tmp_path: Path, endpoint: s
     from typing import Any
 
     from belvedere.graph import Graph, ZenohTransport
-
     from tests.conftest import EXAMPLES
 
     mbot = EXAMPLES / "mbot_description/urdf/xacro/gazebo/mbot_gazebo.xacro"
