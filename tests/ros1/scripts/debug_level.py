@@ -1,0 +1,8 @@
+#!/usr/bin/env python3
+"""init_node(log_level=rospy.DEBUG) shows logdebug."""
+
+import rospy
+
+rospy.init_node("debug_node", log_level=rospy.DEBUG)
+rospy.logdebug("now debug shows: %s", rospy.get_name())
+rospy.loginfo("info still shows")
