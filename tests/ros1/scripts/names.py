@@ -18,6 +18,13 @@ print("publisher resolved:", pub.resolved_name, pub.name)
 sub = rospy.Subscriber("other", String, lambda m: None)
 print("subscriber resolved:", sub.resolved_name)
 print("param private:", rospy.get_param("~rate", "unset"))
+rospy.set_param("/top_key", 1)
+rospy.set_param("near_key", 2)
+for key in ("top_key", "near_key", "nowhere", "~near_key"):
+    try:
+        print("search_param %r -> %s" % (key, rospy.search_param(key)))
+    except rospy.ROSException as err:
+        print("search_param %r: %s" % (key, err))
 print("is_shutdown:", rospy.is_shutdown())
 pub.unregister()
 sub.unregister()
