@@ -4,5 +4,6 @@
 import rospy
 
 rospy.init_node("debug_node", log_level=rospy.DEBUG)
-rospy.logdebug("now debug shows: %s", rospy.get_name())
-rospy.loginfo("info still shows")
+rospy.logdebug("script: now debug shows: %s", rospy.get_name())
+rospy.loginfo("script: info still shows")
+rospy.logdebug("script: %d of %d", 2, 2)
