@@ -3,10 +3,9 @@ under belvedere must print the same lines.
 
 Under ROS, a real roscore on a port of its own (with a ROS_HOME of its own) and each script
 run as rosrun runs it: ``/usr/bin/python3 script.py args`` with ``/usr/bin`` first on PATH.
-Time is simulated, as under a simulator: ``/use_sim_time`` is set and a clock process
-publishes ``/clock`` from 0 at each case (belvedere runs scripts in its simulated time).
-Under belvedere, each script is a ``python -m belvedere run script.py args`` process: the
-first provides the graph, the others join it (they inherit BELVEDERE_ENDPOINT/DOMAIN).
+Time is the wall clock's, as with a bare roscore. Under belvedere, each script is a
+``python -m belvedere run script.py args`` process: the first provides the graph (as roscore,
+in wall time), the others join it (they inherit BELVEDERE_ENDPOINT/DOMAIN).
 
 Every script's stdout and stderr are captured apart and compared apart, line by line: two
 processes print concurrently, so only each one's own streams have an order. What is masked
@@ -53,38 +52,6 @@ ROSCORE = Path("/usr/bin/roscore")
 ROS_PYTHON = Path("/usr/bin/python3")
 SCRIPTS = Path(__file__).parent / "scripts"
 REPO = Path(__file__).parents[2]
-CLOCK_SCRIPT = r"""
-import sys
-import threading
-import time
-
-import rospy
-from rosgraph_msgs.msg import Clock
-
-STEP = 0.005
-
-rospy.init_node("sim_clock", disable_rostime=True, disable_signals=True)
-pub = rospy.Publisher("/clock", Clock, queue_size=1)
-start = [time.monotonic()]
-done = threading.Event()
-
-
-def read_resets():
-    for _ in sys.stdin:
-        start[0] = time.monotonic()
-    done.set()
-
-
-threading.Thread(target=read_resets, daemon=True).start()
-print("clock up", flush=True)
-while not done.is_set():
-    pub.publish(Clock(rospy.Time.from_sec(time.monotonic() - start[0])))
-    time.sleep(STEP)
-rospy.signal_shutdown("stdin closed")
-"""
-"""Run by Debian's /usr/bin/python3: publishes /clock as a simulator would (Gazebo's role):
-simulated time is wall time since the last reset, every 5 ms. A line on stdin resets the time
-to 0 (a fresh simulation for the next case); the end of stdin ends it."""
 CASE_TIMEOUT = 30.0
 """Seconds a case may take before its processes are killed (a hang is a failure, not a wait)."""
 
@@ -352,8 +319,7 @@ def _free_port() -> int:
 
 
 class Master:
-    """A Debian roscore on a free port of its own, with a ROS_HOME of its own, in simulated
-    time: ``/use_sim_time`` set and ``/clock`` published by :data:`CLOCK_SCRIPT`."""
+    """A Debian roscore on a free port of its own, with a ROS_HOME of its own."""
 
     def __init__(self, home: Path) -> None:
         self.home = home
@@ -376,23 +342,7 @@ class Master:
             start_new_session=True,
         )
         self.proxy = xmlrpc.client.ServerProxy(self.uri)
-        self.clock: subprocess.Popen[str] | None = None
         self._wait_for_rosout()
-        # simulated time, as under a simulator (and as belvedere runs scripts)
-        self._call("setParam", "/use_sim_time", True)
-        self.clock = subprocess.Popen(
-            [str(ROS_PYTHON), "-c", CLOCK_SCRIPT],
-            env=self.env,
-            stdin=subprocess.PIPE,
-            stdout=subprocess.PIPE,
-            stderr=subprocess.DEVNULL,
-            text=True,
-        )
-        assert self.clock.stdout is not None
-        if self.clock.stdout.readline().strip() != "clock up":
-            self.close()
-            msg = "the /clock publisher did not start"
-            raise RuntimeError(msg)
         self.initial_params = set(self._call("getParamNames"))
 
     def _call(self, method: str, *args: object) -> Any:
@@ -421,26 +371,13 @@ class Master:
         raise RuntimeError(msg)
 
     def reset(self) -> None:
-        """Back to a fresh roscore's parameters (what one case set is gone for the next), and
-        simulated time back to 0."""
-        assert self.clock is not None
-        assert self.clock.stdin is not None
-        self.clock.stdin.write("reset\n")
-        self.clock.stdin.flush()
+        """Back to a fresh roscore's parameters (what one case set is gone for the next)."""
         for name in set(self._call("getParamNames")) - self.initial_params:
             if name.startswith("/"):
                 with suppress(RuntimeError):  # a parent deleted first took it along
                     self._call("deleteParam", name)
 
     def close(self) -> None:
-        if self.clock is not None and self.clock.poll() is None:
-            assert self.clock.stdin is not None
-            self.clock.stdin.close()
-            try:
-                self.clock.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                self.clock.kill()
-                self.clock.wait()
         if self.process.poll() is None:
             os.killpg(self.process.pid, 15)
             try:

@@ -26,33 +26,7 @@ from tests.ros1.rospy_oracle import (
 pytestmark = pytest.mark.oracle
 
 # What belvedere still does differently (strict: a fix shows as XPASS, so the mark goes).
-EXIT_LINE = (
-    "'belvedere run' ends with 'required node /NAME exited: shutting down' on the first "
-    "script's stderr (rosrun prints nothing)"
-)
-PUB_NAME = "Publisher/Subscriber .name is the name as given ('chatter'), rospy's is resolved"
-KNOWN: dict[str, str] = {
-    "chatter": f"{PUB_NAME}; {EXIT_LINE}",
-    "latched": EXIT_LINE,
-    "cmd_vel": EXIT_LINE,
-    "wait_for_message": "'rospy.exceptions' is not an attribute of rospy after 'import rospy'; "
-    f"wait_for_message(timeout=rospy.Duration(...)) raises TypeError; {EXIT_LINE}",
-    "services": "wait_for_service(timeout=rospy.Duration(...)) raises TypeError; "
-    "ServiceException is a ROSException (rospy's is not); a request that does not serialize "
-    f"raises ROSSerializationException (rospy: genpy's SerializationError); {EXIT_LINE}",
-    "params": EXIT_LINE,
-    "names": "resolve_name('~') has no trailing '/'; search_param('~x') raises ValueError "
-    f"(rospy: ROSException 'cannot search for parameter: ...'); {PUB_NAME}; {EXIT_LINE}",
-    "anonymous": EXIT_LINE,
-    "time": EXIT_LINE,
-    "shutdown": f"'rospy.core' is not an attribute of rospy after 'import rospy'; {EXIT_LINE}",
-    "logging": "Log.topics lacks the node's /clock subscription; a new subscriber of the "
-    f"latched /rosout gets its last message twice; {EXIT_LINE}",
-    "debug_level": EXIT_LINE,
-    "header_seq": "publish() leaves header.seq of the caller's message as it was (rospy sets "
-    f"it); {EXIT_LINE}",
-}
-KNOWN["names_remapped"] = KNOWN["names"]
+KNOWN: dict[str, str] = {}
 
 
 def _cases() -> list[object]:

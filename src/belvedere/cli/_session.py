@@ -24,11 +24,13 @@ def run_session(
     *,
     script: tuple[LaunchNode, Path, list[str]] | None = None,
     sim_time: bool = True,
+    quiet_end: bool = False,
 ) -> int:
     """Start everything ``config`` asks for on one graph (and ``script``: a user's script
     run as that node, with those arguments) and run until Ctrl-C, ``--duration``, or a
     required node exits. ``sim_time``: the graph's time is simulated (``/clock``,
-    ``/use_sim_time``), else the wall clock's, as with a bare roscore."""
+    ``/use_sim_time``), else the wall clock's, as with a bare roscore. ``quiet_end``: a
+    required node's exit ends the run without a word (rosrun's way)."""
     graph = Graph(sim_time=sim_time, seed=args.seed, transport=open_transport(args))
     runtime = LaunchRuntime(
         config,
@@ -46,7 +48,7 @@ def run_session(
         if script is not None and not runtime.run_script(script[0], script[1], argv=script[2]):
             return 1
         install_script(graph, ScriptOptions.from_args(args))
-        _run(graph, runtime, args)
+        _run(graph, runtime, args, quiet_end=quiet_end)
     except KeyboardInterrupt:
         pass
     finally:
@@ -56,7 +58,9 @@ def run_session(
     return 0
 
 
-def _run(graph: Graph, runtime: LaunchRuntime, args: argparse.Namespace) -> None:
+def _run(
+    graph: Graph, runtime: LaunchRuntime, args: argparse.Namespace, *, quiet_end: bool
+) -> None:
     started = time.monotonic()
     last_check = [0.0]
 
@@ -67,7 +71,8 @@ def _run(graph: Graph, runtime: LaunchRuntime, args: argparse.Namespace) -> None
         last_check[0] = now
         spec = runtime.poll_processes()
         if spec is not None:
-            sys.stderr.write(f"required node {spec.full_name} exited: shutting down\n")
+            if not quiet_end:
+                sys.stderr.write(f"required node {spec.full_name} exited: shutting down\n")
             return True
         return False
 

@@ -134,7 +134,9 @@ def run(args: argparse.Namespace) -> int:
     # does, this provides one as roscore would: the parameter server, in wall time.
     if graph_running(args.endpoint, args.domain):
         return run_alone(script, words, packages, args)
-    return run_session(config, packages, args, script=(spec, script, words), sim_time=False)
+    return run_session(
+        config, packages, args, script=(spec, script, words), sim_time=False, quiet_end=True
+    )
 
 
 def run_alone(

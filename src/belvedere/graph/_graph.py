@@ -99,9 +99,10 @@ class Topic:
         return cached
 
 
-SeqRule = Literal["roscpp", "rospy"]
+SeqRule = Literal["roscpp", "rospy", "given"]
 """How a publisher numbers ``header.seq``: roscpp from 0, counting every message published;
-rospy from 1, counting only messages sent to a subscriber."""
+rospy from 1, counting only messages sent to a subscriber; given: as the message says (the
+publisher numbered it)."""
 
 
 class Publisher:
@@ -148,7 +149,7 @@ class Publisher:
             return
         if self.node.closed:
             return  # its node was shut down: rospy's publish after shutdown goes nowhere too
-        if topic.has_header:
+        if topic.has_header and self.seq_rule != "given":
             msg = self._numbered(msg)
         self.count += 1
         if self.latch:

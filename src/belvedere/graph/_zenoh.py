@@ -589,6 +589,7 @@ class ZenohTransport:
                 self._key("l", topic.name),
                 timeout=2.0,
                 consolidation=zenoh.ConsolidationMode.NONE,
+                allowed_destination=zenoh.Locality.REMOTE,  # ours came when it subscribed
             )
             for reply in replies:
                 if reply.ok is None:

@@ -56,5 +56,5 @@ class TransportInitError(TransportException):
     """A connection could not be made."""
 
 
-class ServiceException(ROSException):
+class ServiceException(Exception):  # noqa: N818 (rospy's: not a ROSException)
     """A service call failed, or a handler refuses a request."""

@@ -116,8 +116,8 @@ def search_param(param_name: str) -> str | None:
     if param_name.startswith("/"):
         return param_name if has_param(param_name) else None
     if not param_name or param_name.startswith("~"):
-        msg = "invalid key"
-        raise ValueError(msg)
+        msg = "cannot search for parameter: Internal failure: invalid key"
+        raise ROSException(msg)
     head = next(p for p in param_name.split("/") if p)
     parts = [p for p in _state.caller_id().split("/") if p]
     while True:

@@ -11,15 +11,14 @@ from typing import Any
 from belvedere.errors import BelvedereError
 from belvedere.graph import ServiceFailedError, ServiceServer, ServiceUnavailableError
 from belvedere.ros1._classes import from_store, to_store
-from belvedere.ros1._message import Message
+from belvedere.ros1._message import Message, SerializationError
 from belvedere.ros1.rospy import _state
 from belvedere.ros1.rospy._exceptions import (
     ROSException,
     ROSInterruptException,
-    ROSSerializationException,
     ServiceException,
 )
-from belvedere.ros1.rospy._topics import args_kwds_to_message
+from belvedere.ros1.rospy._topics import args_kwds_to_message, seconds_or_none
 
 __all__ = ["Service", "ServiceProxy", "wait_for_service"]
 
@@ -139,9 +138,11 @@ def _offered(name: str) -> bool:
     return transport is not None and transport.service_offered(name, timeout=0.5)
 
 
-def wait_for_service(service: str, timeout: float | None = None) -> None:
-    """Wait until ``service`` is offered (at most ``timeout`` wall seconds)."""
+def wait_for_service(service: str, timeout: Any = None) -> None:
+    """Wait until ``service`` is offered (at most ``timeout`` wall seconds, a number or a
+    Duration)."""
     resolved = _state.resolve(service)
+    timeout = seconds_or_none(timeout)
     if timeout == 0.0:
         msg = "timeout must be non-zero"
         raise ValueError(msg)
@@ -171,7 +172,7 @@ class ServiceProxy:
         self.resolved_name = _state.resolve(name)
         self.persistent = persistent
 
-    def wait_for_service(self, timeout: float | None = None) -> None:
+    def wait_for_service(self, timeout: Any = None) -> None:
         wait_for_service(self.resolved_name, timeout)
 
     def __call__(self, *args: Any, **kwds: Any) -> Any:
@@ -186,7 +187,7 @@ class ServiceProxy:
         try:
             data = to_store(request)
         except (BelvedereError, TypeError, ValueError, AttributeError) as err:
-            raise ROSSerializationException(str(err)) from None
+            raise SerializationError(str(err)) from None  # genpy's, as rospy's call raises
         try:
             response = runtime.node.call_service(
                 self.resolved_name, self.type, data, timeout=_CALL_TIMEOUT

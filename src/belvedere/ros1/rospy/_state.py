@@ -41,6 +41,7 @@ __all__ = [
     "current",
     "is_initialized",
     "is_shutdown",
+    "is_shutdown_requested",
     "mappings",
     "namespace",
     "required",
@@ -180,6 +181,8 @@ def resolve(name: str, *, remap: bool = True) -> str:
     namespace = _namespace
     if not name:
         return namespace if namespace.endswith("/") else namespace + "/"
+    if name == "~":
+        return node + "/"  # rospy keeps the separator of a bare private name
     remappings = _remaps(namespace, node) if remap else None
     return _resolve(name, namespace=namespace, node=node, remappings=remappings)
 
@@ -193,6 +196,11 @@ def remappings_for(namespace: str, node: str) -> dict[str, str]:
 
 def is_shutdown() -> bool:
     return _shutdown.is_set()
+
+
+def is_shutdown_requested() -> bool:
+    """Shutdown has begun (its hooks may still be running) or is over."""
+    return _in_shutdown or _shutdown.is_set()
 
 
 def shutdown_event() -> threading.Event:

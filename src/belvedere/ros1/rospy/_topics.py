@@ -88,14 +88,23 @@ def args_kwds_to_message(data_class: type[Message], args: tuple[Any, ...], kwds:
     return data_class(*args)
 
 
+def seconds_or_none(timeout: Any) -> float | None:
+    """A timeout given as seconds or as a Duration."""
+    if timeout is None:
+        return None
+    to_sec = getattr(timeout, "to_sec", None)
+    return float(to_sec()) if callable(to_sec) else float(timeout)
+
+
 class _Topic:
     """What publishers and subscribers share: the name, the class, the unregistering."""
 
     def __init__(self, name: Any, data_class: Any) -> None:
-        self.name = _check_name(name)
+        self.given_name = _check_name(name)
         self.type = _check_class(data_class)
         self.data_class: type[Message] = data_class
-        self.resolved_name = _state.resolve(self.name)
+        self.resolved_name = _state.resolve(self.given_name)
+        self.name = self.resolved_name  # rospy's .name is the resolved one too
         self.closed = False
 
     def get_num_connections(self) -> int:
@@ -136,7 +145,7 @@ class Publisher(_Topic):
 
     def _register(self, runtime: _state.Runtime) -> None:
         node = runtime.node
-        self.resolved_name = node.resolve(self.name)
+        self.resolved_name = self.name = node.resolve(self.given_name)
         self._impl = _registered(
             runtime,
             lambda: node.publisher(
@@ -144,7 +153,7 @@ class Publisher(_Topic):
                 self.type,
                 queue_size=self.queue_size or 0,
                 latch=self.latch,
-                seq_rule="rospy",
+                seq_rule="given",
             ),
         )
 
@@ -156,6 +165,7 @@ class Publisher(_Topic):
             msg = "ROS node has not been initialized yet. Please call init_node() first"
             raise ROSException(msg)
         data = args_kwds_to_message(self.data_class, args, kwds)
+        self._number(data)
         try:
             converted = to_store(data)
         except (BelvedereError, TypeError, ValueError, AttributeError) as err:
@@ -163,6 +173,16 @@ class Publisher(_Topic):
         if _state.is_shutdown():
             return
         self._impl.publish(converted)
+
+    def _number(self, data: Any) -> None:
+        """rospy's ``header.seq``: per topic in this process, counting from 1 the messages
+        that reach a subscriber, written into the caller's message."""
+        if not getattr(type(data), "_has_header", False) or not self.get_num_connections():
+            return
+        with _seq_lock:
+            seq = _seqs.get(self.resolved_name, 0) + 1
+            _seqs[self.resolved_name] = seq
+        data.header.seq = seq
 
     def get_num_connections(self) -> int:
         impl = self._impl
@@ -218,7 +238,7 @@ class Subscriber(_Topic):
             self._register(runtime)
 
     def _register(self, runtime: _state.Runtime) -> None:
-        self.resolved_name = runtime.node.resolve(self.name)
+        self.resolved_name = self.name = runtime.node.resolve(self.given_name)
         if self.callback is not None:
             self._thread = threading.Thread(
                 target=self._dispatch, name=f"subscriber {self.resolved_name}", daemon=True
@@ -294,6 +314,8 @@ def _registered(runtime: _state.Runtime, make: Callable[[], T]) -> T | None:
 
 
 _pending_runtime_actions: list[Any] = []
+_seqs: dict[str, int] = {}
+_seq_lock = threading.Lock()
 
 
 def take_pending() -> list[Any]:
@@ -302,8 +324,10 @@ def take_pending() -> list[Any]:
     return actions
 
 
-def wait_for_message(topic: str, topic_type: type[Message], timeout: float | None = None) -> Any:
-    """The next message on ``topic`` (waiting at most ``timeout`` wall seconds)."""
+def wait_for_message(topic: str, topic_type: type[Message], timeout: Any = None) -> Any:
+    """The next message on ``topic`` (waiting at most ``timeout`` wall seconds, a number or
+    a Duration)."""
+    timeout = seconds_or_none(timeout)
     got: list[Any] = []
     arrived = threading.Event()
 
@@ -341,7 +365,7 @@ def rosout(runtime: _state.Runtime, level: int, text: str, file: str, line: int,
     from belvedere.msgs import message_from_data
 
     ns = runtime.now_ns()
-    topics = sorted({p.topic.name for p in node.publishers})
+    topics = sorted({p.topic.name for p in node.publishers} | {s.name for s in node.subscriptions})
     data = {
         "header": {"stamp": {"sec": ns // 1_000_000_000, "nanosec": ns % 1_000_000_000}},
         "level": level,
