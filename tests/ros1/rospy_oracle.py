@@ -34,6 +34,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from tests.debian_ros import ROS_PYTHON, ROSCORE, missing_debian_ros
+
 __all__ = [
     "CASES",
     "SCRIPTS",
@@ -48,8 +50,6 @@ __all__ = [
     "run_ros",
 ]
 
-ROSCORE = Path("/usr/bin/roscore")
-ROS_PYTHON = Path("/usr/bin/python3")
 SCRIPTS = Path(__file__).parent / "scripts"
 REPO = Path(__file__).parents[2]
 CASE_TIMEOUT = 30.0
@@ -147,17 +147,7 @@ class Output:
 
 def missing_oracle() -> str | None:
     """Why the ROS side cannot run here, or None."""
-    for path in (ROSCORE, ROS_PYTHON):
-        if not path.exists():
-            return f"{path} is not installed (scripts/install.sh installs Debian's ROS 1)"
-    probe = subprocess.run(
-        [str(ROS_PYTHON), "-c", "import rospy, std_srvs.srv, geometry_msgs.msg"],
-        capture_output=True,
-        check=False,
-    )
-    if probe.returncode != 0:
-        return "rospy or the message packages are not installed for /usr/bin/python3"
-    return None
+    return missing_debian_ros("rospy, std_srvs.srv, geometry_msgs.msg")
 
 
 # --- masking and comparing -------------------------------------------------------------------

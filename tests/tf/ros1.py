@@ -29,9 +29,8 @@ from belvedere.description.urdf import RobotModel
 from belvedere.graph import NS, Graph
 from belvedere.msgs import build
 from belvedere.tf import RobotStatePublisher
+from tests.debian_ros import ROS_PYTHON, ROSCORE, missing_debian_ros
 
-ROSCORE = Path("/usr/bin/roscore")
-ROS_PYTHON = Path("/usr/bin/python3")
 RSP_BINARY = Path("/usr/lib/robot_state_publisher/robot_state_publisher")
 PROBE = "belvedere_probe"
 PROBE_STAMP_NS = 10**15
@@ -45,18 +44,8 @@ Record = tuple[str, list[tuple[int, int, str, str, list[float], list[float]]]]
 
 
 def missing_oracle() -> str | None:
-    """Why the oracle cannot run here, or None."""
-    for path in (ROSCORE, ROS_PYTHON, RSP_BINARY):
-        if not path.exists():
-            return f"{path} is not installed (scripts/install.sh installs Debian's ROS 1)"
-    probe = subprocess.run(
-        [str(ROS_PYTHON), "-c", "import rospy, tf2_msgs.msg, sensor_msgs.msg"],
-        capture_output=True,
-        check=False,
-    )
-    if probe.returncode != 0:
-        return "rospy or the message packages are not installed for /usr/bin/python3"
-    return None
+    """Why the ROS side cannot run here, or None."""
+    return missing_debian_ros("rospy, tf2_msgs.msg, sensor_msgs.msg", RSP_BINARY)
 
 
 @dataclass(frozen=True)
