@@ -5,10 +5,10 @@ One request on stdin, or with ``--serve`` one per line (so hypothesis can ask ex
 example). Requests:
 
 - ``{"transformations": [[name, args, kwargs], ...]}``: calls of ``tf.transformations``;
-- ``{"scenarios": [{"cache_time": s, "transforms": [...], "queries": [...]}, ...]}``: a
-  fresh ``tf2_ros.Buffer`` (no node needed) filled with transforms, then queried
+- ``{"scenarios": [{"cache_time": [secs, nsecs] | None, "steps": [[method, *args]]}]}``: a
+  fresh ``tf2_ros.Buffer`` (no node needed), its methods called in turn
   (``tests/ros1/tf_scenarios.py`` describes the encoding);
-- ``{"tf1": [...]}``: the same for ``tf.Transformer``.
+- ``{"tf1": [...]}``: the same for a ``tf.TransformerROS``.
 
 Values are encoded so arrays, tuples and lists stay distinct (see :func:`encode`).
 """
@@ -76,78 +76,64 @@ def run_transformations(calls: list[Any]) -> list[Any]:
     return out
 
 
-def time(value: Any) -> rospy.Time:
-    return rospy.Time(value[0], value[1])
+def message(spec: dict[str, Any]) -> Any:
+    """``{"msg": "pkg/Type", "fields": {...}}`` as a message of Debian's classes."""
+    pkg, name = spec["msg"].split("/")
+    msg = getattr(importlib.import_module(f"{pkg}.msg"), name)()
+    for field, value in spec["fields"].items():
+        setattr(msg, field, argument(value))
+    return msg
 
 
-def duration(value: Any) -> rospy.Duration:
-    return rospy.Duration(value[0], value[1])
+def argument(value: Any) -> Any:
+    """A step's argument: times, durations and messages are tagged dictionaries."""
+    if isinstance(value, dict) and "time" in value:
+        return rospy.Time(*value["time"])
+    if isinstance(value, dict) and "duration" in value:
+        return rospy.Duration(*value["duration"])
+    if isinstance(value, dict) and "msg" in value:
+        return message(value)
+    if isinstance(value, list):
+        return [argument(v) for v in value]
+    return value
 
 
-def transform_stamped(spec: dict[str, Any]) -> TransformStamped:
-    t = TransformStamped()
-    t.header.frame_id = spec["parent"]
-    t.child_frame_id = spec["child"]
-    t.header.stamp = time(spec["stamp"])
-    t.transform.translation.x, t.transform.translation.y, t.transform.translation.z = spec["t"]
-    r = t.transform.rotation
-    r.x, r.y, r.z, r.w = spec["q"]
-    return t
+def result(value: Any) -> Any:
+    """A step's result; messages field by field, times as [secs, nsecs]."""
+    if hasattr(value, "_type") and hasattr(value, "__slots__"):
+        return {
+            "msg": value._type,
+            "fields": {s: result(getattr(value, s)) for s in value.__slots__},
+        }
+    if hasattr(value, "secs") and hasattr(value, "nsecs"):
+        return {"time": [value.secs, value.nsecs]}
+    if isinstance(value, (list, tuple)) and not isinstance(value, str):
+        items = [result(v) for v in value]
+        return items if isinstance(value, list) else {"tuple": items}
+    return encode(value)
 
 
-def encode_transform(t: TransformStamped) -> Any:
-    tr, r = t.transform.translation, t.transform.rotation
-    return {
-        "parent": t.header.frame_id,
-        "child": t.child_frame_id,
-        "stamp": [t.header.stamp.secs, t.header.stamp.nsecs],
-        "t": [tr.x, tr.y, tr.z],
-        "q": [r.x, r.y, r.z, r.w],
-    }
-
-
-def fill(target: Any, transforms: list[dict[str, Any]], tf1: bool) -> None:
-    for spec in transforms:
-        msg = transform_stamped(spec)
-        authority = spec.get("authority", "default_authority")
-        if tf1:
-            target.setTransform(msg, authority)
-        elif spec.get("static"):
-            target.set_transform_static(msg, authority)
-        else:
-            target.set_transform(msg, authority)
-
-
-def query(target: Any, q: list[Any]) -> Any:
-    name, args = q[0], q[1:]
-    converted = []
-    for a in args:
-        if isinstance(a, dict) and "time" in a:
-            converted.append(time(a["time"]))
-        elif isinstance(a, dict) and "duration" in a:
-            converted.append(duration(a["duration"]))
-        else:
-            converted.append(a)
-    try:
-        result = getattr(target, name)(*converted)
-    except Exception as err:  # noqa: BLE001 (reports whatever tf2 raises)
-        return error(err)
-    if isinstance(result, TransformStamped):
-        return {"transform": encode_transform(result)}
-    return encode(result)
+def run_steps(target: Any, steps: list[Any]) -> list[Any]:
+    out = []
+    for name, *args in steps:
+        try:
+            out.append(result(getattr(target, name)(*[argument(a) for a in args])))
+        except Exception as err:  # noqa: BLE001 (reports whatever tf raises)
+            out.append(error(err))
+    return out
 
 
 def run_scenarios(scenarios: list[Any], tf1: bool) -> list[Any]:
     out = []
     for s in scenarios:
         cache = s.get("cache_time")
+        cache_time = None if cache is None else rospy.Duration(*cache)
         if tf1:
-            target: Any = tf.Transformer(True, None if cache is None else rospy.Duration(cache))
+            target: Any = tf.TransformerROS(True, cache_time)
             target.setUsingDedicatedThread(True)
         else:
-            target = tf2_ros.Buffer(None if cache is None else rospy.Duration(cache), debug=False)
-        fill(target, s["transforms"], tf1)
-        out.append([query(target, q) for q in s["queries"]])
+            target = tf2_ros.Buffer(cache_time, debug=False)
+        out.append(run_steps(target, s["steps"]))
     return out
 
 

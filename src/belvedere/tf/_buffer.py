@@ -276,7 +276,11 @@ class TFBuffer:
         only static transforms join them), as tf2's python ``get_latest_common_time``."""
         target_id = self.validate("get_latest_common_time", target)
         source_id = self.validate("get_latest_common_time", source)
-        return self._latest_common(target_id, source_id)
+        try:
+            return self._latest_common(target_id, source_id)
+        except TFError as err:
+            # tf2's binding raises these as its base TransformException
+            raise TFError(err.message) from None
 
     # --- listings --------------------------------------------------------------------------------
     def frame_strings(self) -> list[str]:
@@ -319,19 +323,13 @@ class TFBuffer:
                 continue
             out.append(f"{self._names[number]}: \n")
             out.append(f"  parent: '{self._names[parent]}'\n")
-            out.append(
-                f"  broadcaster: '{self._authority.get(number, 'no recorded authority')}'\n"
-            )
+            out.append(f"  broadcaster: '{self._authority.get(number, 'no recorded authority')}'\n")
             out.append(f"  rate: {self._rate(cache):.3f}\n")
             out.append(f"  most_recent_transform: {seconds(cache.latest()):.3f}\n")
             out.append(f"  oldest_transform: {seconds(cache.oldest()):.3f}\n")
             if current_time > 0:
-                out.append(
-                    f"  transform_delay: {current_time - seconds(cache.latest()):.3f}\n"
-                )
-            out.append(
-                f"  buffer_length: {seconds(cache.latest() - cache.oldest()):.3f}\n"
-            )
+                out.append(f"  transform_delay: {current_time - seconds(cache.latest()):.3f}\n")
+            out.append(f"  buffer_length: {seconds(cache.latest() - cache.oldest()):.3f}\n")
         return "".join(out)
 
     def all_frames_as_dot(self, current_time: float = 0.0) -> str:
@@ -355,7 +353,9 @@ class TFBuffer:
                 f"Buffer length: {seconds(cache.latest() - cache.oldest()):.3f} sec\\n"
                 '"];\n'
             )
-        legend = ' subgraph cluster_legend { style=bold; color=black; label ="view_frames Result";\n'
+        legend = (
+            ' subgraph cluster_legend { style=bold; color=black; label ="view_frames Result";\n'
+        )
         recorded = f'"Recorded at time: {current_time:.3f}"[ shape=plaintext ] ;\n '
         for number in range(1, len(self._names)):
             parent = self._parent_now(number)
@@ -590,9 +590,7 @@ class TFBuffer:
                 walk(c, depth + 1)
 
         roots = [
-            n
-            for n in range(1, len(self._names))
-            if not self._parent_now(n) and (n in children)
+            n for n in range(1, len(self._names)) if not self._parent_now(n) and (n in children)
         ]
         for root in sorted(roots, key=lambda n: self._names[n]):
             walk(root, 0)
@@ -638,10 +636,9 @@ def _rotation(m: list[list[float]]) -> Quat:
         q[1] = (m[0][2] - m[2][0]) * s
         q[2] = (m[1][0] - m[0][1]) * s
     else:
-        if m[0][0] < m[1][1]:
-            i = 2 if m[1][1] < m[2][2] else 1
-        else:
-            i = 2 if m[0][0] < m[2][2] else 0
+        # the largest diagonal entry (the first of equal ones)
+        diagonal = (m[0][0], m[1][1], m[2][2])
+        i = diagonal.index(max(diagonal))
         j, k = (i + 1) % 3, (i + 2) % 3
         s = math.sqrt(m[i][i] - m[j][j] - m[k][k] + 1.0)
         q[i] = s * 0.5

@@ -162,7 +162,7 @@ class TimeCache:
         """The stored transform at ``time_ns`` (0: the latest), or the two around it, or why
         there is none (tf2's texts)."""
         if not self.items:
-            return "Unable to lookup transform, cache is empty"
+            return ""  # tf2 gives no reason
         if time_ns == 0:
             return self.items[-1], None
         if len(self.items) == 1:
@@ -250,7 +250,7 @@ class StaticCache:
 
     def get(self, time_ns: int) -> Stored | str:
         if self.item is None:
-            return "Unable to lookup transform, cache is empty"
+            return ""  # tf2 gives no reason
         i = self.item
         return Stored(time_ns, i.parent, i.translation, i.rotation)
 
