@@ -193,7 +193,8 @@ def test_exceptions_are_tf2s() -> None:
     buffer = tf2_ros.Buffer(debug=False)
     with pytest.raises(tf2_ros.LookupException) as caught:
         buffer.lookup_transform("a", "b", rospy.Time(0))
-    assert str(caught.value) == '"a" passed to lookupTransform argument target_frame does not exist. '
+    text = '"a" passed to lookupTransform argument target_frame does not exist. '
+    assert str(caught.value) == text
 
 
 def test_time_must_be_a_time() -> None:

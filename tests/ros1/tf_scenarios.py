@@ -174,3 +174,68 @@ def tf2_scenarios(draw: st.DrawFn) -> dict[str, Any]:
             steps.append(_tf2_query(draw))
     cache = draw(st.sampled_from([None, None, [5, 0], [2, 500_000_000]]))
     return {"cache_time": cache, "steps": steps}
+
+
+def stamped(kind: str, frame: str, stamp: list[int], **fields: Any) -> dict[str, Any]:
+    header = {"msg": "std_msgs/Header", "fields": {"frame_id": frame, "stamp": {"time": stamp}}}
+    return {"msg": f"geometry_msgs/{kind}", "fields": {"header": header, **fields}}
+
+
+def _tf1_query(draw: st.DrawFn) -> Step:
+    target, source, fixed = draw(tf1_frames), draw(tf1_frames), draw(tf1_frames)
+    when, other = draw(query_times), draw(query_times)
+    stamp = when["time"]
+    p, v = draw(vectors), draw(vectors)
+    q = draw(rotations.filter(lambda r: not any(math.isnan(c) for c in r)))
+    point = _xyz("geometry_msgs/Point", p)
+    v3 = _xyz("geometry_msgs/Vector3", v)
+    quaternion = {"msg": "geometry_msgs/Quaternion", "fields": dict(zip("xyzw", q, strict=True))}
+    pose = {"msg": "geometry_msgs/Pose", "fields": {"position": point, "orientation": quaternion}}
+    return draw(
+        st.sampled_from(
+            [
+                ["lookupTransform", target, source, when],
+                ["canTransform", target, source, when],
+                ["waitForTransform", target, source, when, {"duration": [0, 0]}],
+                ["getLatestCommonTime", target, source],
+                ["frameExists", target],
+                ["getFrameStrings"],
+                ["allFramesAsString"],
+                ["allFramesAsDot"],
+                ["lookupTransformFull", target, when, source, other, fixed],
+                ["canTransformFull", target, when, source, other, fixed],
+                ["transformPoint", target, stamped("PointStamped", source, stamp, point=point)],
+                ["transformPose", target, stamped("PoseStamped", source, stamp, pose=pose)],
+                ["transformVector3", target, stamped("Vector3Stamped", source, stamp, vector=v3)],
+                [
+                    "transformQuaternion",
+                    target,
+                    stamped("QuaternionStamped", source, stamp, quaternion=quaternion),
+                ],
+                ["asMatrix", target, {"msg": "std_msgs/Header", "fields": {"frame_id": source}}],
+            ]
+        )
+    )
+
+
+# tf strips a leading "/" where tf2 refuses it
+tf1_frames = st.sampled_from([*FRAMES * 6, "/a", "/b", "/c", "", "f"])
+
+
+@st.composite
+def tf1_scenarios(draw: st.DrawFn) -> dict[str, Any]:
+    """A fresh ``tf.TransformerROS``: transforms set, then queries."""
+    steps = [
+        ["setTransform", step[1], step[2]]
+        for step in draw(st.lists(transform_steps(), min_size=3, max_size=14))
+    ]
+    for _ in range(draw(st.integers(4, 14))):
+        kind = draw(st.integers(0, 12))
+        if kind == 0:
+            steps.append(["clear"])
+        elif kind <= 2:
+            step = draw(transform_steps())
+            steps.append(["setTransform", step[1], step[2]])
+        else:
+            steps.append(_tf1_query(draw))
+    return {"cache_time": draw(st.sampled_from([None, [5, 0]])), "steps": steps}

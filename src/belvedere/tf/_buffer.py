@@ -555,7 +555,13 @@ class TFBuffer:
     def lookup_transform(self, target: str, source: str, time_ns: int = 0) -> Transform:
         """``T_target_source`` at ``time_ns`` (0: the latest time all frames share); leading
         ``/`` are ignored."""
-        _, t, q = self.lookup(_strip(target), _strip(source), time_ns)
+        try:
+            _, t, q = self.lookup(_strip(target), _strip(source), time_ns)
+        except TFLookupError as err:
+            if err.message.endswith("does not exist. "):
+                known = ", ".join(sorted(self.frames())) or "none yet"
+                raise TFLookupError(err.message, hint=f"the frames known: {known}") from None
+            raise
         return Transform(t, q)
 
     def can_transform(self, target: str, source: str, time_ns: int = 0) -> bool:
