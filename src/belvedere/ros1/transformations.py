@@ -61,6 +61,7 @@ Vector = Sequence[float] | npt.NDArray[Any]
 _EPS: Final = float(np.finfo(float).eps) * 4.0
 
 _AXIS_INDEX: Final = {"x": 0, "y": 1, "z": 2}
+_NEXT_AXIS: Final = [1, 2, 0, 1]  # tf's table (some scripts read it): the axis after each
 
 
 def _axes_table() -> dict[str, tuple[int, int, int, int]]:
