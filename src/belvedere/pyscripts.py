@@ -52,13 +52,32 @@ sys.meta_path.append(BelvedereMessages())
 with open(runnable, encoding="utf-8") as f:
     code = compile(f.read(), original, "exec")
 namespace = {"__name__": "__main__", "__file__": original, "__builtins__": __builtins__}
-exec(code, namespace)
+status = 0
+try:
+    exec(code, namespace)
+except SystemExit as end:
+    if end.code is None or isinstance(end.code, int):
+        status = end.code or 0
+    else:
+        print(end.code, file=sys.stderr)
+        status = 1
+except BaseException:
+    sys.excepthook(*sys.exc_info())
+    status = 1
+import atexit, threading
+threading._shutdown()
+atexit._run_exitfuncs()
+sys.stdout.flush()
+sys.stderr.flush()
+os._exit(status)
 """
 """Runs a script (or its translation) as if it were the original file (argv, __file__,
 sys.path[0], and tracebacks name the original's lines, which a translation keeps), with
 belvedere's ROS modules (``rospy``, ``tf``, …: :data:`SITE`) next on the path and the
 message modules (``std_msgs.msg``…) found by :func:`belvedere.ros1.install` — whose type
-store loads only when an import finds nothing else."""
+store loads only when an import finds nothing else. The script's end is Python's (its
+threads joined, its exit functions run, its status), then the process leaves without the
+interpreter's finalization, where Zenoh's threads, still delivering, would abort it."""
 
 SITE: Final = Path(__file__).parent / "ros1" / "site"
 """belvedere's ``rospy``, ``tf``, ``tf2_ros``, ``actionlib``, ``roslib``, ``rospkg``: only the

@@ -111,19 +111,18 @@ def get_param_names() -> list[str]:
 
 
 def search_param(param_name: str) -> str | None:
-    """The nearest ``param_name`` up the node's namespace (as the parameter server searches:
-    from the caller's namespace to the root, on the name's first part), or None."""
+    """The nearest ``param_name`` up from the node (as ROS 1's parameter server searches:
+    from the caller's own name to the root, on the name's first part), or None."""
     if param_name.startswith("/"):
         return param_name if has_param(param_name) else None
-    if param_name.startswith("~"):
-        resolved = _state.resolve(param_name)
-        return resolved if has_param(resolved) else None
-    head, _, rest = param_name.partition("/")
-    parts = [p for p in _state.namespace().split("/") if p]
+    if not param_name or param_name.startswith("~"):
+        msg = "invalid key"
+        raise ValueError(msg)
+    head = next(p for p in param_name.split("/") if p)
+    parts = [p for p in _state.caller_id().split("/") if p]
     while True:
-        base = "/" + "/".join([*parts, head]).strip("/")
-        if has_param(base):
-            return base + (f"/{rest}" if rest else "")
+        if has_param("/" + "/".join([*parts, head])):
+            return "/" + "/".join([*parts, param_name.strip("/")])
         if not parts:
             return None
         parts.pop()
