@@ -29,6 +29,12 @@ def test_traffic_between_processes(peer: Any, endpoint: str) -> None:
         # latched: we subscribed after it was sent
         wait_until(lambda: latched, what="the latched /map_name")
         assert latched == ["office"]
+        # a second subscription here gets it too (and the first not again)
+        again: list[str] = []
+        n.subscribe("/map_name", "std_msgs/String", lambda m: again.append(m.data))
+        wait_until(lambda: again, what="the latched /map_name for a second subscription")
+        assert again == ["office"]
+        assert latched == ["office"]
         wait_until(lambda: cmd.topic.remote, what="the peer to subscribe to /cmd_vel")
         for i in range(20):
             cmd.publish_data({"linear": {"x": float(i)}})

@@ -57,10 +57,8 @@ def _apply(m: Matrix, v: Vec) -> Vec:
 
 
 def _product(a: Matrix, b: Matrix) -> Matrix:
-    return tuple(
-        tuple(a[r][0] * b[0][c] + a[r][1] * b[1][c] + a[r][2] * b[2][c] for c in range(3))
-        for r in range(3)
-    )  # type: ignore[return-value]
+    columns = tuple(zip(*b, strict=True))
+    return (_apply(columns, a[0]), _apply(columns, a[1]), _apply(columns, a[2]))
 
 
 def _quaternion(m: Matrix) -> tuple[float, float, float, float]:
