@@ -129,8 +129,6 @@ class Stored:
 class TimeCache:
     """A frame's transforms over the last ``max_ns`` nanoseconds, interpolated between."""
 
-    static: Final = False
-
     def __init__(self, max_ns: int) -> None:
         self.max_ns = max_ns
         self.stamps: list[int] = []  # oldest first
@@ -235,8 +233,6 @@ class TimeCache:
 
 class StaticCache:
     """A static frame: one transform, valid at every time."""
-
-    static: Final = True
 
     def __init__(self) -> None:
         self.item: Stored | None = None
