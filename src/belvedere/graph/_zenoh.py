@@ -590,11 +590,13 @@ class ZenohTransport:
         graph = self.graph
         assert graph is not None
         try:
-            # Every latching publisher replies under the same key: keep them all.
+            # Every latching publisher replies under the same key: keep them all. This
+            # process's own latched messages are delivered by the graph already.
             replies = self.session.get(
                 self._key("l", topic.name),
                 timeout=2.0,
                 consolidation=zenoh.ConsolidationMode.NONE,
+                allowed_destination=zenoh.Locality.REMOTE,
             )
             for reply in replies:
                 if reply.ok is None:
