@@ -171,7 +171,10 @@ def test_tf_echo_and_tree(peer: Any) -> None:
     assert tree.stdout == "base_link\n  camera [static]\n"
     missing = run("tf", "echo", "base_link", "nowhere", "--timeout", "1")
     assert missing.returncode == 1
-    assert "frame 'nowhere' does not exist" in missing.stderr
+    assert '"nowhere" passed to lookupTransform argument source_frame does not exist.' in (
+        missing.stderr
+    )
+    assert "hint: the frames known: base_link, camera" in missing.stderr
 
 
 @pytest.mark.parametrize(

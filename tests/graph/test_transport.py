@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import time
 from typing import Any
 
 import pytest
@@ -28,6 +29,12 @@ def test_traffic_between_processes(peer: Any, endpoint: str) -> None:
         wait_until(lambda: len(ticks) >= 3, what="3 messages on /chatter from the peer")
         # latched: we subscribed after it was sent
         wait_until(lambda: latched, what="the latched /map_name")
+        assert latched == ["office"]
+        # a second subscription here gets it too (and the first not again)
+        again: list[str] = []
+        n.subscribe("/map_name", "std_msgs/String", lambda m: again.append(m.data))
+        wait_until(lambda: again, what="the latched /map_name for a second subscription")
+        assert again == ["office"]
         assert latched == ["office"]
         wait_until(lambda: cmd.topic.remote, what="the peer to subscribe to /cmd_vel")
         for i in range(20):
@@ -73,3 +80,27 @@ def test_default_is_localhost_without_scouting(endpoint: str) -> None:
         assert all("127.0.0.1" in loc for loc in locators)
     finally:
         session.close()  # type: ignore[no-untyped-call]
+
+
+def test_own_latched_messages_arrive_once(endpoint: str) -> None:
+    """A process's latched message reaches its later subscriptions once each: from the graph,
+    not again from its own Zenoh queryable."""
+    g = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint, serve_params=False))
+    n = g.create_node("n")
+    n.publisher("/x", "std_msgs/String", latch=True).publish_data({"data": "hi"})
+    got: list[tuple[str, str]] = []
+    n.subscribe("/x", "std_msgs/String", lambda m: got.append(("first", m.data)))
+    g.start(rtf=None)
+    try:
+        wait_until(lambda: got, what="the latched /x")
+        g.executor.post(
+            lambda: n.subscribe("/x", "std_msgs/String", lambda m: got.append(("second", m.data)))
+        )
+        wait_until(lambda: len(got) >= 2, what="the latched /x for the second subscription")
+        # the queryable's answer would come within the fetch's 2 s: wait them out
+        g.executor.post(lambda: got.append(("mark", "")))
+        wait_until(lambda: ("mark", "") in got, what="the executor")
+        time.sleep(2.5)
+    finally:
+        g.shutdown()
+    assert sorted(got) == [("first", "hi"), ("mark", ""), ("second", "hi")]

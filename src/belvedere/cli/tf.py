@@ -51,7 +51,7 @@ def run(args: argparse.Namespace) -> int:
             except TFError as err:
                 within = f"within {args.timeout:g} s"
                 msg = f"no transform {args.source} -> {args.target} {within}: {err.message}"
-                raise BelvedereError(msg) from None
+                raise BelvedereError(msg.rstrip(), hint=err.hint) from None
         printed = 0
         while args.count is None or printed < args.count:
             t = buffer.lookup_transform(args.source, args.target)

@@ -521,8 +521,15 @@ class ZenohTransport:
         self._token("sub", topic.name, topic.type, subscription.node.full_name)
         graph = self.graph
         assert graph is not None
+        # Each new subscription gets the last latched messages of other processes, also when
+        # the topic has subscribers here already (rospy gives every new subscriber those);
+        # asked for once Zenoh delivers the topic's samples here, so none falls in between.
+        fetch = threading.Thread(
+            target=self._fetch_latched, args=(topic, subscription.enqueue), daemon=True
+        )
         with self._lock:
             if topic.name in self._subscribers:
+                fetch.start()
                 return
 
             def deliver(msg: Any) -> None:
@@ -577,14 +584,14 @@ class ZenohTransport:
             self._subscribers[topic.name] = self.session.declare_subscriber(
                 self._key("t", topic.name), on_sample, allowed_origin=zenoh.Locality.REMOTE
             )
-        # A late subscriber gets the last latched message from other processes.
-        threading.Thread(target=self._fetch_latched, args=(topic, deliver), daemon=True).start()
+        fetch.start()
 
     def _fetch_latched(self, topic: Topic, deliver: Callable[[Any], None]) -> None:
         graph = self.graph
         assert graph is not None
         try:
-            # Every latching publisher replies under the same key: keep them all.
+            # Every latching publisher replies under the same key: keep them all. This
+            # process's own latched messages are delivered by the graph already.
             replies = self.session.get(
                 self._key("l", topic.name),
                 timeout=2.0,

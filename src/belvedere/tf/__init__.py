@@ -2,7 +2,15 @@
 and the standard TF nodes (robot_state_publisher, joint_state_publisher,
 static_transform_publisher, a listener)."""
 
-from belvedere.tf._buffer import TFBuffer, TFError
+from belvedere.tf._buffer import (
+    TFBuffer,
+    TFConnectivityError,
+    TFError,
+    TFExtrapolationError,
+    TFInvalidArgumentError,
+    TFLookupError,
+    Transformed,
+)
 from belvedere.tf._math import (
     Transform,
     quat_xyzw_from_rpy,
@@ -24,10 +32,15 @@ __all__ = [
     "JointStatePublisher",
     "RobotStatePublisher",
     "TFBuffer",
+    "TFConnectivityError",
     "TFError",
+    "TFExtrapolationError",
+    "TFInvalidArgumentError",
+    "TFLookupError",
     "Transform",
     "TransformBroadcaster",
     "TransformListener",
+    "Transformed",
     "parse_static_transform_args",
     "quat_xyzw_from_rpy",
     "quat_xyzw_to_matrix",

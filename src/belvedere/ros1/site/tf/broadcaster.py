@@ -1,0 +1,5 @@
+"""tf.broadcaster (belvedere.ros1.tf)."""
+
+from belvedere.ros1.tf import TransformBroadcaster
+
+__all__ = ["TransformBroadcaster"]
