@@ -409,9 +409,6 @@ class ActionClient:
         self.manager.register_send_goal_fn(self.pub_goal.publish)
         self.manager.register_cancel_fn(self.pub_cancel.publish)
         self.sub_queue_size = _queue_size("actionlib_client_sub_queue_size", None)
-        self.status_sub = rospy.Subscriber(
-            base + "/status", GoalStatusArray, self._status_cb, queue_size=self.sub_queue_size
-        )
         self.result_sub = rospy.Subscriber(
             base + "/result", self.ActionResult, self._result_cb, queue_size=self.sub_queue_size
         )
@@ -420,6 +417,10 @@ class ActionClient:
             self.ActionFeedback,
             self._feedback_cb,
             queue_size=self.sub_queue_size,
+        )
+        # status last: its first message must find the result and feedback subscriptions made
+        self.status_sub = rospy.Subscriber(
+            base + "/status", GoalStatusArray, self._status_cb, queue_size=self.sub_queue_size
         )
 
     def stop(self) -> None:
@@ -456,8 +457,8 @@ class ActionClient:
         return self.wait_for_server(timeout)
 
     def wait_for_server(self, timeout: Any = None) -> bool:
-        """Wait until a server has said it is there (its status came) and is connected on
-        every topic of the action; ``timeout`` (a Duration, zero: forever) in ROS time."""
+        """Wait until a server has said it is there (its status came) and takes goals and
+        cancels; ``timeout`` (a Duration, zero: forever) in ROS time."""
         if timeout is None:
             timeout = rospy.Duration(0.0)
         forever = timeout == rospy.Duration(0.0)
@@ -471,10 +472,11 @@ class ActionClient:
         return False
 
     def _connected(self) -> bool:
-        return all(
-            endpoint.get_num_connections() > 0
-            for endpoint in (self.pub_goal, self.pub_cancel, self.result_sub, self.feedback_sub)
-        )
+        # actionlib also checks that the server's result and feedback publishers reached this
+        # client's subscribers. Here the status that came is that check: this client's
+        # subscriptions were all made before it, and a publisher sends to every subscription
+        # it knows of, not over connections of its own.
+        return self.pub_goal.get_num_connections() > 0 and self.pub_cancel.get_num_connections() > 0
 
     def _status_cb(self, msg: Any) -> None:
         self.last_status_msg = msg
