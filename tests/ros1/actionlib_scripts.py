@@ -7,12 +7,15 @@ Everything each script prints must be the same under both. Events that come on d
 topics (a goal's start on ``status``, its feedback, its result) are put in order by a
 hand-shake on ``/actionlib_test/ack``: the server waits for the client's acknowledgement of
 the start and of each feedback before going on, so the lines printed do not depend on timing.
+At the end the client says ``quit``, the server answers on ``/actionlib_test/bye`` and stops a
+moment after the client has gone.
 """
 
 from __future__ import annotations
 
 SERVER = r"""
 import threading
+import time
 import rospy
 import actionlib
 from actionlib_msgs.msg import GoalStatus
@@ -24,12 +27,15 @@ acks = []
 acked = threading.Condition()
 
 
+quit = threading.Event()
+
+
 def on_ack(msg):
     with acked:
         acks.append(msg.data)
         acked.notify_all()
     if msg.data == "quit":
-        rospy.signal_shutdown("the client is done")
+        quit.set()
 
 
 def wait_ack(text):
@@ -43,6 +49,7 @@ def say(*words):
 
 
 ready = rospy.Publisher("/actionlib_test/ready", String, queue_size=1, latch=True)
+bye = rospy.Publisher("/actionlib_test/bye", String, queue_size=1, latch=True)
 rospy.Subscriber("/actionlib_test/ack", String, on_ack, queue_size=100)
 
 
@@ -110,7 +117,12 @@ manual = actionlib.ActionServer("manual", MoveBaseAction, goal_cb, cancel_cb, au
 manual.start()
 ready.publish(String("up"))
 say("server up")
-rospy.spin()
+while not quit.wait(0.1) and not rospy.is_shutdown():
+    pass
+# The client leaves first: it waits for this, then ends.
+bye.publish(String("bye"))
+time.sleep(1.0)
+rospy.signal_shutdown("the client is done")
 say("server down")
 """
 
@@ -133,6 +145,8 @@ COMM = {getattr(CommState, n): n for n in
 
 rospy.init_node("client")
 ack = rospy.Publisher("/actionlib_test/ack", String, queue_size=100)
+bye = threading.Event()
+rospy.Subscriber("/actionlib_test/bye", String, lambda msg: bye.set())
 rospy.wait_for_message("/actionlib_test/ready", String, timeout=60)
 while ack.get_num_connections() == 0:
     rospy.sleep(0.01)
@@ -317,7 +331,7 @@ say("handles equal:", handles["m4"] == handles["m4"], handles["m4"] != handles["
 say("names:", CommState.to_string(CommState.DONE), SimpleGoalState.to_string(2),
     GoalStatus.to_string(GoalStatus.RECALLED))
 
-ack.publish(String("quit"))
-rospy.sleep(0.5)
 say("client done")
+ack.publish(String("quit"))
+bye.wait(30)
 '''

@@ -235,6 +235,7 @@ def test_scripts_print_the_same_under_debians_actionlib(belvedere_run: Run, ros_
 # --- belvedere.graph's action nodes and rospy scripts -------------------------------------------
 
 GRAPH_CLIENT = r"""
+import threading
 import rospy
 import actionlib
 from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
@@ -317,6 +318,8 @@ def test_a_graph_action_client_uses_a_rospy_server(endpoint: str, tmp_path: Path
     client = ActionClient(node, "/move", "move_base_msgs/MoveBase")
     graph.start(rtf=None)
     try:
+        assert server.stdout is not None
+        assert server.stdout.readline() == "server up\n"
         wait_until(
             lambda: client.goal_pub.topic.remote and client.cancel_pub.topic.remote,
             what="the rospy server to subscribe to goals and cancels",
@@ -341,7 +344,6 @@ def test_a_graph_action_client_uses_a_rospy_server(endpoint: str, tmp_path: Path
     assert client.results[held].status.text == "stopped b2"
     assert server.returncode == 0, err
     assert out.splitlines() == [
-        "server up",
         "execute b1 2 active: True",
         "abort b1",
         "execute b2 3 active: True",
