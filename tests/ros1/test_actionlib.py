@@ -74,7 +74,7 @@ class _Recorder:
 
 
 def _machine() -> _Recorder:
-    action_goal = message_class("move_base_msgs/MoveBaseActionGoal")()
+    action_goal: Any = message_class("move_base_msgs/MoveBaseActionGoal")()
     action_goal.goal_id.id = "/me-1-0.000"
     states: list[str] = []
     cancels: list[Any] = []
@@ -89,8 +89,8 @@ def _machine() -> _Recorder:
 
 
 def _status(goal_id: str, status: int, text: str = "") -> Any:
-    array = message_class("actionlib_msgs/GoalStatusArray")()
-    entry = message_class("actionlib_msgs/GoalStatus")(status=status, text=text)
+    array: Any = message_class("actionlib_msgs/GoalStatusArray")()
+    entry: Any = message_class("actionlib_msgs/GoalStatus")(status=status, text=text)
     entry.goal_id.id = goal_id
     array.status_list.append(entry)
     return array
@@ -102,7 +102,7 @@ def test_comm_states_pass_through_the_steps_a_status_skips() -> None:
     assert rec.states == []
     rec.machine.update_status(_status("/me-1-0.000", RosGoalStatus.PREEMPTED, "late"))
     assert rec.states == ["ACTIVE", "PREEMPTING", "WAITING_FOR_RESULT"]
-    result = message_class("move_base_msgs/MoveBaseActionResult")()
+    result: Any = message_class("move_base_msgs/MoveBaseActionResult")()
     result.status = _status("/me-1-0.000", RosGoalStatus.PREEMPTED, "late").status_list[0]
     rec.machine.update_result(result)
     assert rec.states[-1] == "DONE"
