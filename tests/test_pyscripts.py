@@ -39,8 +39,12 @@ def _run(command: list[str], *args: str) -> subprocess.CompletedProcess[str]:
 
 def test_python_3_runs_as_it_is(tmp_path: Path) -> None:
     script = tmp_path / "ok.py"
-    script.write_text("print('fine')\n")
-    assert script_command(script)[1:] == [str(script)]
+    script.write_text("import sys\nprint('fine', __file__, sys.argv)\n")
+    command = script_command(script)
+    assert str(script) in command
+    assert not (tmp_path / "cache").exists()  # nothing to translate, nothing cached
+    done = _run(command, "a:=b")
+    assert done.stdout == f"fine {script} {[str(script), 'a:=b']}\n"
 
 
 def test_python_2_is_translated_once_and_runs_as_the_original(

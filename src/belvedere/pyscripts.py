@@ -19,22 +19,69 @@ from typing import Final
 from belvedere.errors import ParseError, SourceLocation
 from belvedere.fileio import write_file
 
-__all__ = ["ScriptError", "cache_dir", "script_command"]
+__all__ = ["SITE", "ScriptError", "cache_dir", "script_command"]
 
 logger = logging.getLogger("belvedere.scripts")
 
 _BOOT: Final = """\
-import sys
-original, runnable = sys.argv[1], sys.argv[2]
-sys.argv = [original, *sys.argv[3:]]
-sys.path[0] = __import__("os").path.dirname(__import__("os").path.abspath(original))
+import os, sys
+original, runnable, site = sys.argv[1:4]
+sys.argv = [original, *sys.argv[4:]]
+sys.path[0] = os.path.dirname(os.path.abspath(original))
+sys.path.insert(1, site)
+
+
+class BelvedereMessages:
+    busy = False
+
+    def find_spec(self, name, path, target=None):
+        if self.busy:
+            return None
+        self.busy = True
+        try:
+            from belvedere.ros1._finder import install
+        except ImportError:
+            return None  # belvedere.ros1 itself is loading: its misses are not messages
+        finally:
+            self.busy = False
+        sys.meta_path.remove(self)
+        return install().find_spec(name, path, target)
+
+
+sys.meta_path.append(BelvedereMessages())
 with open(runnable, encoding="utf-8") as f:
     code = compile(f.read(), original, "exec")
 namespace = {"__name__": "__main__", "__file__": original, "__builtins__": __builtins__}
-exec(code, namespace)
+status = 0
+try:
+    exec(code, namespace)
+except SystemExit as end:
+    if end.code is None or isinstance(end.code, int):
+        status = end.code or 0
+    else:
+        print(end.code, file=sys.stderr)
+        status = 1
+except BaseException:
+    sys.excepthook(*sys.exc_info())
+    status = 1
+import atexit, threading
+threading._shutdown()
+atexit._run_exitfuncs()
+sys.stdout.flush()
+sys.stderr.flush()
+os._exit(status)
 """
-"""Runs a translation as if it were the original file (argv, __file__, sys.path[0], and
-tracebacks name the original's lines, which the translation keeps)."""
+"""Runs a script (or its translation) as if it were the original file (argv, __file__,
+sys.path[0], and tracebacks name the original's lines, which a translation keeps), with
+belvedere's ROS modules (``rospy``, ``tf``, …: :data:`SITE`) next on the path and the
+message modules (``std_msgs.msg``…) found by :func:`belvedere.ros1.install` — whose type
+store loads only when an import finds nothing else. The script's end is Python's (its
+threads joined, its exit functions run, its status), then the process leaves without the
+interpreter's finalization, where Zenoh's threads, still delivering, would abort it."""
+
+SITE: Final = Path(__file__).parent / "ros1" / "site"
+"""belvedere's ``rospy``, ``tf``, ``tf2_ros``, ``actionlib``, ``roslib``, ``rospkg``: only the
+scripts belvedere runs have it on their path, so they never shadow a real ROS elsewhere."""
 
 
 class ScriptError(ParseError):
@@ -85,7 +132,7 @@ def script_command(path: Path, python: str = sys.executable) -> list[str]:
         text = text.replace("\r\n", "\n")
     problem = _compiles(text, path)
     if problem is None and not crlf:
-        return [python, str(path)]
+        return _boot(python, path, path)
     what = "Windows line ends"
     if problem is not None:
         translated = _translate(text, path)
@@ -106,4 +153,8 @@ def script_command(path: Path, python: str = sys.executable) -> list[str]:
         "a Python 2 script" if what == "Python 2" else "Windows line ends",
         runnable,
     )
-    return [python, "-c", _BOOT, str(path), str(runnable)]
+    return _boot(python, path, runnable)
+
+
+def _boot(python: str, original: Path, runnable: Path) -> list[str]:
+    return [python, "-c", _BOOT, str(original), str(runnable), str(SITE)]

@@ -51,7 +51,8 @@ def test_a_users_script_runs_as_its_node(tmp_path: Path) -> None:
         capture_output=True, text=True, timeout=60, check=False,
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
-    assert "argv ['one', '__name:=hello', '__ns:=/r', 'chatter:=/talk']" in done.stdout
+    # as rosrun passes them: verbatim (rospy reads its remaps, _params and __ns itself)
+    assert "argv ['one', 'chatter:=/talk', '__ns:=/r', '_k:=2']" in done.stdout
     assert "required node /r/hello exited" in done.stderr
 
 

@@ -153,7 +153,6 @@ def test_missing_node_types_are_one_line_and_the_rest_runs(
     assert main([*args, "--echo", "/tf_static"]) == 0
     out, err = capsys.readouterr()
     assert "not started (belvedere has no such node yet): gmapping/slam_gmapping" in err
-    assert "rospy scripts are not supported yet" in err
     assert 'child_frame_id: "odom"' in out
 
 

@@ -22,10 +22,11 @@ def run_session(
     packages: PackageIndex,
     args: argparse.Namespace,
     *,
-    script: tuple[LaunchNode, Path] | None = None,
+    script: tuple[LaunchNode, Path, list[str]] | None = None,
 ) -> int:
     """Start everything ``config`` asks for on one graph (and ``script``: a user's script
-    run as that node) and run until Ctrl-C, ``--duration``, or a required node exits."""
+    run as that node, with those arguments) and run until Ctrl-C, ``--duration``, or a
+    required node exits."""
     graph = Graph(sim_time=True, seed=args.seed, transport=open_transport(args))
     runtime = LaunchRuntime(
         config,
@@ -40,7 +41,7 @@ def run_session(
     )
     try:
         runtime.start()
-        if script is not None and not runtime.run_script(*script):
+        if script is not None and not runtime.run_script(script[0], script[1], argv=script[2]):
             return 1
         install_script(graph, ScriptOptions.from_args(args))
         _run(graph, runtime, args)

@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import os
 import shlex
+import subprocess
 from pathlib import Path
 
 import yaml
@@ -23,9 +24,11 @@ from belvedere.cli._script import add_script_options
 from belvedere.cli._session import run_session
 from belvedere.cli._tool import add_graph_options
 from belvedere.errors import BelvedereError
+from belvedere.graph import graph_running
 from belvedere.launch import LaunchConfig, LaunchNode
 from belvedere.launch._runtime import find_script
 from belvedere.packages import PackageIndex, find_package_root
+from belvedere.pyscripts import script_command
 
 __all__ = ["add_parser", "run"]
 
@@ -121,9 +124,33 @@ def run(args: argparse.Namespace) -> int:
         remappings=tuple(remaps.items()),
     )
     config = LaunchConfig()
-    for key, value in params.items():
-        config.set_param(f"{spec.full_name}/{key}", value, None)
     if script is None:
+        for key, value in params.items():
+            config.set_param(f"{spec.full_name}/{key}", value, None)
         config.nodes.append(spec)
         return run_session(config, packages, args)
-    return run_session(config, packages, args, script=(spec, script))
+    # A script gets its arguments as rosrun passes them (rospy reads its own remaps,
+    # _param:= and __name:=). Like rosrun it joins the graph that runs; only when none
+    # does, this provides one (parameters, simulated time), as roscore would.
+    if graph_running(args.endpoint, args.domain):
+        return run_alone(script, words, packages, args)
+    return run_session(config, packages, args, script=(spec, script, words))
+
+
+def run_alone(
+    script: Path, words: list[str], packages: PackageIndex, args: argparse.Namespace
+) -> int:
+    """Run ``script`` on the graph that is running; its exit status is ours."""
+    command = script_command(script)
+    env = dict(os.environ)
+    env["ROS_PACKAGE_PATH"] = os.pathsep.join(str(p) for p in packages.search_path)
+    if args.domain is not None:
+        env["BELVEDERE_DOMAIN"] = str(args.domain)
+    if args.endpoint:
+        env["BELVEDERE_ENDPOINT"] = args.endpoint
+    process = subprocess.Popen([*command, *words], env=env)
+    while True:
+        try:
+            return process.wait()
+        except KeyboardInterrupt:
+            continue  # the script got the Ctrl-C too: it ends in its own way

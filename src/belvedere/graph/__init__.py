@@ -14,7 +14,9 @@ from belvedere.graph._graph import (
     Publisher,
     Rate,
     SeqRule,
+    ServiceFailedError,
     ServiceServer,
+    ServiceUnavailableError,
     Subscription,
     Topic,
     Transport,
@@ -29,6 +31,7 @@ from belvedere.graph._zenoh import (
     ZenohTransport,
     check_domain,
     domain_endpoint,
+    graph_running,
 )
 
 __all__ = [
@@ -50,7 +53,9 @@ __all__ = [
     "Rate",
     "RosArgs",
     "SeqRule",
+    "ServiceFailedError",
     "ServiceServer",
+    "ServiceUnavailableError",
     "Subscription",
     "Timer",
     "Topic",
@@ -59,6 +64,7 @@ __all__ = [
     "ZenohTransport",
     "check_domain",
     "domain_endpoint",
+    "graph_running",
     "parse_ros_args",
     "resolve_name",
 ]

@@ -28,7 +28,9 @@ __all__ = [
     "Publisher",
     "Rate",
     "SeqRule",
+    "ServiceFailedError",
     "ServiceServer",
+    "ServiceUnavailableError",
     "Subscription",
     "Topic",
     "Transport",
@@ -39,6 +41,19 @@ logger = logging.getLogger("belvedere.graph")
 
 class GraphError(BelvedereError):
     """A misuse of the graph: type mismatch, missing service, time-out…"""
+
+
+class ServiceFailedError(GraphError):
+    """A service's handler failed: ``reason`` is what its server said."""
+
+    def __init__(self, name: str, reason: str) -> None:
+        super().__init__(f"service {name} failed: {reason}")
+        self.service = name
+        self.reason = reason
+
+
+class ServiceUnavailableError(GraphError):
+    """No node offers the service called."""
 
 
 class Transport(Protocol):
@@ -227,11 +242,22 @@ class Subscription:
 class ServiceServer:
     """Answers requests of one service type with ``handler(request) -> response``."""
 
-    def __init__(self, node: Node, name: str, srv_type: str, handler: Callable[[Any], Any]) -> None:
+    def __init__(
+        self,
+        node: Node,
+        name: str,
+        srv_type: str,
+        handler: Callable[[Any], Any],
+        *,
+        threaded: bool = False,
+    ) -> None:
         self.node = node
         self.name = name
         self.type = srv_type
         self.handler = handler
+        self.threaded = threaded
+        """Calls from other processes run on a thread of their own, not the executor (rospy
+        runs each request so: a handler may sleep or wait for messages)."""
 
     def handle(self, request: Any) -> Any:
         response = self.handler(request)
@@ -376,14 +402,21 @@ class Node:
         return self.graph.params.has(self.resolve(name))
 
     # --- services ------------------------------------------------------------------------------
-    def service(self, name: str, srv_type: str, handler: Callable[[Any], Any]) -> ServiceServer:
+    def service(
+        self,
+        name: str,
+        srv_type: str,
+        handler: Callable[[Any], Any],
+        *,
+        threaded: bool = False,
+    ) -> ServiceServer:
         resolved = self.resolve(name)
         full_type = types().resolve_service(srv_type)
         if resolved in self.graph.services:
             owner = self.graph.services[resolved].node.name
             msg = f"service {resolved} is already offered by {owner}"
             raise GraphError(msg)
-        server = ServiceServer(self, resolved, full_type, handler)
+        server = ServiceServer(self, resolved, full_type, handler, threaded=threaded)
         self.graph.services[resolved] = server
         self.services.append(server)
         if self.graph.transport is not None:
@@ -407,7 +440,7 @@ class Node:
         if self.graph.transport is not None:
             return self.graph.transport.call_service(resolved, full_type, request, timeout)
         msg = f"service {resolved} is not offered by any node"
-        raise GraphError(msg, hint="is the node that provides it running?")
+        raise ServiceUnavailableError(msg, hint="is the node that provides it running?")
 
 
 class Graph:

@@ -52,7 +52,9 @@ from belvedere.graph._graph import (
     GraphError,
     Node,
     Publisher,
+    ServiceFailedError,
     ServiceServer,
+    ServiceUnavailableError,
     Subscription,
     Topic,
 )
@@ -209,6 +211,23 @@ def encode_key(name: str) -> str:
 
 def decode_key(chunk: str) -> str:
     return chunk.replace("%", "/")
+
+
+def graph_running(endpoint: str | None = None, domain: int | None = None) -> bool:
+    """Is a graph already listening on the endpoint (``--endpoint``/``--domain``'s, else the
+    environment's)? Only TCP endpoints can be asked; others count as not running."""
+    endpoint = (
+        endpoint or os.environ.get("BELVEDERE_ENDPOINT") or domain_endpoint(check_domain(domain))
+    )
+    proto, _, where = endpoint.partition("/")
+    host, _, port = where.rpartition(":")
+    if proto != "tcp" or not port.isdigit():
+        return False
+    try:
+        with socket.create_connection((host.strip("[]"), int(port)), timeout=0.5):
+            return True
+    except OSError:
+        return False
 
 
 def _config(mode: str, *, listen: str | None, connect: str | None) -> zenoh.Config:
@@ -603,12 +622,19 @@ class ZenohTransport:
                 finally:
                     done.set()
 
-            graph.executor.post(run)
-            if not done.wait(30.0):
-                query.reply_err(b"service handler did not answer within 30 s")
+            if server.threaded:
+                threading.Thread(target=run, name=f"service {server.name}", daemon=True).start()
+            else:
+                graph.executor.post(run)
+            limit = 3600.0 if server.threaded else 30.0  # rospy's handlers may take long
+            if not done.wait(limit):
+                query.reply_err(f"service handler did not answer within {limit:g} s".encode())
                 return
-            if isinstance(result[0], Exception):
-                query.reply_err(str(result[0]).encode())
+            outcome = result[0]
+            if isinstance(outcome, ServiceFailedError):
+                query.reply_err(outcome.reason.encode())
+            elif isinstance(outcome, Exception):
+                query.reply_err(str(outcome).encode())
             else:
                 query.reply(self._key("s", server.name), result[0])
 
@@ -634,10 +660,17 @@ class ZenohTransport:
                 return types().deserialize(reply.ok.payload.to_bytes(), f"{srv_type}_Response")
             if reply.err is not None:
                 why = reply.err.payload.to_bytes().decode(errors="replace")
-                msg = f"service {name} failed: {why}"
-                raise GraphError(msg)
+                raise ServiceFailedError(name, why)
         msg = f"service {name} is not offered by any node (waited {timeout:g} s)"
-        raise GraphError(msg, hint="is the node that provides it running?")
+        raise ServiceUnavailableError(msg, hint="is the node that provides it running?")
+
+    def service_offered(self, name: str, timeout: float = 1.0) -> bool:
+        """Does a node in another process offer service ``name``?"""
+        key = self._key("g/srv/", encode_key(name) + "/**")
+        with contextlib.suppress(zenoh.ZError):
+            replies = self.session.liveliness().get(key, timeout=timeout)
+            return any(reply.ok is not None for reply in replies)
+        return False
 
     # --- parameters ----------------------------------------------------------------------------
     def _on_param_query(self, query: Any) -> None:
@@ -655,6 +688,8 @@ class ZenohTransport:
             elif op == "delete":
                 params.delete(name)
                 value = None
+            elif op == "has":
+                value = params.has(name)
             elif op == "list":
                 value = params.names(name)
             elif op == "load":

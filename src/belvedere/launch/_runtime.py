@@ -75,6 +75,8 @@ class LaunchRuntime:
     spawned: dict[str, LaunchNode] = field(default_factory=dict)
     """Model name → the spawn_model node that spawned it."""
     respawn_at: dict[int, float] = field(default_factory=dict)
+    script_argv: dict[int, list[str]] = field(default_factory=dict)
+    """Each script process's arguments (a respawn gets the same)."""
 
     def start(self) -> None:
         params = self.graph.params
@@ -134,41 +136,36 @@ class LaunchRuntime:
         return find_script(root, spec.type)
 
     def _graph_env(self) -> dict[str, str]:
-        """What a script node needs to join this launch's graph (its domain and endpoint)."""
+        """What a script node needs: this launch's graph (domain, endpoint) and package path."""
+        env = {"ROS_PACKAGE_PATH": os.pathsep.join(str(p) for p in self.packages.search_path)}
         transport = self.graph.transport
-        if not isinstance(transport, ZenohTransport):
-            return {}
-        return {
-            "BELVEDERE_DOMAIN": str(transport.domain),
-            "BELVEDERE_ENDPOINT": transport.endpoint,
-        }
+        if isinstance(transport, ZenohTransport):
+            env["BELVEDERE_DOMAIN"] = str(transport.domain)
+            env["BELVEDERE_ENDPOINT"] = transport.endpoint
+        return env
 
-    def run_script(self, spec: LaunchNode, script: Path) -> bool:
+    def run_script(self, spec: LaunchNode, script: Path, *, argv: list[str] | None = None) -> bool:
         """Run a user's script as the node ``spec`` (its name, namespace and remaps as
-        arguments, the graph's domain and endpoint in its environment); False, with one
-        message, if it cannot run."""
-        text = script.read_text(errors="replace")
-        if "import rospy" in text or "from rospy" in text:
-            logger.warning(
-                "%s: %s imports rospy: rospy scripts are not supported yet; not started",
-                spec.source,
-                script,
-            )
-            return False
+        arguments, as roslaunch passes them, or ``argv`` as given, as rosrun passes them; the
+        graph's domain and endpoint in its environment); False, with one message, if it
+        cannot run."""
         try:
             command = script_command(script)
         except ScriptError as err:
             logger.error("%s: %s (node %s not started)", err.location, err.message, spec.full_name)
             return False
         env = {**os.environ, **self._graph_env(), **dict(spec.env)}
-        argv = [*command, *shlex.split(spec.args)]
-        argv.append(f"__name:={spec.name}")
-        if spec.namespace != "/":
-            argv.append(f"__ns:={spec.namespace}")
-        argv += [f"{a}:={b}" for a, b in spec.remappings]
+        if argv is None:
+            argv = [*shlex.split(spec.args), f"__name:={spec.name}"]
+            if spec.namespace != "/":
+                argv.append(f"__ns:={spec.namespace}")
+            argv += [f"{a}:={b}" for a, b in spec.remappings]
         output = None if spec.output == "screen" else subprocess.DEVNULL
-        process = subprocess.Popen(argv, env=env, cwd=spec.cwd, stdout=output, stderr=output)
+        process = subprocess.Popen(
+            [*command, *argv], env=env, cwd=spec.cwd, stdout=output, stderr=output
+        )
         self.processes.append((spec, process))
+        self.script_argv[id(process)] = argv
         return True
 
     def poll_processes(self) -> LaunchNode | None:
@@ -187,7 +184,7 @@ class LaunchRuntime:
                     self.processes.pop(i)
                     script = self._user_script(spec)
                     if script is not None:
-                        self.run_script(spec, script)
+                        self.run_script(spec, script, argv=self.script_argv.get(id(process)))
                     break
         return None
 

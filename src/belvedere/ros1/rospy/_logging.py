@@ -1,0 +1,133 @@
+"""rospy's log functions: ROS's console format and streams, ``/rosout``, and the
+``_throttle``/``_throttle_identical``/``_once`` variants (each per call site)."""
+
+from __future__ import annotations
+
+import os
+import sys
+import threading
+import time
+from typing import Any, Final
+
+from belvedere.ros1.rospy import _state
+
+__all__ = [
+    "DEBUG",
+    "ERROR",
+    "FATAL",
+    "INFO",
+    "WARN",
+    "log",
+    "log_once",
+    "log_throttle",
+    "log_throttle_identical",
+    "publish_rosout",
+]
+
+DEBUG: Final = 1
+INFO: Final = 2
+WARN: Final = 4
+ERROR: Final = 8
+FATAL: Final = 16
+_NAMES: Final = {DEBUG: "DEBUG", INFO: "INFO", WARN: "WARN", ERROR: "ERROR", FATAL: "FATAL"}
+_COLORS: Final = {
+    DEBUG: "\033[32m",
+    WARN: "\033[33m",
+    ERROR: "\033[31m",
+    FATAL: "\033[31m",
+}
+
+_lock = threading.Lock()
+_last: dict[tuple[str, int], tuple[int, str]] = {}
+_once: set[tuple[str, int]] = set()
+
+
+def _site(depth: int) -> tuple[str, int, str]:
+    frame = sys._getframe(depth + 1)
+    return frame.f_code.co_filename, frame.f_lineno, frame.f_code.co_name
+
+
+def _text(msg: Any, args: tuple[Any, ...]) -> str:
+    text = str(msg)
+    if args:
+        text = text % args
+    return text
+
+
+def _console(level: int, text: str) -> str:
+    runtime = _state.current()
+    line = os.environ.get("ROSCONSOLE_FORMAT", "[${severity}] [${time}]: ${message}")
+    line = line.replace("${severity}", _NAMES[level]).replace("${message}", text)
+    line = line.replace("${walltime}", f"{time.time():f}")
+    line = line.replace("${node}", _state.caller_id())
+    stamp = f"{time.time():f}"
+    if runtime is not None and runtime.sim_time:
+        stamp += f", {runtime.now_ns() / 1e9:f}"
+    return line.replace("${time}", stamp)
+
+
+def log(level: int, msg: Any, args: tuple[Any, ...], *, depth: int = 1) -> None:
+    """Print (by the node's level) and publish on ``/rosout`` one message."""
+    text = _text(msg, args)
+    runtime = _state.current()
+    if runtime is None:
+        # Before init_node rospy's loggers have no handler: Python prints warnings and worse
+        # bare on stderr, and drops the rest.
+        if level >= WARN:
+            sys.stderr.write(text + "\n")
+        return
+    if level < runtime.log_level:
+        return
+    stream = sys.stdout if level < WARN else sys.stderr
+    line = _console(level, text)
+    color = _COLORS.get(level)
+    if color is not None and stream.isatty():
+        line = f"{color}{line}\033[0m"
+    with _lock:
+        stream.write(line + "\n")
+        stream.flush()
+    file, line_no, function = _site(depth)
+    publish_rosout(level, text, file, line_no, function)
+
+
+def publish_rosout(level: int, text: str, file: str, line: int, function: str) -> None:
+    runtime = _state.current()
+    if runtime is None or _state.is_shutdown():
+        return
+    from belvedere.ros1.rospy import _topics
+
+    _topics.rosout(runtime, level, text, file, line, function)
+
+
+def log_throttle(period: float, level: int, msg: Any, args: tuple[Any, ...]) -> None:
+    file, line, _ = _site(2)
+    key = (file, line)
+    now = _now_ns()
+    last = _last.get(key)
+    if last is None or now - last[0] >= period * 1e9 or now < last[0]:
+        _last[key] = (now, "")
+        log(level, msg, args, depth=3)
+
+
+def log_throttle_identical(period: float, level: int, msg: Any, args: tuple[Any, ...]) -> None:
+    file, line, _ = _site(2)
+    key = (file, line)
+    text = _text(msg, args)
+    now = _now_ns()
+    last = _last.get(key)
+    if last is None or last[1] != text or now - last[0] >= period * 1e9 or now < last[0]:
+        _last[key] = (now, text)
+        log(level, text, (), depth=3)
+
+
+def log_once(level: int, msg: Any, args: tuple[Any, ...]) -> None:
+    file, line, _ = _site(2)
+    if (file, line) in _once:
+        return
+    _once.add((file, line))
+    log(level, msg, args, depth=3)
+
+
+def _now_ns() -> int:
+    runtime = _state.current()
+    return runtime.now_ns() if runtime is not None else time.time_ns()

@@ -1,0 +1,5 @@
+"""rospy.service (belvedere.ros1.rospy)."""
+
+from belvedere.ros1.rospy import ServiceException
+
+__all__ = ["ServiceException"]
