@@ -84,8 +84,30 @@ def execute(goal):
         raise ValueError("bad goal " + label)
 
 
+rospy.set_param("move/status_frequency", 10.0)  # the deprecated name: a warning
+rospy.set_param("manual/status_list_timeout", 600.0)  # ended goals stay listed
 server = actionlib.SimpleActionServer("move", MoveBaseAction, execute, auto_start=False)
 server.start()
+
+
+def poll_goal():
+    goal = poll.accept_new_goal()
+    label = goal.target_pose.header.frame_id
+    say("poll goal", label, "active:", poll.is_active(), "preempt:", poll.is_preempt_requested())
+    if goal.target_pose.pose.position.x == 1:
+        poll.set_succeeded(text="polled " + label)
+    # else: runs until preempted
+
+
+def poll_preempt():
+    say("poll preempt", "active:", poll.is_active())
+    poll.set_preempted(text="poll stopped")
+
+
+poll = actionlib.SimpleActionServer("poll", MoveBaseAction, auto_start=False)
+poll.register_goal_callback(poll_goal)
+poll.register_preempt_callback(poll_preempt)
+poll.start()
 
 handles = {}
 
@@ -132,7 +154,8 @@ import threading
 import rospy
 import actionlib
 from actionlib import CommState, SimpleGoalState
-from actionlib_msgs.msg import GoalStatus
+import actionlib.msg
+from actionlib_msgs.msg import GoalStatus, GoalStatusArray
 from move_base_msgs.msg import MoveBaseAction, MoveBaseActionResult, MoveBaseGoal
 from std_msgs.msg import String
 
@@ -272,6 +295,20 @@ with ended:
     ended.wait_for(lambda: gid in results, timeout=30)
 say("g9 result:", NAMES[results[gid].status], repr(results[gid].text))
 
+# a SimpleActionServer driven by goal and preempt callbacks
+polled = actionlib.SimpleActionClient("poll", MoveBaseAction)
+say("wait poll:", polled.wait_for_server(rospy.Duration(30)))
+t = Tracker("p1", polled)
+t.send(1)
+polled.wait_for_result(rospy.Duration(30))
+t.report()
+t = Tracker("p2", polled)
+t.send(2)
+t.started.wait(30)
+polled.cancel_goal()
+polled.wait_for_result(rospy.Duration(30))
+t.report()
+
 # the plain ActionServer, through the plain ActionClient
 manual = actionlib.ActionClient("manual", MoveBaseAction)
 say("wait manual:", manual.wait_for_server(rospy.Duration(30)))
@@ -331,6 +368,29 @@ say("handles equal:", handles["m4"] == handles["m4"], handles["m4"] != handles["
 say("names:", CommState.to_string(CommState.DONE), SimpleGoalState.to_string(2),
     GoalStatus.to_string(GoalStatus.RECALLED))
 
+# ended goals stay listed (for status_list_timeout): wait for a list in which all have ended
+statuses = []
+
+
+def on_status(msg):
+    with cond:
+        statuses.append(msg)
+        cond.notify_all()
+
+
+def all_ended():
+    return statuses and all(s.status in (GoalStatus.REJECTED, GoalStatus.SUCCEEDED,
+                                         GoalStatus.RECALLED) for s in statuses[-1].status_list)
+
+
+rospy.Subscriber("/manual/status", GoalStatusArray, on_status)
+with cond:
+    cond.wait_for(all_ended, timeout=30)
+status = statuses[-1]
+labels = {gh.comm_state_machine.action_goal.goal_id.id: label for label, gh in handles.items()}
+say("manual status:", " ".join("%s=%s:%s" % (labels.get(s.goal_id.id, "?"), NAMES[s.status],
+                                             s.text) for s in status.status_list))
+say("same classes:", actionlib.GoalStatus is GoalStatus, actionlib.msg.TestAction._type)
 say("client done")
 ack.publish(String("quit"))
 bye.wait(30)

@@ -6,6 +6,7 @@ print under Debian's ROS 1 actionlib; and actionlib's wire protocol between rosp
 from __future__ import annotations
 
 import os
+import re
 import subprocess
 import sys
 from collections.abc import Iterator
@@ -183,7 +184,8 @@ def belvedere_run(tmp_path_factory: pytest.TempPathFactory) -> Run:
 def test_scripts_print_what_they_print_under_ros(belvedere_run: Run) -> None:
     """Success with feedback, abort, cancel, preemption by a newer goal, an execute callback
     that ends no goal or raises, send_goal_and_wait's timeout, stop_tracking_goal,
-    cancel_all_goals, rejection, recall, cancel by stamp, and a wait_for_server that times
+    cancel_all_goals, a SimpleActionServer driven by goal and preempt callbacks, rejection,
+    recall, cancel by stamp, the status list of ended goals, and a wait_for_server that times
     out: as Debian's actionlib printed them (tests/data/ros1/actionlib)."""
     assert belvedere_run.client == (GOLDEN / "client.txt").read_text().splitlines()
     assert belvedere_run.server == (GOLDEN / "server.txt").read_text().splitlines()
@@ -191,6 +193,7 @@ def test_scripts_print_what_they_print_under_ros(belvedere_run: Run) -> None:
 
 def test_server_logs_what_actionlib_logs(belvedere_run: Run) -> None:
     err = belvedere_run.server_err
+    assert "You're using the deprecated status_frequency parameter" in err
     assert "Your executeCallback did not set the goal to a terminal status." in err
     assert "Exception in your execute callback: bad goal g7" in err
     assert "ValueError: bad goal g7" in err  # with its traceback
@@ -214,6 +217,12 @@ def _oracle_missing() -> str | None:
     return None
 
 
+ROS_RACE = "Got a transition callback on a goal handle that we're not tracking"
+"""What actionlib logs when a server answers a SimpleActionClient's goal before the client
+follows it (its send_goal takes no lock): the goal's start is then lost. belvedere's client
+cannot lose it; a run of the oracle that hit the race is run again."""
+
+
 @pytest.fixture(scope="module")
 def ros_run(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Run]:
     """The two scripts run by Debian's python3 with its rospy and actionlib, on a roscore."""
@@ -222,14 +231,30 @@ def ros_run(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Run]:
         pytest.skip(missing)
     workdir = tmp_path_factory.mktemp("ros_actionlib")
     for core in start_roscore(workdir / "ros_home"):
-        yield _run_pair([str(ROS_PYTHON)], core.env, workdir)
+        for _ in range(3):
+            run = _run_pair([str(ROS_PYTHON)], core.env, workdir)
+            if ROS_RACE not in run.client_err:
+                break
+        yield run
+
+
+LOG_LINE = re.compile(r"^\[(INFO|WARN|ERROR|FATAL|DEBUG)\] \[\d+\.\d+(, \d+\.\d+)?\]: ")
+
+
+def _log_lines(stderr: str) -> list[str]:
+    """The log lines of a run, without their stamps (rospy's wall time; belvedere's also
+    shows ROS time)."""
+    return [LOG_LINE.sub(r"[\1] ", line) for line in stderr.splitlines() if LOG_LINE.match(line)]
 
 
 @pytest.mark.oracle
 def test_scripts_print_the_same_under_debians_actionlib(belvedere_run: Run, ros_run: Run) -> None:
     assert belvedere_run.client == ros_run.client
     assert belvedere_run.server == ros_run.server
-    assert len(ros_run.client) + len(ros_run.server) == 65
+    assert len(ros_run.client) + len(ros_run.server) == 75
+    assert _log_lines(belvedere_run.client_err) == _log_lines(ros_run.client_err)
+    assert _log_lines(belvedere_run.server_err) == _log_lines(ros_run.server_err)
+    assert len(_log_lines(ros_run.client_err) + _log_lines(ros_run.server_err)) == 7
 
 
 # --- belvedere.graph's action nodes and rospy scripts -------------------------------------------

@@ -26,6 +26,10 @@ class SimpleActionClient:
         self.simple_state = SimpleGoalState.DONE
         self.gh: ClientGoalHandle | None = None
         self.done_condition = threading.Condition()
+        # Held while a goal is sent and while its callbacks run. actionlib takes no lock: a
+        # server quick to answer can then call back before the new goal is followed, and the
+        # goal's start (active_cb) is lost with a "not tracking" error.
+        self._following = threading.RLock()
         self.done_cb: DoneCallback | None = None
         self.active_cb: ActiveCallback | None = None
         self.feedback_cb: FeedbackCallback | None = None
@@ -46,12 +50,15 @@ class SimpleActionClient:
 
         ``done_cb(state, result)`` is called when it ends, ``active_cb()`` when the server
         starts it, ``feedback_cb(feedback)`` on each feedback."""
-        self.stop_tracking_goal()
-        self.done_cb = done_cb
-        self.active_cb = active_cb
-        self.feedback_cb = feedback_cb
-        self.simple_state = SimpleGoalState.PENDING
-        self.gh = self.action_client.send_goal(goal, self._handle_transition, self._handle_feedback)
+        with self._following:
+            self.stop_tracking_goal()
+            self.done_cb = done_cb
+            self.active_cb = active_cb
+            self.feedback_cb = feedback_cb
+            self.simple_state = SimpleGoalState.PENDING
+            self.gh = self.action_client.send_goal(
+                goal, self._handle_transition, self._handle_feedback
+            )
 
     def send_goal_and_wait(
         self, goal: Any, execute_timeout: Any = None, preempt_timeout: Any = None
@@ -146,6 +153,10 @@ class SimpleActionClient:
 
     # --- from the goal's state machine -----------------------------------------------------------
     def _handle_transition(self, gh: ClientGoalHandle) -> None:
+        with self._following:
+            self._transition(gh)
+
+    def _transition(self, gh: ClientGoalHandle) -> None:
         if gh != self.gh:
             rospy.logerr("Got a transition callback on a goal handle that we're not tracking")
             return
@@ -178,6 +189,10 @@ class SimpleActionClient:
         )
 
     def _handle_feedback(self, gh: ClientGoalHandle, feedback: Any) -> None:
+        with self._following:
+            self._feedback(gh, feedback)
+
+    def _feedback(self, gh: ClientGoalHandle, feedback: Any) -> None:
         if not self.gh:
             return  # feedback of a goal just forgotten: not an error
         if gh != self.gh:
