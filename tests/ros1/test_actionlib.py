@@ -341,6 +341,9 @@ def test_a_graph_action_client_uses_a_rospy_server(endpoint: str, tmp_path: Path
     node = graph.create_node("graph_client")
     ack = node.publisher("/actionlib_test/ack", "std_msgs/String")
     client = ActionClient(node, "/move", "move_base_msgs/MoveBase")
+    raw_goal = node.publisher("/move/goal", "move_base_msgs/MoveBaseActionGoal")
+    results: list[Any] = []
+    node.subscribe("/move/result", "move_base_msgs/MoveBaseActionResult", results.append)
     graph.start(rtf=None)
     try:
         assert server.stdout is not None
@@ -355,6 +358,14 @@ def test_a_graph_action_client_uses_a_rospy_server(endpoint: str, tmp_path: Path
         wait_until(lambda: client.status[held] == GoalStatus.ACTIVE, what="b2 to start")
         client.cancel(held)
         wait_until(lambda: client.done(held), what="the result of b2")
+        # a goal without an id or a stamp: the server names it after itself
+        raw_goal.publish(
+            message_from_data("move_base_msgs/MoveBaseActionGoal", {"goal": _goal("b3", 2)})
+        )
+        unnamed = wait_until(
+            lambda: [r for r in results if r.status.goal_id.id.startswith("/server-")],
+            what="the result of the goal without an id",
+        )
         wait_until(lambda: ack.topic.remote, what="the server to hear acks")
         ack.publish(message_from_data("std_msgs/String", {"data": "quit"}))
         out, err = server.communicate(timeout=DEADLINE)
@@ -367,12 +378,17 @@ def test_a_graph_action_client_uses_a_rospy_server(endpoint: str, tmp_path: Path
     assert client.results[aborted].status.text == "blocked on the way to b1"
     assert client.status[held] == GoalStatus.PREEMPTED
     assert client.results[held].status.text == "stopped b2"
+    assert re.fullmatch(r"/server-\d+-\d+\.\d+", unnamed[0].status.goal_id.id)
+    assert unnamed[0].status.goal_id.stamp.sec + unnamed[0].status.goal_id.stamp.nanosec > 0
+    assert unnamed[0].status.text == "blocked on the way to b3"
     assert server.returncode == 0, err
     assert out.splitlines() == [
         "execute b1 2 active: True",
         "abort b1",
         "execute b2 3 active: True",
         "preempt requested b2 new goal: False",
+        "execute b3 2 active: True",
+        "abort b3",
         "server down",
     ]
 
