@@ -104,10 +104,9 @@ def poll_preempt():
     poll.set_preempted(text="poll stopped")
 
 
-poll = actionlib.SimpleActionServer("poll", MoveBaseAction, auto_start=False)
+poll = actionlib.SimpleActionServer("poll", MoveBaseAction)  # auto_start: a warning
 poll.register_goal_callback(poll_goal)
 poll.register_preempt_callback(poll_preempt)
-poll.start()
 
 handles = {}
 
@@ -126,7 +125,20 @@ def goal_cb(handle):
         handle.set_accepted("accepted " + label)
         handle.set_succeeded(text="done " + label)
         handle.set_succeeded(text="twice")  # an error: the goal is over
+    elif kind == 9:  # feedback from a thread of its own, then success
+        handle.set_accepted("accepted " + label)
+        threading.Thread(target=finish, args=(handle, label)).start()
     # kind 8: left pending until canceled
+
+
+def finish(handle, label):
+    feedback = MoveBaseFeedback()
+    feedback.base_position.header.frame_id = label
+    feedback.base_position.pose.position.x = 0.5
+    handle.publish_feedback(feedback)
+    wait_ack("feedback %s 1" % label)
+    say("manual succeed", label)
+    handle.set_succeeded(text="done " + label)
 
 
 def cancel_cb(handle):
@@ -150,6 +162,7 @@ say("server down")
 
 CLIENT = r'''
 import re
+import sys
 import threading
 import rospy
 import actionlib
@@ -166,6 +179,9 @@ COMM = {getattr(CommState, n): n for n in
         ("WAITING_FOR_GOAL_ACK", "PENDING", "ACTIVE", "WAITING_FOR_RESULT",
          "WAITING_FOR_CANCEL_ACK", "RECALLING", "PREEMPTING", "DONE", "LOST")}
 
+# actionlib's send_goal follows a goal only after sending it: a callback thread that runs in
+# between loses the goal's first transitions. Let this thread run on until it waits.
+sys.setswitchinterval(1.0)
 rospy.init_node("client")
 ack = rospy.Publisher("/actionlib_test/ack", String, queue_size=100)
 bye = threading.Event()
@@ -336,11 +352,21 @@ def show(label, gh):
         "result:", type(gh.get_result()).__name__)
 
 
+feedbacks = []
+
+
+def on_feedback(gh, fb):
+    label = fb.base_position.header.frame_id
+    feedbacks.append("%s %.1f" % (label, fb.base_position.pose.position.x))
+    ack.publish(String("feedback %s 1" % label))
+
+
 handles = {}
-for label, kind in (("m1", 6), ("m2", 7)):
-    handles[label] = manual.send_goal(goal(label, kind), transitions(label))
+for label, kind in (("m1", 6), ("m2", 7), ("m6", 9)):
+    handles[label] = manual.send_goal(goal(label, kind), transitions(label), on_feedback)
     wait_state(label, "DONE")
     show(label, handles[label])
+say("manual feedback:", feedbacks)
 
 # a goal left pending, canceled by its handle: recalled
 handles["m3"] = manual.send_goal(goal("m3", 8), transitions("m3"))
