@@ -31,10 +31,12 @@ from belvedere.ros1.actionlib import (
     CommState,
     CommStateMachine,
     SimpleActionClient,
+    SimpleActionServer,
     SimpleGoalState,
     TerminalState,
     get_name_of_constant,
 )
+from belvedere.ros1.actionlib import ActionServer as RosActionServer
 from belvedere.ros1.actionlib import GoalStatus as RosGoalStatus
 from tests.conftest import DATA, TEST_DOMAIN, free_endpoint
 from tests.ros1.actionlib_scripts import CLIENT, SERVER
@@ -63,6 +65,10 @@ def test_state_names() -> None:
 def test_a_type_that_is_not_an_action_spec() -> None:
     with pytest.raises(ActionException, match=r"Type is not an action spec: .*MoveBaseGoal"):
         SimpleActionClient("move", message_class("move_base_msgs/MoveBaseGoal"))
+    with pytest.raises(ActionException, match=r"Type is not an action spec: .*Twist"):
+        SimpleActionServer("move", message_class("geometry_msgs/Twist"), lambda goal: None)
+    with pytest.raises(ActionException, match="Type is not an action spec: 3"):
+        RosActionServer("move", 3, lambda handle: None)
 
 
 @dataclass

@@ -11,6 +11,7 @@ from typing import Any
 
 from belvedere.ros1 import rospy
 from belvedere.ros1.actionlib._server import ActionServer, ServerGoalHandle
+from belvedere.ros1.actionlib._spec import action_types
 from belvedere.ros1.actionlib._states import GoalStatus
 
 __all__ = ["SimpleActionServer"]
@@ -30,6 +31,7 @@ class SimpleActionServer:
         execute_cb: Callable[[Any], object] | None = None,
         auto_start: bool = True,
     ) -> None:
+        action_types(ActionSpec)  # a bad spec fails here, before the execute thread starts
         self.new_goal = False
         self.preempt_request = False
         self.new_goal_preempt_request = False

@@ -32,6 +32,6 @@ def action_types(action_spec: Any) -> ActionTypes:
             type(spec.action_feedback),
             type(spec.action_result.result),
         )
-    except AttributeError:
+    except (AttributeError, TypeError):  # actionlib lets TypeError (a non-class) through
         msg = f"Type is not an action spec: {action_spec}"
         raise ActionException(msg) from None
