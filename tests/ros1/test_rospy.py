@@ -269,14 +269,17 @@ def test_log_lines_go_to_their_streams_and_to_rosout(tmp_path: Path, endpoint: s
     from typing import Any
 
     from belvedere.graph import Graph, ZenohTransport
+    from tests.conftest import EXAMPLES
 
-    host = subprocess.Popen(  # a graph for the script to join, as a simulation would be
-        [*BELVEDERE, "run", str(_script(tmp_path, "idle.py", "import time\ntime.sleep(60)\n"))],
-        stderr=subprocess.PIPE,
-        text=True,
+    mbot = EXAMPLES / "mbot_description/urdf/xacro/gazebo/mbot_gazebo.xacro"
+    host = subprocess.Popen(  # a simulation for the script to join
+        [*BELVEDERE, "sim", str(mbot), "--headless"], stderr=subprocess.PIPE, text=True
     )
     assert host.stderr is not None
-    assert "listening" in host.stderr.readline()
+    line = host.stderr.readline()
+    while line and "listening" not in line:  # after the model's warnings
+        line = host.stderr.readline()
+    assert "listening" in line
     logs: list[tuple[int, str, str]] = []
     watcher = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint, serve_params=False))
 
@@ -294,7 +297,7 @@ def test_log_lines_go_to_their_streams_and_to_rosout(tmp_path: Path, endpoint: s
     assert done.returncode == 0, done.stderr
     assert _masked(done.stdout).splitlines() == [f"[INFO] [T]: step {i}" for i in range(3)]
     assert _masked(done.stderr).splitlines() == ["[WARN] [T]: only once", "[ERROR] [T]: throttled"]
-    # in simulated time (the run's graph sets /use_sim_time) the stamp shows both clocks
+    # in simulated time (the simulation sets /use_sim_time) the stamp shows both clocks
     assert re.search(r"^\[INFO\] \[\d+\.\d{6}, \d+\.\d{6}\]: step 0$", done.stdout, re.M)
     assert logs == [
         (2, "/logger", "step 0"),

@@ -23,11 +23,13 @@ def run_session(
     args: argparse.Namespace,
     *,
     script: tuple[LaunchNode, Path, list[str]] | None = None,
+    sim_time: bool = True,
 ) -> int:
     """Start everything ``config`` asks for on one graph (and ``script``: a user's script
     run as that node, with those arguments) and run until Ctrl-C, ``--duration``, or a
-    required node exits."""
-    graph = Graph(sim_time=True, seed=args.seed, transport=open_transport(args))
+    required node exits. ``sim_time``: the graph's time is simulated (``/clock``,
+    ``/use_sim_time``), else the wall clock's, as with a bare roscore."""
+    graph = Graph(sim_time=sim_time, seed=args.seed, transport=open_transport(args))
     runtime = LaunchRuntime(
         config,
         graph,
@@ -69,6 +71,9 @@ def _run(graph: Graph, runtime: LaunchRuntime, args: argparse.Namespace) -> None
             return True
         return False
 
+    if not graph.sim_time:
+        # In wall time nothing else may be scheduled: wake up to look at the processes.
+        graph.create_node("belvedere_run").timer(0.2, lambda: None)
     graph.run(duration=args.duration, rtf=args.rtf, until=required_exited)
     if args.duration is not None:
         wall = time.monotonic() - started

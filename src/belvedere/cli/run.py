@@ -131,10 +131,10 @@ def run(args: argparse.Namespace) -> int:
         return run_session(config, packages, args)
     # A script gets its arguments as rosrun passes them (rospy reads its own remaps,
     # _param:= and __name:=). Like rosrun it joins the graph that runs; only when none
-    # does, this provides one (parameters, simulated time), as roscore would.
+    # does, this provides one as roscore would: the parameter server, in wall time.
     if graph_running(args.endpoint, args.domain):
         return run_alone(script, words, packages, args)
-    return run_session(config, packages, args, script=(spec, script, words))
+    return run_session(config, packages, args, script=(spec, script, words), sim_time=False)
 
 
 def run_alone(
