@@ -9,8 +9,10 @@ import sys
 from typing import Any
 
 PACKAGES = (
+    "actionlib",
     "actionlib_msgs",
     "geometry_msgs",
+    "move_base_msgs",
     "nav_msgs",
     "rosgraph_msgs",
     "sensor_msgs",

@@ -154,3 +154,25 @@ def test_time_and_duration() -> None:
         Time(-1)
     with pytest.raises(TypeError):
         _ = Time(1) < Duration(1)
+
+
+# move_base_msgs' sums as ROS publishes them (rosserial's generated headers carry the same).
+MOVE_BASE_MD5 = {
+    "MoveBaseAction": "70b6aca7c7f7746d8d1609ad94c80bb8",
+    "MoveBaseActionGoal": "660d6895a1b9a16dce51fbdd9a64a56b",
+    "MoveBaseActionResult": "1eb06eeff08fa7ea874431638cb52332",
+    "MoveBaseActionFeedback": "7d1870ff6e0decea702b943b5af0b42e",
+    "MoveBaseGoal": "257d089627d7eb7136c24d3593d05a16",
+    "MoveBaseResult": "d41d8cd98f00b204e9800998ecf8427e",
+    "MoveBaseFeedback": "3fb824c456a757373a226f6d08071bf0",
+}
+
+
+def test_move_base_action_types() -> None:
+    for name, md5 in MOVE_BASE_MD5.items():
+        assert message_class(f"move_base_msgs/{name}")._md5sum == md5, name
+    # actionlib finds an action's three wire types from an instance of the *Action class
+    action: Any = message_class("move_base_msgs/MoveBaseAction")()
+    assert type(action.action_goal) is message_class("move_base_msgs/MoveBaseActionGoal")
+    assert type(action.action_result.result) is message_class("move_base_msgs/MoveBaseResult")
+    assert type(action.action_feedback.feedback.base_position).__name__ == "PoseStamped"

@@ -59,6 +59,29 @@ _EXTRA_MESSAGES: Final = {
         "std_msgs/Header header\nactionlib_msgs/GoalStatus status\n"
         "control_msgs/FollowJointTrajectoryFeedback feedback"
     ),
+    "move_base_msgs/msg/MoveBaseGoal": "geometry_msgs/PoseStamped target_pose",
+    "move_base_msgs/msg/MoveBaseResult": "",
+    "move_base_msgs/msg/MoveBaseFeedback": "geometry_msgs/PoseStamped base_position",
+    "move_base_msgs/msg/MoveBaseActionGoal": (
+        "std_msgs/Header header\nactionlib_msgs/GoalID goal_id\nmove_base_msgs/MoveBaseGoal goal"
+    ),
+    "move_base_msgs/msg/MoveBaseActionResult": (
+        "std_msgs/Header header\nactionlib_msgs/GoalStatus status\n"
+        "move_base_msgs/MoveBaseResult result"
+    ),
+    "move_base_msgs/msg/MoveBaseActionFeedback": (
+        "std_msgs/Header header\nactionlib_msgs/GoalStatus status\n"
+        "move_base_msgs/MoveBaseFeedback feedback"
+    ),
+    "move_base_msgs/msg/MoveBaseAction": (
+        "move_base_msgs/MoveBaseActionGoal action_goal\n"
+        "move_base_msgs/MoveBaseActionResult action_result\n"
+        "move_base_msgs/MoveBaseActionFeedback action_feedback"
+    ),
+    "move_base_msgs/msg/RecoveryStatus": (
+        "geometry_msgs/PoseStamped pose_stamped\nuint16 current_recovery_number\n"
+        "uint16 total_number_of_recoveries\nstring recovery_behavior_name"
+    ),
     "gazebo_msgs/msg/ModelState": (
         "string model_name\ngeometry_msgs/Pose pose\ngeometry_msgs/Twist twist\n"
         "string reference_frame"
