@@ -104,3 +104,20 @@ def test_own_latched_messages_arrive_once(endpoint: str) -> None:
     finally:
         g.shutdown()
     assert sorted(got) == [("first", "hi"), ("mark", ""), ("second", "hi")]
+
+
+def test_who_publishes_a_topic_across_graphs(peer: Any, endpoint: str) -> None:
+    transport = ZenohTransport(endpoint=endpoint, serve_params=False)
+    graph = Graph(sim_time=False, transport=transport)
+    try:
+        graph.create_node("mine").publisher("/chatter", "std_msgs/String")
+        # the peer process publishes /chatter too; nobody publishes /nothing
+        wait_until(
+            lambda: transport.publisher_nodes("/chatter") == {"/mine", "/peer"},
+            what="both publishers of /chatter",
+        )
+        assert transport.publisher_nodes("/nothing") == set()
+        assert transport.service_offered("/trigger")
+        assert not transport.service_offered("/nothing")
+    finally:
+        graph.shutdown()

@@ -39,8 +39,9 @@ from belvedere.ros1.actionlib import (
 from belvedere.ros1.actionlib import ActionServer as RosActionServer
 from belvedere.ros1.actionlib import GoalStatus as RosGoalStatus
 from tests.conftest import DATA, TEST_DOMAIN, free_endpoint
+from tests.debian_ros import ROS_PYTHON, ROSCORE
 from tests.ros1.actionlib_scripts import CLIENT, SERVER
-from tests.tf.ros1 import ROS_PYTHON, ROSCORE, start_roscore
+from tests.tf.ros1 import start_roscore
 from tests.waiting import DEADLINE, wait_until
 
 BELVEDERE_RUN = [sys.executable, "-m", "belvedere", "run", "--headless"]

@@ -672,6 +672,19 @@ class ZenohTransport:
         msg = f"service {name} is not offered by any node (waited {timeout:g} s)"
         raise ServiceUnavailableError(msg, hint="is the node that provides it running?")
 
+    def publisher_nodes(self, topic: str, timeout: float = 0.5) -> set[str]:
+        """The nodes (in any process, this one too) that publish on ``topic``."""
+        key = self._key("g/pub/", encode_key(topic) + "/**")
+        prefix = self._key("g/pub/")
+        nodes: set[str] = set()
+        with contextlib.suppress(zenoh.ZError):
+            for reply in self.session.liveliness().get(key, timeout=timeout):
+                if reply.ok is not None:
+                    chunks = str(reply.ok.key_expr).removeprefix(prefix).split("/")
+                    if len(chunks) == 4:
+                        nodes.add(decode_key(chunks[2]))
+        return nodes
+
     def service_offered(self, name: str, timeout: float = 1.0) -> bool:
         """Does a node in another process offer service ``name``?"""
         key = self._key("g/srv/", encode_key(name) + "/**")

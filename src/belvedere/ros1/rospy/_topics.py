@@ -288,9 +288,12 @@ class Subscriber(_Topic):
         impl = self._impl
         if impl is None:
             return 0
-        topic = impl.topic
-        local = {pub.node.full_name for pub in topic.publishers}
-        return len(local)
+        local = {pub.node.full_name for pub in impl.topic.publishers}
+        runtime = _state.current()
+        transport = runtime.transport if runtime is not None else None
+        if transport is None:
+            return len(local)
+        return len(local | transport.publisher_nodes(self.resolved_name))
 
     def unregister(self) -> None:
         impl = self._impl
