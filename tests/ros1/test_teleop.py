@@ -10,7 +10,6 @@ import pty
 import subprocess
 import sys
 import time
-from pathlib import Path
 from typing import Any
 
 import pytest
@@ -19,9 +18,10 @@ from belvedere.graph import Graph, ZenohTransport
 from tests.conftest import EXAMPLES
 from tests.waiting import DEADLINE, wait_until
 
-TELEOP = Path(__file__).parent.parent / "data" / "ros1" / "mbot_teleop.py"
+TELEOP = EXAMPLES / "mbot_teleop/scripts/mbot_teleop.py"
 MBOT = str(EXAMPLES / "mbot_description/urdf/xacro/gazebo/mbot_gazebo.xacro")
 MBOT_YAML = str(EXAMPLES / "mbot_description/config/fake_mbot_arbotix.yaml")
+RUN = [sys.executable, "-m", "belvedere", "run", "--package-path", str(EXAMPLES)]
 WORLD = str(EXAMPLES / "mbot_gazebo/worlds/playground.world")
 
 ENGINES = {
@@ -60,7 +60,7 @@ def test_the_course_teleop_drives_the_simulation(endpoint: str, engine: str) -> 
     try:
         wait_until(lambda: poses, what=f"the {engine} simulation's /odom")
         teleop = subprocess.Popen(
-            [sys.executable, "-m", "belvedere", "run", str(TELEOP), "_speed:=0.4"],
+            [*RUN, "mbot_teleop", "mbot_teleop.py", "_speed:=0.4"],
             stdin=terminal,
             stdout=terminal,
             stderr=subprocess.PIPE,
