@@ -121,3 +121,33 @@ def test_who_publishes_a_topic_across_graphs(peer: Any, endpoint: str) -> None:
         assert not transport.service_offered("/nothing")
     finally:
         graph.shutdown()
+
+
+def test_a_graph_follows_the_clock_of_a_running_simulation(endpoint: str) -> None:
+    """A graph that joins a simulation takes its time from /clock: its timers fire as that
+    clock passes them, and its time never runs ahead of the simulation's."""
+    sim = Graph(sim_time=True, transport=ZenohTransport(endpoint=endpoint))
+    joined = Graph(
+        sim_time=True,
+        clock_hz=None,
+        transport=ZenohTransport(endpoint=endpoint, serve_params=False),
+    )
+    fired: list[tuple[int, int]] = []
+    joined.follow_clock(joined.create_node("follower"))
+    joined.create_node("timed").timer(
+        0.5, lambda: fired.append((joined.now_ns(), sim.now_ns())), oneshot=True
+    )
+    assert joined.executor.following
+    assert joined.executor.horizon_ns() == 0
+    joined.start(rtf=None)
+    sim.start(rtf=4.0)
+    try:
+        wait_until(lambda: fired, what="the joined graph's timer at 0.5 s of simulated time")
+    finally:
+        sim.shutdown()
+        joined.shutdown()
+    mine, theirs = fired[0]
+    assert 500_000_000 <= mine <= theirs
+    wall = Graph(sim_time=False)
+    with pytest.raises(GraphError, match="only a graph in simulated time can follow /clock"):
+        wall.follow_clock(wall.create_node("x"))
