@@ -80,6 +80,7 @@ class Executor:
         self._pace_sim = start_ns
         self._end_ns: int | None = None
         self._following = False
+        self._clock_seen = False
 
     # --- time ----------------------------------------------------------------------------------
     def now_ns(self) -> int:
@@ -97,6 +98,7 @@ class Executor:
     def set_clock(self, ns: int) -> None:
         """The outside clock reads ``ns`` (executor thread; time never goes back)."""
         self._sim_ns = max(self._sim_ns, ns)
+        self._clock_seen = True
 
     # --- registration ----------------------------------------------------------------------------
     def add_timer(
@@ -225,12 +227,17 @@ class Executor:
         self._stop.clear()
         self.rtf = rtf
         self._rebase()
+        # Following a clock, the run's duration counts from the first time it reads.
+        wait_for_clock = self._following and not self._clock_seen and duration is not None
         end_ns = None if duration is None else self.now_ns() + round(duration * NS)
         self._end_ns = end_ns
         while not self._stop.is_set():
             self._drain()
             if until is not None and until():
                 return
+            if wait_for_clock and self._clock_seen and duration is not None:
+                wait_for_clock = False
+                end_ns = self._end_ns = self._sim_ns + round(duration * NS)
             next_due = self._timers[0][0] if self._timers else None
             if end_ns is not None and (next_due is None or next_due > end_ns):
                 next_due = end_ns
