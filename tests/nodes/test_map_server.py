@@ -186,3 +186,20 @@ def test_map_server_without_a_map_file(capsys: pytest.CaptureFixture[str]) -> No
 def test_a_saved_map_loads_as_served(pkg: Path) -> None:
     grid = load_map(pkg / "maps" / "office.yaml")
     assert np.array_equal(grid.data, GRID)
+
+
+def test_map_saver_that_cannot_write_says_so_and_fails(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """map_saver logs the error and would wait for another map; this one ends with status 1
+    (a latched map would never come again)."""
+    grid = "{info: {resolution: 0.1, width: 1, height: 1}, data: [0]}"
+    target = tmp_path / "no" / "such" / "dir" / "map"
+    code = main(
+        ["run", "--rtf", "max", "--headless", "--pub", f"/map nav_msgs/OccupancyGrid {grid}",
+         "map_server", "map_saver", "-f", str(target)]
+    )  # fmt: skip
+    assert code == 1
+    err = capsys.readouterr().err
+    assert f"error: Couldn't save map file to {target}.pgm: No such file or directory" in err
+    assert not (tmp_path / "no").exists()

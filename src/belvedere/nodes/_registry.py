@@ -75,12 +75,12 @@ Starter = Callable[[Session, NodeSpec, Node], None]
 
 MODULES: Final = {
     "arbotix_python": "arbotix_python",
-    "map_server": "map_server",
     "controller_manager": "controller_manager",
     "depthimage_to_laserscan": "depthimage_to_laserscan",
     "gazebo_ros": "gazebo_ros",
     "joint_state_publisher": "joint_state_publisher",
     "joint_state_publisher_gui": "joint_state_publisher_gui",
+    "map_server": "map_server",
     "robot_state_publisher": "robot_state_publisher",
     "rviz": "rviz",
     "teleop_twist_keyboard": "teleop_twist_keyboard",

@@ -6,7 +6,9 @@ on ``map`` and its ``nav_msgs/MapMetaData`` on ``map_metadata``, and answers ``s
 when time is valid (in simulated time, once the clock has left zero).
 
 ``map_saver [-f NAME] [--occ T] [--free T]`` waits for one map on ``map`` (remappable), writes
-``NAME.pgm`` and ``NAME.yaml`` byte for byte as map_saver does, and ends.
+``NAME.pgm`` and ``NAME.yaml`` byte for byte as map_saver does, and ends. One that cannot
+write says so as map_saver does and ends with status 1 (map_saver would wait for another map,
+which a latched topic never sends).
 """
 
 from __future__ import annotations
