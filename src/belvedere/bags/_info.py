@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import time
 from collections import defaultdict
 
@@ -140,9 +141,7 @@ def _compression(bag: BagFile, duration: float) -> list[tuple[str, str]]:
             rate_width = max(len(ra), len(rb))
             percent = 100.0 * total_packed / total_plain if total_plain else 0.0
             rows.append(("uncompressed", f"{a:>{width}} @ {ra:>{rate_width}}/s"))
-            rows.append(
-                ("compressed", f"{b:>{width}} @ {rb:>{rate_width}}/s ({percent:.2f}%)")
-            )
+            rows.append(("compressed", f"{b:>{width}} @ {rb:>{rate_width}}/s ({percent:.2f}%)"))
         else:
             rows.append(("uncompressed", f"{a:>{width}}"))
             rows.append(("compressed", f"{b:>{width}}"))
@@ -157,7 +156,7 @@ def _rates(bag: BagFile) -> dict[str, float]:
     for topic, times in stamps.items():
         if len(times) > 1:
             times.sort()
-            period = _median([(b - a) / NS for a, b in zip(times, times[1:], strict=False)])
+            period = _median([(b - a) / NS for a, b in itertools.pairwise(times)])
             if period > 0:
                 rates[topic] = 1.0 / period
     return rates

@@ -24,7 +24,7 @@ from collections import defaultdict
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import BinaryIO, Final
+from typing import Any, BinaryIO, Final
 
 import lz4.frame
 
@@ -210,12 +210,12 @@ def _compressor(name: str) -> Callable[[bytes], bytes]:
     return lambda data: data
 
 
-def _zstd() -> object:
+def _zstd() -> Any:
     try:
         from compression import zstd  # type: ignore[import-not-found]  # Python 3.14
     except ImportError:
         try:
-            from backports import zstd  # type: ignore[no-redef]
+            from backports import zstd
         except ImportError:
             msg = "zstd-compressed MCAP chunks need the backports.zstd package"
             raise BagError(msg) from None
@@ -229,7 +229,7 @@ def _decompress(name: str, data: bytes, size: int) -> bytes | None:
         if name == "lz4":
             return bytes(lz4.frame.decompress(data))
         if name == "zstd":
-            return bytes(_zstd().decompress(data))  # type: ignore[attr-defined]
+            return bytes(_zstd().decompress(data))
     except (OSError, ValueError, RuntimeError):
         return None
     return None
@@ -271,7 +271,9 @@ class McapWriter:
         self._start = 2**64 - 1
         self._end = 0
 
-    def add_connection(self, topic: str, msgtype: str, *, callerid: str | None, latching: bool) -> int:
+    def add_connection(
+        self, topic: str, msgtype: str, *, callerid: str | None, latching: bool
+    ) -> int:
         summary = self._summary
         schema_id = self._schema_ids.get(msgtype)
         if schema_id is None:
@@ -669,9 +671,7 @@ def recover_mcap(path: Path, output: Path, backup: Path | None) -> tuple[int, in
                 summary.add_message(cid, stamp)
                 kept.append((start - 9, end, None, None))
             elif op == OP_CHUNK:
-                cstart, cend, size, crc, compression, compressed, offset = _parse_chunk_header(
-                    body
-                )
+                cstart, cend, size, crc, compression, compressed, offset = _parse_chunk_header(body)
                 raw = _decompress(compression, body[offset : offset + compressed], size)
                 if raw is None or len(raw) != size or (crc and zlib.crc32(raw) != crc):
                     break
@@ -687,8 +687,14 @@ def recover_mcap(path: Path, output: Path, backup: Path | None) -> tuple[int, in
                         cid, _, stamp, _ = _MESSAGE.unpack_from(raw, rstart)
                         index[cid].append((stamp, rstart - 9))
                         summary.add_message(cid, stamp)
-                ref = _ChunkRef(start - 9, cstart, cend, compression, compressed, size)
-                kept.append((start - 9, end, index, ref))
+                kept.append(
+                    (
+                        start - 9,
+                        end,
+                        index,
+                        _ChunkRef(start - 9, cstart, cend, compression, compressed, size),
+                    )
+                )
         except (struct.error, UnicodeDecodeError):
             break
         good_end = end
@@ -698,12 +704,12 @@ def recover_mcap(path: Path, output: Path, backup: Path | None) -> tuple[int, in
     try:
         with temp.open("wb") as out:
             out.write(data[:data_start])
-            for start, end, index, ref in kept:
+            for start, end, chunk_index, ref in kept:
                 pos = out.tell()
                 out.write(data[start:end])
-                if index is not None and ref is not None:
+                if chunk_index is not None and ref is not None:
                     length = out.tell() - pos
-                    offsets, index_len = _message_indexes(out, index)
+                    offsets, index_len = _message_indexes(out, chunk_index)
                     summary.chunk_indexes.append(
                         _chunk_index(
                             ref.start,

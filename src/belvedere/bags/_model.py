@@ -116,7 +116,9 @@ class Decoder:
             store.register(found)
             types().resolve(conn.msgtype)
         except (TypesysError, MessageTypeError, ValueError, KeyError) as err:
-            logger.warning("skipping %s: cannot read its type %s: %s", conn.topic, conn.msgtype, err)
+            logger.warning(
+                "skipping %s: cannot read its type %s: %s", conn.topic, conn.msgtype, err
+            )
             return False
         return True
 

@@ -24,8 +24,8 @@ from pathlib import Path
 from typing import BinaryIO, Final
 
 import lz4.frame
-from rosbags.interfaces import ConnectionExtRosbag1
 from rosbags.interfaces import Connection as RosbagsConnection
+from rosbags.interfaces import ConnectionExtRosbag1
 from rosbags.rosbag1 import Reader, ReaderError, Writer, WriterError
 
 from belvedere.bags._model import BagError, BagMessage, Connection, ros1_definition
@@ -212,9 +212,7 @@ class Ros1Bag:
         start_ns: int | None = None,
         stop_ns: int | None = None,
     ) -> Iterator[BagMessage]:
-        wanted = (
-            None if connections is None else {c.id for c in connections if c.id in self._conns}
-        )
+        wanted = None if connections is None else {c.id for c in connections if c.id in self._conns}
         chosen = [c for c in self._reader.connections if wanted is None or c.id in wanted]
         if not chosen:
             return

@@ -449,23 +449,26 @@ class ZenohTransport:
 
     # --- topics --------------------------------------------------------------------------------
     def advertise(self, topic: Topic, publisher: Publisher) -> None:
+        # The token goes last: whoever sees it finds the publisher and its latched messages.
+        self._declare_publisher(topic, publisher)
         self._token("pub", topic.name, topic.type, publisher.node.full_name)
+
+    def _declare_publisher(self, topic: Topic, publisher: Publisher) -> None:
         with self._lock:
-            if topic.name in self._publishers:
-                return
-            zpub = self.session.declare_publisher(
-                self._key("t", topic.name),
-                congestion_control=zenoh.CongestionControl.BLOCK,
-                allowed_destination=zenoh.Locality.REMOTE,
-            )
-            self._publishers[topic.name] = zpub
+            if topic.name not in self._publishers:
+                zpub = self.session.declare_publisher(
+                    self._key("t", topic.name),
+                    congestion_control=zenoh.CongestionControl.BLOCK,
+                    allowed_destination=zenoh.Locality.REMOTE,
+                )
+                self._publishers[topic.name] = zpub
 
-            def matching(status: Any) -> None:
-                topic.remote = bool(status.matching)
+                def matching(status: Any) -> None:
+                    topic.remote = bool(status.matching)
 
-            self._matching[topic.name] = zpub.declare_matching_listener(matching)
-            # (zenoh's type stubs call this a bool; it is a MatchingStatus)
-            topic.remote = bool(cast(Any, zpub).matching_status.matching)
+                self._matching[topic.name] = zpub.declare_matching_listener(matching)
+                # (zenoh's type stubs call this a bool; it is a MatchingStatus)
+                topic.remote = bool(cast(Any, zpub).matching_status.matching)
         if publisher.latch and topic.name not in self._latch_queryables:
 
             def latched(query: Any) -> None:
@@ -608,6 +611,50 @@ class ZenohTransport:
 
     def unsubscribe(self, topic: Topic, subscription: Subscription) -> None:
         self._drop_token("sub", topic.name, topic.type, subscription.node.full_name)
+
+    # --- raw access (recorders) ----------------------------------------------------------------
+    def tap(self, topic: str | None, callback: Callable[[str, bytes], None]) -> Any:
+        """Call ``callback(topic, cdr_bytes)`` on Zenoh's thread for each message other
+        processes publish on ``topic`` (on every topic when None), in arrival order, never
+        deserialized here. Returns the subscriber (``undeclare()`` ends it). A tap on every
+        topic makes every publisher send (as ``rosbag record -a`` subscribes to all)."""
+        prefix = self._key("t")
+        key = self._key("t", topic) if topic else self._key("t/**")
+        skip = len(prefix)
+
+        def on_sample(sample: Any) -> None:
+            callback(str(sample.key_expr)[skip:], sample.payload.to_bytes())
+
+        return self.session.declare_subscriber(key, on_sample)
+
+    def watch_publishers(self, callback: Callable[[str, str, str, bool], None]) -> Any:
+        """Call ``callback(topic, type, node, alive)`` for each publisher in other processes,
+        those there now and each that comes (alive) or goes. Returns the watch."""
+        prefix = self._key("g/pub/")
+        own = self._zid
+
+        def on_token(sample: Any) -> None:
+            chunks = str(sample.key_expr).removeprefix(prefix).split("/")
+            if len(chunks) != 4 or chunks[3] == own:
+                return
+            topic, type_name, node = (decode_key(c) for c in chunks[:3])
+            callback(topic, type_name, node, sample.kind == zenoh.SampleKind.PUT)
+
+        return self.session.liveliness().declare_subscriber(prefix + "**", on_token, history=True)
+
+    def latched_raw(self, topic: str, timeout: float = 2.0) -> list[bytes]:
+        """The CDR bytes of the messages latching publishers in other processes hold on
+        ``topic`` (none if no publisher there latches)."""
+        found: list[bytes] = []
+        with contextlib.suppress(zenoh.ZError):
+            replies = self.session.get(
+                self._key("l", topic),
+                timeout=timeout,
+                consolidation=zenoh.ConsolidationMode.NONE,
+                allowed_destination=zenoh.Locality.REMOTE,
+            )
+            found = [r.ok.payload.to_bytes() for r in replies if r.ok is not None]
+        return found
 
     # --- services ------------------------------------------------------------------------------
     def offer_service(self, server: ServiceServer) -> None:
