@@ -89,7 +89,7 @@ def _kind(path: Path) -> str:
     if head.startswith(b"#ROSBAG V"):
         if head != ROS1_MAGIC:
             version = head[len("#ROSBAG V") :].decode(errors="replace").strip()
-            msg = f"{path} is a ROS 1 bag of format {version}; belvedere reads format 2.0"
+            msg = f"{path} is a ROS 1 bag of format {version}; belvedere reads 2.0"
             raise BagError(msg, hint="rosbag fix or rosbag reindex in ROS 1 converts old bags")
         return "bag"
     if not head:

@@ -444,8 +444,14 @@ class McapBag:
         if head[:8] != MAGIC:
             msg = f"{self.path} is not an MCAP file"
             raise BagError(msg)
+        if len(head) < 17 or head[8] != OP_HEADER:
+            msg = f"{self.path} is not a whole MCAP file (its header is cut short)"
+            raise BagError(msg)
         (length,) = _U64.unpack_from(head, 9)
         header = f.read(length)
+        if len(header) != length:
+            msg = f"{self.path} is not a whole MCAP file (its header is cut short)"
+            raise BagError(msg)
         self.profile, _ = _read_string(header, 0)
         self.data_start = 17 + length
         self.version = f"MCAP ({self.profile or 'no'} profile)"

@@ -63,6 +63,9 @@ class Sample:
 class Source:
     """Where samples come from; the recorder asks it to finish them (their stamps, types)."""
 
+    def begin(self) -> None:
+        """Start delivering (the recorder's first file is open)."""
+
     def ready(self, sample: Sample) -> Iterable[Sample]:
         return (sample,)
 
@@ -118,6 +121,7 @@ class Recorder:
         if source is not None:
             self.source = source
         self._open()
+        self.source.begin()
         self._thread = threading.Thread(target=self._run, name="belvedere-record", daemon=True)
         self._thread.start()
 
@@ -295,18 +299,24 @@ class GraphRecording(Source):
         self._closed = False
         self._remote: dict[str, str] = {}
         self._watch: Any = None
+        self._seen: Callable[[str, str, str, bool], None] | None = None
         graph = node.graph
-        transport = graph.transport
-        if isinstance(transport, ZenohTransport):
+        if isinstance(graph.transport, ZenohTransport):
 
             def seen(topic: str, type_name: str, _node: str, alive: bool) -> None:
                 if alive and topic not in self._remote:
                     self._remote[topic] = type_name
                     graph.executor.post(self.refresh)
 
-            self._watch = transport.watch_publishers(seen)
+            self._seen = seen
+        self._poll = poll
+
+    def begin(self) -> None:
+        transport = self.node.graph.transport
+        if isinstance(transport, ZenohTransport) and self._seen is not None:
+            self._watch = transport.watch_publishers(self._seen)
         self.refresh()
-        node.timer(poll, self.refresh)
+        self.node.timer(self._poll, self.refresh)
 
     def refresh(self) -> None:
         """Subscribe to the wanted topics that exist now (executor thread)."""
@@ -363,7 +373,7 @@ class TapRecording(Source):
     def __init__(self, transport: ZenohTransport, recorder: Recorder) -> None:
         self.transport = transport
         self.recorder = recorder
-        self.options = options = recorder.options
+        self.options = recorder.options
         self._types: dict[str, str] = {}
         self._callers: dict[str, set[str]] = {}
         self._latching: dict[str, bool] = {}
@@ -375,7 +385,12 @@ class TapRecording(Source):
         self._first_pending_wall: int | None = None
         self._closed = False
         self._taps: list[Any] = []
-        put = recorder.put
+        self._watch: Any = None
+
+    def begin(self) -> None:
+        put = self.recorder.put
+        transport = self.transport
+        options = self.options
 
         def arrived(topic: str, data: bytes) -> None:
             put(Sample(topic, None, None, data, True, time.time_ns()))

@@ -1,4 +1,4 @@
-"""ROS 1 bags (format 2.0): written and read through rosbags; repaired here.
+"""ROS 1 bags (format 2.0): read through rosbags; written and repaired here.
 
 The format (ROS wiki, Bags/Format/2.0): ``#ROSBAG V2.0\\n``, a bag header record padded to
 4 KiB (where the index starts, how many connections and chunks), then chunks — each a chunk
@@ -7,8 +7,11 @@ connection in it — and at the end the index: every connection record again and
 chunk-info record per chunk. A record is a header (``name=value`` fields, ``op`` its kind)
 and data, each preceded by its length (little-endian uint32).
 
-The writer writes a chunk at least every second, so a recording killed outright loses at
-most its last second; :func:`reindex` rebuilds the index of such a bag from its chunks.
+The writer lays the file out exactly as ROS 1's rosbag does — its bag header record is 4104
+bytes, which ``rosbag reindex`` and rosbag's append mode rewrite in place (rosbags' writer
+makes it 4096, which they then corrupt), and its LZ4 chunks are frames roslz4 can read — and
+writes a chunk at least every second, so a recording killed outright loses at most its last
+second; :func:`reindex_ros1` rebuilds the index of such a bag from its chunks.
 """
 
 from __future__ import annotations
@@ -24,9 +27,8 @@ from pathlib import Path
 from typing import BinaryIO, Final
 
 import lz4.frame
-from rosbags.interfaces import Connection as RosbagsConnection
 from rosbags.interfaces import ConnectionExtRosbag1
-from rosbags.rosbag1 import Reader, ReaderError, Writer, WriterError
+from rosbags.rosbag1 import Reader, ReaderError
 
 from belvedere.bags._model import BagError, BagMessage, Connection, ros1_definition
 
@@ -41,6 +43,8 @@ __all__ = [
 MAGIC: Final = b"#ROSBAG V2.0\n"
 CHUNK_SIZE: Final = 768 * 1024
 """rosbag's default chunk size (``--chunksize``, 768 KiB)."""
+HEADER_SIZE: Final = 4096
+"""rosbag pads the bag header's fields to this many bytes."""
 
 OP_MSGDATA: Final = 0x02
 OP_BAGHEADER: Final = 0x03
@@ -79,7 +83,9 @@ def _roslz4(data: bytes) -> bytes:
 
 
 class Ros1BagWriter:
-    """Writes a ROS 1 bag (rosbags' writer), a chunk at least every :meth:`flush`."""
+    """Writes a ROS 1 bag laid out byte for byte as ROS 1's rosbag lays it out (its header
+    record padded to 4096 bytes, which ``rosbag reindex`` and rosbag's append rewrite in
+    place), a chunk at least every :meth:`flush`."""
 
     encoding: Final = "ros1"
 
@@ -88,50 +94,141 @@ class Ros1BagWriter:
     ) -> None:
         self.path = path
         try:
-            self._writer = Writer(path)
-            if compression != "none":
-                self._writer.set_compression(Writer.CompressionFormat[compression.upper()])
-                if compression == "lz4":
-                    self._writer.compressor = _roslz4
-            self._writer.chunk_threshold = chunk_size
-            self._writer.open()
-        except (WriterError, OSError) as err:
-            msg = f"cannot write {path}: {getattr(err, 'strerror', None) or err}"
+            self._f: BinaryIO = path.open("wb")
+        except OSError as err:
+            msg = f"cannot write {path}: {err.strerror or err}"
             raise BagError(msg) from None
+        self._f.write(MAGIC)
+        self._write_bag_header(0, 0, 0)
+        self._compression = compression
+        self._compress = {"lz4": _roslz4, "bz2": lambda d: bz2.compress(d, 9)}.get(
+            compression, lambda d: d
+        )
+        self._chunk_size = chunk_size
+        self._connections: list[bytes] = []
+        """Each connection's record."""
+        self._chunk_infos: list[bytes] = []
+        self._new_chunk()
+
+    def _new_chunk(self) -> None:
+        self._buf = bytearray()
+        self._index: dict[int, list[tuple[int, int]]] = defaultdict(list)
+        self._start = 2**64
+        self._end = 0
+
+    def _write_bag_header(self, index_pos: int, conns: int, chunks: int) -> None:
+        fields = _fields(
+            {
+                "op": bytes([OP_BAGHEADER]),
+                "index_pos": _U64.pack(index_pos),
+                "conn_count": _U32.pack(conns),
+                "chunk_count": _U32.pack(chunks),
+            }
+        )
+        padding = HEADER_SIZE - (len(fields) - 4)
+        self._f.write(fields + _U32.pack(padding) + b" " * padding)
 
     def add_connection(
         self, topic: str, msgtype: str, *, callerid: str | None, latching: bool
-    ) -> RosbagsConnection:
-        _, md5sum, text = ros1_definition(msgtype)
-        return self._writer.add_connection(
-            topic,
-            msgtype,
-            msgdef=text,
-            md5sum=md5sum,
-            callerid=callerid,
-            latching=1 if latching else 0,
+    ) -> int:
+        ros1_type, md5sum, text = ros1_definition(msgtype)
+        conn = len(self._connections)
+        header = {} if callerid is None else {"callerid": callerid.encode()}
+        header |= {
+            "latching": b"1" if latching else b"0",
+            "md5sum": md5sum.encode(),
+            "message_definition": text.encode(),
+            "topic": topic.encode(),
+            "type": ros1_type.encode(),
+        }
+        record = _record(
+            {"op": bytes([OP_CONNECTION]), "conn": _U32.pack(conn), "topic": topic.encode()},
+            _fields(header)[4:],
         )
+        self._connections.append(record)
+        self._buf += record
+        return conn
 
-    def write(self, connection: RosbagsConnection, stamp_ns: int, data: bytes) -> None:
-        self._writer.write(connection, stamp_ns, data)
+    def write(self, connection: int, stamp_ns: int, data: bytes) -> None:
+        buf = self._buf
+        self._index[connection].append((stamp_ns, len(buf)))
+        buf += _record(
+            {"op": bytes([OP_MSGDATA]), "conn": _U32.pack(connection), "time": _time(stamp_ns)},
+            data,
+        )
+        self._start = min(self._start, stamp_ns)
+        self._end = max(self._end, stamp_ns)
+        if len(buf) > self._chunk_size:
+            self._write_chunk()
+
+    def _write_chunk(self) -> None:
+        if not self._index:
+            return  # connection records wait for their first message
+        f = self._f
+        pos = f.tell()
+        raw = bytes(self._buf)
+        f.write(
+            _record(
+                {
+                    "op": bytes([OP_CHUNK]),
+                    "compression": self._compression.encode(),
+                    "size": _U32.pack(len(raw)),
+                },
+                self._compress(raw),
+            )
+        )
+        for conn, entries in sorted(self._index.items()):
+            f.write(_index_record(conn, entries))
+        self._chunk_infos.append(_chunk_info(pos, self._start, self._end, self._index))
+        self._new_chunk()
 
     @property
     def size(self) -> int:
         """Bytes so far, the open chunk's too."""
-        bio = self._writer.bio
-        return (bio.tell() if bio else 0) + self._writer.chunks[-1].data.tell()
+        return self._f.tell() + len(self._buf)
 
     def flush(self) -> None:
         """Write the open chunk (if it holds messages) and hand the file to the system."""
-        writer = self._writer
-        chunk = writer.chunks[-1]
-        if chunk.connections:
-            writer.write_chunk(chunk)
-        if writer.bio is not None:
-            writer.bio.flush()
+        self._write_chunk()
+        self._f.flush()
 
     def close(self) -> None:
-        self._writer.close()
+        f = self._f
+        self._write_chunk()
+        index_pos = f.tell()
+        for record in self._connections:
+            f.write(record)
+        for record in self._chunk_infos:
+            f.write(record)
+        f.seek(len(MAGIC))
+        self._write_bag_header(index_pos, len(self._connections), len(self._chunk_infos))
+        f.close()
+
+
+def _index_record(conn: int, entries: list[tuple[int, int]]) -> bytes:
+    return _record(
+        {
+            "op": bytes([OP_IDXDATA]),
+            "ver": _U32.pack(1),
+            "conn": _U32.pack(conn),
+            "count": _U32.pack(len(entries)),
+        },
+        b"".join(_time(t) + _U32.pack(o) for t, o in entries),
+    )
+
+
+def _chunk_info(pos: int, start: int, end: int, index: dict[int, list[tuple[int, int]]]) -> bytes:
+    return _record(
+        {
+            "op": bytes([OP_CHUNK_INFO]),
+            "ver": _U32.pack(1),
+            "chunk_pos": _U64.pack(pos),
+            "start_time": _time(start if index else 0),
+            "end_time": _time(end if index else 0),
+            "count": _U32.pack(len(index)),
+        },
+        b"".join(_U32.pack(c) + _U32.pack(len(e)) for c, e in sorted(index.items())),
+    )
 
 
 # --- reading ---------------------------------------------------------------------------------
@@ -414,46 +511,24 @@ def write_indexed(source: Path, scan: Ros1Scan, target: BinaryIO) -> int:
     with source.open("rb") as f:
         header = f.read(scan.header_end)
         target.write(header)
-        placed: list[tuple[int, _Chunk, dict[int, list[tuple[int, int]]]]] = []
+        placed: list[tuple[int, dict[int, list[tuple[int, int]]]]] = []
         for chunk in scan.chunks:
             f.seek(chunk.start)
             pos = target.tell()
             target.write(f.read(chunk.end - chunk.start))
             index = {c: sorted(e) for c, e in sorted(chunk.index.items()) if c in known}
             for conn, entries in index.items():
-                target.write(
-                    _record(
-                        {
-                            "op": bytes([OP_IDXDATA]),
-                            "ver": _U32.pack(1),
-                            "conn": _U32.pack(conn),
-                            "count": _U32.pack(len(entries)),
-                        },
-                        b"".join(_time(t) + _U32.pack(o) for t, o in entries),
-                    )
-                )
+                target.write(_index_record(conn, entries))
                 total += len(entries)
-            placed.append((pos, chunk, index))
+            placed.append((pos, index))
     index_pos = target.tell()
     for conn, (topic, data) in sorted(known.items()):
         target.write(
             _record({"op": bytes([OP_CONNECTION]), "conn": _U32.pack(conn), "topic": topic}, data)
         )
-    for pos, _, index in placed:
+    for pos, index in placed:
         times = [t for entries in index.values() for t, _ in entries]
-        target.write(
-            _record(
-                {
-                    "op": bytes([OP_CHUNK_INFO]),
-                    "ver": _U32.pack(1),
-                    "chunk_pos": _U64.pack(pos),
-                    "start_time": _time(min(times, default=0)),
-                    "end_time": _time(max(times, default=0)),
-                    "count": _U32.pack(len(index)),
-                },
-                b"".join(_U32.pack(c) + _U32.pack(len(e)) for c, e in index.items()),
-            )
-        )
+        target.write(_chunk_info(pos, min(times, default=0), max(times, default=0), index))
     # The bag header keeps its place and length: its padding absorbs the new numbers.
     target.seek(len(MAGIC))
     fields = _fields(

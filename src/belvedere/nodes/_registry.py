@@ -65,6 +65,11 @@ class Session(Protocol):
     """Run after that (controller spawners)."""
     spawned: dict[str, Any]
     """Model name → the node spec that spawned it."""
+    closers: list[Callable[[], None]]
+    """Run when the session ends (a recorder closes its bag), last added first."""
+    exits: list[tuple[Any, Callable[[], bool]]]
+    """(node spec, has it finished?) of in-process nodes that end on their own (a bag
+    played to its end): a required one ends the session."""
 
 
 Starter = Callable[[Session, NodeSpec, Node], None]
@@ -77,6 +82,7 @@ MODULES: Final = {
     "joint_state_publisher": "joint_state_publisher",
     "joint_state_publisher_gui": "joint_state_publisher_gui",
     "robot_state_publisher": "robot_state_publisher",
+    "rosbag": "rosbag",
     "rviz": "rviz",
     "teleop_twist_keyboard": "teleop_twist_keyboard",
     "tf": "tf",

@@ -1,0 +1,220 @@
+"""Interoperability: bags belvedere writes open in ROS 1's rosbag (its Python API and its
+``info`` and ``reindex`` commands) and in rosbags; bags ROS 1's rosbag writes read and play
+in belvedere."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from belvedere.bags import Decoder, Player, PlayOptions, create_writer, info_text, open_bag
+from belvedere.bags._model import encode
+from belvedere.graph import Graph
+from tests.bags._make import MS, odometry, scan, write_sample
+from tests.debian_ros import ROS_PYTHON, missing_debian_ros
+
+ORACLE = Path(__file__).with_name("rosbag_oracle.py")
+ROSBAG = Path("/usr/bin/rosbag")
+MISSING = missing_debian_ros("rosbag, geometry_msgs.msg, std_msgs.msg")
+
+needs_rosbag = pytest.mark.skipif(MISSING is not None, reason=MISSING or "")
+
+
+@pytest.fixture
+def utc(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
+    monkeypatch.setenv("TZ", "UTC")
+    time.tzset()
+    yield
+    monkeypatch.undo()
+    time.tzset()
+
+
+def _oracle(*args: str) -> Any:
+    env = {**os.environ, "PATH": f"/usr/bin:{os.environ.get('PATH', '')}", "TZ": "UTC"}
+    env.pop("PYTHONPATH", None)
+    done = subprocess.run(
+        [str(ROS_PYTHON), str(ORACLE), *args],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=120,
+        check=False,
+    )
+    assert done.returncode == 0, done.stderr
+    return json.loads(done.stdout) if args[0] == "read" else None
+
+
+def _rosbag(*args: str) -> subprocess.CompletedProcess[str]:
+    if not ROSBAG.exists():
+        pytest.skip(f"{ROSBAG} is not installed")
+    env = {**os.environ, "PATH": f"/usr/bin:{os.environ.get('PATH', '')}", "TZ": "UTC"}
+    env.pop("PYTHONPATH", None)
+    return subprocess.run(
+        [str(ROSBAG), *args], capture_output=True, text=True, env=env, timeout=120, check=False
+    )
+
+
+@needs_rosbag
+@pytest.mark.oracle
+@pytest.mark.parametrize("compression", ["none", "lz4", "bz2"])
+def test_rosbag_reads_our_bags(tmp_path: Path, compression: str) -> None:
+    path = tmp_path / "ours.bag"
+    write_sample(path, compression=compression, flush_every=60)
+    seen = _oracle("read", str(path))
+    by_topic: dict[str, list[dict[str, Any]]] = {}
+    for m in seen["messages"]:
+        by_topic.setdefault(m["topic"], []).append(m)
+    assert {t: len(v) for t, v in by_topic.items()} == {"/map_name": 1, "/odom": 200, "/scan": 20}
+    for i, m in enumerate(by_topic["/odom"]):
+        want = odometry(i)
+        assert m["t"] == (i + 1) * 10 * MS
+        assert m["fields"] == {
+            "seq": i,
+            "stamp": [want.header.stamp.sec, want.header.stamp.nanosec],
+            "frame_id": "odom",
+            "child_frame_id": "base_footprint",
+            "x": want.pose.pose.position.x,
+            "y": want.pose.pose.position.y,
+            "wz": 0.5,
+        }
+    assert by_topic["/scan"][3]["fields"]["ranges"] == pytest.approx(scan(3).ranges.tolist())
+    assert by_topic["/map_name"][0]["fields"] == {"data": "cloister"}
+    headers = {h["topic"]: h for h in seen["connections"]}
+    assert headers["/map_name"]["latching"] == "1"
+    assert headers["/map_name"]["callerid"] == "/map_server"
+    assert headers["/odom"]["latching"] == "0"
+    assert headers["/odom"]["md5sum"] == "cd5e73d190d741a2f92e81eda573aca7"
+    assert headers["/odom"]["type"] == "nav_msgs/Odometry"
+
+
+@needs_rosbag
+@pytest.mark.oracle
+@pytest.mark.parametrize(("compression", "flag"), [("none", []), ("lz4", ["--lz4"])])
+def test_rosbag_info_prints_what_we_print(
+    tmp_path: Path, utc: None, compression: str, flag: list[str]
+) -> None:
+    path = tmp_path / "ours.bag"
+    write_sample(path, compression=compression, flush_every=50)
+    theirs = _rosbag("info", str(path))
+    assert theirs.returncode == 0, theirs.stderr
+    bag = open_bag(path)
+    ours = info_text(bag)
+    bag.close()
+    assert ours == theirs.stdout.rstrip("\n")
+    del flag
+
+
+@needs_rosbag
+@pytest.mark.oracle
+def test_rosbag_reindex_and_ours_agree_on_a_killed_recording(tmp_path: Path) -> None:
+    active = tmp_path / "rec.bag.active"
+    writer = create_writer(active)
+    odom = writer.add_connection("/odom", "nav_msgs/msg/Odometry", callerid="/g", latching=False)
+    sizes = []
+    for i in range(160):
+        writer.write(odom, (i + 1) * 10 * MS, encode(odometry(i), "ros1"))
+        if i % 40 == 39:
+            writer.flush()
+            sizes.append(active.stat().st_size)
+    # killed while writing the fourth chunk: the file ends in its middle
+    cut = (sizes[2] + sizes[3]) // 2
+    theirs, ours = tmp_path / "theirs.bag", tmp_path / "ours.bag"
+    for copy in (theirs, ours):
+        copy.write_bytes(active.read_bytes()[:cut])
+    writer.close()
+    done = _rosbag("reindex", str(theirs))
+    assert done.returncode == 0, done.stderr
+    from belvedere.bags import reindex
+
+    reindex(ours)
+    a, b = _oracle("read", str(theirs)), _oracle("read", str(ours))
+    assert len(a["messages"]) == 120
+    assert a["messages"] == b["messages"]
+    mine = open_bag(theirs)  # what ROS 1 repaired reads here too
+    assert sum(mine.counts.values()) == 120
+    mine.close()
+
+
+@needs_rosbag
+@pytest.mark.oracle
+@pytest.mark.parametrize("compression", ["none", "lz4", "bz2"])
+def test_bags_rosbag_writes_read_and_play_here(tmp_path: Path, utc: None, compression: str) -> None:
+    path = tmp_path / "theirs.bag"
+    _oracle("write", str(path), compression)
+    bag = open_bag(path)
+    conns = {c.topic: c for c in bag.connections}
+    assert conns["/map_name"].latching
+    assert conns["/map_name"].callerid == "/map_server"
+    theirs = _rosbag("info", str(path))
+    assert info_text(bag) == theirs.stdout.rstrip("\n")
+
+    graph = Graph(sim_time=True)
+    got: dict[str, list[Any]] = {"/pose": [], "/cmd_vel": [], "/map_name": []}
+    listener = graph.create_node("listener")
+    for topic, kind in (
+        ("/pose", "geometry_msgs/PoseStamped"),
+        ("/cmd_vel", "geometry_msgs/Twist"),
+        ("/map_name", "std_msgs/String"),
+    ):
+        listener.subscribe(
+            topic, kind, lambda m, t=topic: got[t].append((graph.now_ns(), m)), queue_size=0
+        )
+    player = Player(graph.create_node("play"), PlayOptions(bags=(path,), clock=True), bags=[bag])
+    player.start()
+    graph.run(rtf=None, until=player.done.is_set)
+    bag.close()
+    assert [len(v) for v in got.values()] == [50, 5, 1]
+    for i, (when, pose) in enumerate(got["/pose"]):
+        assert when == 1_700_000_000 * 10**9 + i * 20 * MS  # the graph's time is the bag's
+        assert pose.header.seq == i
+        assert pose.pose.position.x == i * 0.5
+    assert got["/cmd_vel"][2][1].linear.x == pytest.approx(2.0)
+    assert graph.topics["/map_name"].publishers[0].latch
+
+
+def test_rosbags_reads_our_mcap_files(tmp_path: Path) -> None:
+    from rosbags.highlevel import AnyReader
+    from rosbags.interfaces import ConnectionExtRosbag2, QosDurability
+    from rosbags.typesys import Stores, get_typestore
+
+    for compression in ("none", "lz4"):
+        path = tmp_path / f"ours-{compression}.mcap"
+        write_sample(path, compression=compression, flush_every=70)
+        store = get_typestore(Stores.ROS1_NOETIC)  # belvedere's layouts (Header with seq)
+        with AnyReader([path], default_typestore=store) as reader:
+            seen = [
+                (c.topic, t, reader.deserialize(raw, c.msgtype)) for c, t, raw in reader.messages()
+            ]
+            durability = {}
+            for c in reader.connections:
+                assert isinstance(c.ext, ConnectionExtRosbag2)
+                durability[c.topic] = c.ext.offered_qos_profiles[0].durability
+        odom = [(t, m) for topic, t, m in seen if topic == "/odom"]
+        assert len(odom) == 200
+        assert len(seen) == 221
+        t, m = odom[123]
+        assert t == 124 * 10 * MS
+        assert m.header.seq == 123
+        assert m.pose.pose.position.y == odometry(123).pose.pose.position.y
+        assert durability["/map_name"] == QosDurability.TRANSIENT_LOCAL
+        assert durability["/odom"] == QosDurability.VOLATILE
+        reference = Decoder.decode(next(iter(open_bag(path).messages())))
+        assert reference.data == "cloister"
+
+
+def test_mcap_package_reads_our_files(tmp_path: Path) -> None:
+    mcap_reader = pytest.importorskip("mcap.reader")
+    path = tmp_path / "ours.mcap"
+    write_sample(path, compression="lz4")
+    with path.open("rb") as f:
+        reader = mcap_reader.make_reader(f)
+        summary = reader.get_summary()
+        assert summary.statistics.message_count == 221
+        assert sum(1 for _ in reader.iter_messages()) == 221
