@@ -60,7 +60,10 @@ def write(path, compression):
         "latching": "1",
     }
     bag.write(
-        "/map_name", String(data="cloister"), rospy.Time(1699999999, 995000000), connection_header=latched
+        "/map_name",
+        String(data="cloister"),
+        rospy.Time(1699999999, 995000000),
+        connection_header=latched,
     )
     for i in range(50):
         pose = PoseStamped()
