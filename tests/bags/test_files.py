@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import shutil
 import time
+from collections.abc import Iterator
 from datetime import datetime
 from pathlib import Path
 
@@ -28,7 +29,7 @@ FORMATS = [("bag", "none"), ("bag", "lz4"), ("bag", "bz2"), ("mcap", "none"), ("
 
 
 @pytest.fixture
-def utc(monkeypatch: pytest.MonkeyPatch) -> None:
+def utc(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
     """rosbag info prints local times: make them UTC."""
     monkeypatch.setenv("TZ", "UTC")
     time.tzset()

@@ -9,6 +9,7 @@ import os
 import subprocess
 import time
 from collections.abc import Iterator
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -163,9 +164,7 @@ def test_bags_rosbag_writes_read_and_play_here(tmp_path: Path, utc: None, compre
         ("/cmd_vel", "geometry_msgs/Twist"),
         ("/map_name", "std_msgs/String"),
     ):
-        listener.subscribe(
-            topic, kind, lambda m, t=topic: got[t].append((graph.now_ns(), m)), queue_size=0
-        )
+        listener.subscribe(topic, kind, partial(_keep, got[topic], graph), queue_size=0)
     player = Player(graph.create_node("play"), PlayOptions(bags=(path,), clock=True), bags=[bag])
     player.start()
     graph.run(rtf=None, until=player.done.is_set)
@@ -179,6 +178,10 @@ def test_bags_rosbag_writes_read_and_play_here(tmp_path: Path, utc: None, compre
     assert graph.topics["/map_name"].publishers[0].latch
 
 
+def _keep(into: list[Any], graph: Graph, msg: Any) -> None:
+    into.append((graph.now_ns(), msg))
+
+
 def test_rosbags_reads_our_mcap_files(tmp_path: Path) -> None:
     from rosbags.highlevel import AnyReader
     from rosbags.interfaces import ConnectionExtRosbag2, QosDurability
@@ -189,7 +192,7 @@ def test_rosbags_reads_our_mcap_files(tmp_path: Path) -> None:
         write_sample(path, compression=compression, flush_every=70)
         store = get_typestore(Stores.ROS1_NOETIC)  # belvedere's layouts (Header with seq)
         with AnyReader([path], default_typestore=store) as reader:
-            seen = [
+            seen: list[tuple[str, int, Any]] = [
                 (c.topic, t, reader.deserialize(raw, c.msgtype)) for c, t, raw in reader.messages()
             ]
             durability = {}

@@ -9,8 +9,9 @@ its own, writing a chunk at least every second. Samples come from a source:
   when they are delivered.
 - :class:`TapRecording`: the transport's raw messages from other processes (``belvedere bag
   record``); nothing is deserialized to be recorded to MCAP. Stamps are the graph's time at
-  receipt: the last ``/clock`` when the graph runs in simulated time (as rosbag with
-  ``use_sim_time``), else the wall clock.
+  receipt, as rosbag's: in simulated time the time each message was published at (which
+  the transport sends with it; delivery takes no simulated time) — or, from a publisher in
+  wall time, the last ``/clock`` — and otherwise the wall clock at receipt.
 """
 
 from __future__ import annotations
@@ -58,6 +59,8 @@ class Sample:
     callerid: str | None = None
     fetched: bool = False
     """A latched message asked for (it may have come through the tap too)."""
+    sim: bool = False
+    """Its stamp is the simulated time its publisher sent it at."""
 
 
 class Source:
@@ -72,6 +75,10 @@ class Source:
     def tick(self) -> Iterable[Sample]:
         """Samples that waited and can go now (called at least every second)."""
         return ()
+
+    def now_ns(self) -> int | None:
+        """The graph's time now, as far as the source knows (None: not known yet)."""
+        return None
 
     def close(self) -> None:
         """Stop delivering."""
@@ -161,6 +168,7 @@ class Recorder:
                         break
                     for ready in self.source.ready(sample):
                         self._write(ready)
+                self._check_time()
                 now = time.monotonic()
                 if now - last_flush >= FLUSH_PERIOD:
                     for ready in self.source.tick():
@@ -225,6 +233,16 @@ class Recorder:
             and not (options.all or options.regex)
             and all(self.counts.get(t, 0) >= options.limit for t in options.topics)
         ):
+            self._done()
+
+    def _check_time(self) -> None:
+        """Stop once ``--duration`` of the graph's time passed, messages or none."""
+        options = self.options
+        file = self._file
+        if options.duration is None or options.split or file is None or file.start_ns is None:
+            return
+        now = self.source.now_ns()
+        if now is not None and (now - file.start_ns) / 1e9 > options.duration:
             self._done()
 
     def _put(self, file: _File, sample: Sample) -> None:
@@ -354,6 +372,9 @@ class GraphRecording(Source):
 
         self.node.subscribe(name, full, received, queue_size=0)
 
+    def now_ns(self) -> int | None:
+        return self.node.graph.now_ns()
+
     def close(self) -> None:
         self._closed = True
         if self._watch is not None:
@@ -381,8 +402,9 @@ class TapRecording(Source):
         self._pending: deque[Sample] = deque()
         self._recent: dict[str, deque[bytes]] = {}
         self._clock_ns: int | None = None
+        self._sim_now = 0
+        """The latest simulated time a message was sent at."""
         self._sim_time: bool | None = self._ask_sim_time()
-        self._first_pending_wall: int | None = None
         self._closed = False
         self._taps: list[Any] = []
         self._watch: Any = None
@@ -392,8 +414,11 @@ class TapRecording(Source):
         transport = self.transport
         options = self.options
 
-        def arrived(topic: str, data: bytes) -> None:
-            put(Sample(topic, None, None, data, True, time.time_ns()))
+        def arrived(topic: str, data: bytes, sent: tuple[bool, int] | None) -> None:
+            # Published in simulated time: that is the graph's time it arrived at (delivery
+            # takes no simulated time), exact whatever order the topics' taps deliver in.
+            stamp = sent[1] if sent is not None and sent[0] else None
+            put(Sample(topic, None, stamp, data, True, time.time_ns(), sim=stamp is not None))
 
         if options.all or options.regex:
             self._taps.append(transport.tap(None, arrived))
@@ -437,6 +462,14 @@ class TapRecording(Source):
         topic = sample.topic
         if topic == CLOCK:
             self._clock(sample.payload)
+        if sample.sim:
+            assert sample.stamp_ns is not None
+            if self._sim_time is None:
+                self._sim_time = True
+            if self._sim_time:
+                self._sim_now = max(self._sim_now, sample.stamp_ns)
+            else:
+                sample.stamp_ns = None
         if sample.fetched:
             recent = self._recent.get(topic)
             if recent is not None and sample.payload in recent:
@@ -446,10 +479,11 @@ class TapRecording(Source):
             recent.append(sample.payload)
         if not self.options.wants(topic):
             return ()
-        if self._sim_time is False:
-            sample.stamp_ns = sample.wall_ns
-        elif self._clock_ns is not None:
-            sample.stamp_ns = self._clock_ns
+        if sample.stamp_ns is None:  # from a publisher in wall time: stamped at receipt
+            if self._sim_time is False:
+                sample.stamp_ns = sample.wall_ns
+            elif self._clock_ns is not None:
+                sample.stamp_ns = self._clock_ns
         self._pending.append(sample)
         return self._release()
 
@@ -457,6 +491,13 @@ class TapRecording(Source):
         if self._sim_time is None and self._pending:
             self._sim_time = self._ask_sim_time()
         return self._release()
+
+    def now_ns(self) -> int | None:
+        if self._sim_time is False:
+            return time.time_ns()
+        if self._clock_ns is None and not self._sim_now:
+            return None
+        return max(self._clock_ns or 0, self._sim_now)
 
     def _clock(self, data: bytes) -> None:
         try:

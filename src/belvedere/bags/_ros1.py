@@ -21,7 +21,7 @@ import os
 import shutil
 import struct
 from collections import defaultdict
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import BinaryIO, Final
@@ -79,6 +79,10 @@ def _roslz4(data: bytes) -> bytes:
     )
 
 
+def _bz2(data: bytes) -> bytes:
+    return bz2.compress(data, 9)
+
+
 # --- writing ---------------------------------------------------------------------------------
 
 
@@ -101,8 +105,8 @@ class Ros1BagWriter:
         self._f.write(MAGIC)
         self._write_bag_header(0, 0, 0)
         self._compression = compression
-        self._compress = {"lz4": _roslz4, "bz2": lambda d: bz2.compress(d, 9)}.get(
-            compression, lambda d: d
+        self._compress: Callable[[bytes], bytes] = {"lz4": _roslz4, "bz2": _bz2}.get(
+            compression, bytes
         )
         self._chunk_size = chunk_size
         self._connections: list[bytes] = []
