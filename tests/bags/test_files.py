@@ -59,11 +59,11 @@ def test_what_is_written_reads_back(tmp_path: Path, ext: str, compression: str) 
         messages = list(bag.messages())
         stamps = [m.stamp_ns for m in messages]
         assert stamps == sorted(stamps)
-        odom = [Decoder.decode(m) for m in messages if m.connection.topic == "/odom"]
+        odom = [Decoder().decode(m) for m in messages if m.connection.topic == "/odom"]
         assert [o.header.seq for o in odom] == list(range(200))
         assert odom[150].pose.pose.position.x == odometry(150).pose.pose.position.x
         assert odom[150].header.stamp == odometry(150).header.stamp
-        scans = [Decoder.decode(m) for m in messages if m.connection.topic == "/scan"]
+        scans = [Decoder().decode(m) for m in messages if m.connection.topic == "/scan"]
         np.testing.assert_array_equal(scans[7].ranges, scan(7).ranges)
         # a time window and one topic
         window = list(bag.messages([conns["/odom"]], 500 * MS, 600 * MS))

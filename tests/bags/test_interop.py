@@ -13,6 +13,7 @@ from functools import partial
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
 
 from belvedere.bags import Decoder, Player, PlayOptions, create_writer, info_text, open_bag
@@ -208,7 +209,7 @@ def test_rosbags_reads_our_mcap_files(tmp_path: Path) -> None:
         assert m.pose.pose.position.y == odometry(123).pose.pose.position.y
         assert durability["/map_name"] == QosDurability.TRANSIENT_LOCAL
         assert durability["/odom"] == QosDurability.VOLATILE
-        reference = Decoder.decode(next(iter(open_bag(path).messages())))
+        reference = Decoder().decode(next(iter(open_bag(path).messages())))
         assert reference.data == "cloister"
 
 
@@ -221,3 +222,53 @@ def test_mcap_package_reads_our_files(tmp_path: Path) -> None:
         summary = reader.get_summary()
         assert summary.statistics.message_count == 221
         assert sum(1 for _ in reader.iter_messages()) == 221
+
+
+def test_ros2_mcap_files_play_here(tmp_path: Path) -> None:
+    """An MCAP file of ROS 2's layouts (rosbags' rosbag2 writer, Humble's types: a Header
+    without seq) reads into belvedere's types, field by field."""
+    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    humble = get_typestore(Stores.ROS2_HUMBLE)
+    odometry_cls = humble.types["nav_msgs/msg/Odometry"]
+    header_cls = humble.types["std_msgs/msg/Header"]
+    time_cls = humble.types["builtin_interfaces/msg/Time"]
+    out = tmp_path / "ros2bag"
+    with Writer(out, version=9, storage_plugin=StoragePlugin.MCAP) as writer:
+        conn = writer.add_connection("/odom", "nav_msgs/msg/Odometry", typestore=humble)
+        for i in range(20):
+            msg = odometry_cls(
+                header=header_cls(stamp=time_cls(sec=3, nanosec=i * 1000), frame_id="odom"),
+                child_frame_id="base_link",
+                pose=humble.types["geometry_msgs/msg/PoseWithCovariance"](
+                    pose=humble.types["geometry_msgs/msg/Pose"](
+                        position=humble.types["geometry_msgs/msg/Point"](x=i * 1.5, y=0.0, z=0.0),
+                        orientation=humble.types["geometry_msgs/msg/Quaternion"](
+                            x=0.0, y=0.0, z=0.0, w=1.0
+                        ),
+                    ),
+                    covariance=np.zeros(36),
+                ),
+                twist=humble.types["geometry_msgs/msg/TwistWithCovariance"](
+                    twist=humble.types["geometry_msgs/msg/Twist"](
+                        linear=humble.types["geometry_msgs/msg/Vector3"](x=0.5, y=0.0, z=0.0),
+                        angular=humble.types["geometry_msgs/msg/Vector3"](x=0.0, y=0.0, z=0.0),
+                    ),
+                    covariance=np.zeros(36),
+                ),
+            )
+            writer.write(conn, 1_000 + i * 10 * MS, humble.serialize_cdr(msg, conn.msgtype))
+    (mcap,) = out.glob("*.mcap")
+    bag = open_bag(mcap)
+    decoder = Decoder()
+    got = [decoder.decode(m) for m in bag.messages()]
+    bag.close()
+    assert len(got) == 20
+    assert got[7].__msgtype__ == "nav_msgs/msg/Odometry"
+    assert got[7].header.seq == 0  # ROS 2 has none
+    assert (got[7].header.stamp.sec, got[7].header.stamp.nanosec) == (3, 7000)
+    assert got[7].header.frame_id == "odom"
+    assert got[7].child_frame_id == "base_link"
+    assert got[7].pose.pose.position.x == 7 * 1.5
+    assert got[7].twist.twist.linear.x == 0.5

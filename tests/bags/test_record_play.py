@@ -164,7 +164,7 @@ def test_a_killed_recording_loses_at_most_its_last_second(endpoint: str, tmp_pat
         graph.shutdown()
     assert main(["bag", "reindex", str(active)]) == 0
     bag = open_bag(active)
-    values = [Decoder.decode(m).data for m in bag.messages()]
+    values = [Decoder().decode(m).data for m in bag.messages()]
     bag.close()
     assert values == list(range(len(values)))  # nothing lost before the end
     published_by_kill = [n for n, at in sent if at <= killed_at]

@@ -13,10 +13,12 @@ from dataclasses import dataclass
 from functools import cache
 from typing import Any, NamedTuple
 
-from rosbags.typesys import TypesysError, get_types_from_msg
+from rosbags.interfaces import Nodetype
+from rosbags.typesys import Stores, TypesysError, get_types_from_msg, get_typestore
+from rosbags.typesys.store import Typestore
 
 from belvedere.errors import BelvedereError
-from belvedere.msgs import MessageTypeError, short, types
+from belvedere.msgs import MessageTypeError, message_from_data, short, types
 
 __all__ = [
     "BagError",
@@ -76,59 +78,108 @@ def cdr_schema(msgtype: str) -> str:
 
 
 class Decoder:
-    """Turns a bag's messages into the store's objects; types the store lacks are learnt
-    from the bag's definitions. A connection whose type differs from belvedere's (another
-    MD5 sum) cannot be decoded: it is skipped, with one warning."""
+    """Turns a bag's messages into the store's objects.
+
+    A type the store lacks is learnt from the bag's definition. A type the store has, but
+    laid out otherwise in the bag (a ROS 2 ``std_msgs/Header`` without ``seq``, a message of
+    another ROS version: another MD5 sum), is read with the bag's own definition and copied
+    field by field, by name (case aside), into belvedere's type; fields the bag lacks keep
+    their defaults. A connection whose definition cannot be read is skipped, with a warning.
+    """
 
     def __init__(self) -> None:
-        self._usable: dict[tuple[str, str, str], bool] = {}
+        self._plans: dict[tuple[str, str, str, str], Typestore | bool | None] = {}
 
     def usable(self, conn: Connection) -> bool:
-        key = (conn.msgtype, conn.md5sum, conn.encoding)
-        known = self._usable.get(key)
-        if known is None:
-            known = self._usable[key] = self._check(conn)
-        return known
+        return self._plan(conn) is not False
 
-    def _check(self, conn: Connection) -> bool:
+    def _plan(self, conn: Connection) -> Typestore | bool | None:
+        """None: the store reads it; a type store: the bag's own layout; False: unreadable."""
+        key = (conn.msgtype, conn.encoding, conn.md5sum, conn.definition)
+        if key not in self._plans:
+            self._plans[key] = self._check(conn)
+        return self._plans[key]
+
+    def _check(self, conn: Connection) -> Typestore | bool | None:
         store = types().store
-        if conn.msgtype not in store.fielddefs and not self._learn(conn):
-            return False
-        if conn.encoding == "ros1" and conn.md5sum and conn.md5sum != "*":
-            ours = ros1_definition(conn.msgtype)[1]
-            if ours != conn.md5sum:
-                logger.warning(
-                    "skipping %s: its %s (MD5 %s) is not belvedere's (MD5 %s)",
-                    conn.topic,
-                    short(conn.msgtype),
-                    conn.md5sum,
-                    ours,
-                )
-                return False
-        return True
-
-    @staticmethod
-    def _learn(conn: Connection) -> bool:
+        known = conn.msgtype in store.fielddefs
+        same_md5 = conn.encoding == "ros1" and conn.md5sum not in ("", "*")
+        if known and same_md5 and ros1_definition(conn.msgtype)[1] == conn.md5sum:
+            return None
         try:
-            found = get_types_from_msg(conn.definition, conn.msgtype)
-            store = types().store
-            found = {k: v for k, v in found.items() if k not in store.fielddefs}
-            store.register(found)
-            types().resolve(conn.msgtype)
+            found = get_types_from_msg(conn.definition, conn.msgtype) if conn.definition else {}
+        except (TypesysError, ValueError, KeyError) as err:
+            if known and conn.encoding == "cdr":
+                return None  # no definition to go by: the store's
+            logger.warning(
+                "skipping %s: cannot read its type %s: %s", conn.topic, conn.msgtype, err
+            )
+            return False
+        if not found:
+            return None if known else self._unknown(conn)
+        differs = [
+            n for n, d in found.items() if n in store.fielddefs and d[1] != store.fielddefs[n][1]
+        ]
+        try:
+            if not differs:
+                store.register({n: d for n, d in found.items() if n not in store.fielddefs})
+                types().resolve(conn.msgtype)
+                return None
+            own = get_typestore(Stores.EMPTY)
+            own.register(found)
+            if not known:  # belvedere's version: the bag's fields, with the store's parts
+                store.register({n: d for n, d in found.items() if n not in store.fielddefs})
         except (TypesysError, MessageTypeError, ValueError, KeyError) as err:
             logger.warning(
                 "skipping %s: cannot read its type %s: %s", conn.topic, conn.msgtype, err
             )
             return False
-        return True
+        logger.info(
+            "%s: the bag's %s differs from belvedere's (%s): converting it field by field",
+            conn.topic,
+            short(conn.msgtype),
+            ", ".join(short(n) for n in differs),
+        )
+        return own
 
     @staticmethod
-    def decode(message: BagMessage) -> Any:
+    def _unknown(conn: Connection) -> bool:
+        logger.warning("skipping %s: its type %s is unknown here", conn.topic, conn.msgtype)
+        return False
+
+    def decode(self, message: BagMessage) -> Any:
         conn = message.connection
-        store = types().store
+        plan = self._plan(conn)
+        store = types().store if plan is None or plan is False else plan
+        assert isinstance(store, Typestore)
         if conn.encoding == "ros1":
-            return store.deserialize_ros1(message.data, conn.msgtype)
-        return store.deserialize_cdr(message.data, conn.msgtype)
+            obj = store.deserialize_ros1(message.data, conn.msgtype)
+        else:
+            obj = store.deserialize_cdr(message.data, conn.msgtype)
+        return obj if plan is None else _convert(obj, conn.msgtype)
+
+
+def _convert(obj: Any, msgtype: str) -> Any:
+    """A message of another layout as the store's ``msgtype``: fields by name (case aside)."""
+    store = types().store
+    cls = store.types[msgtype]
+    source = {name.lower(): name for name in getattr(obj, "__dataclass_fields__", {})}
+    default: Any = None
+    values = {}
+    for name, (kind, detail) in store.fielddefs[msgtype][1]:
+        theirs = source.get(name.lower())
+        if theirs is None:
+            if default is None:
+                default = message_from_data(msgtype, None)
+            values[name] = getattr(default, name)
+            continue
+        value = getattr(obj, theirs)
+        if kind == Nodetype.NAME:
+            value = _convert(value, str(detail))
+        elif kind in (Nodetype.ARRAY, Nodetype.SEQUENCE) and detail[0][0] == Nodetype.NAME:
+            value = [_convert(v, str(detail[0][1])) for v in value]
+        values[name] = value
+    return cls(**values)
 
 
 def encode(msg: Any, encoding: str) -> bytes:
