@@ -103,8 +103,8 @@ class Decoder:
     def _check(self, conn: Connection) -> Typestore | bool | None:
         store = types().store
         known = conn.msgtype in store.fielddefs
-        same_md5 = conn.encoding == "ros1" and conn.md5sum not in ("", "*")
-        if known and same_md5 and ros1_definition(conn.msgtype)[1] == conn.md5sum:
+        has_md5 = conn.encoding == "ros1" and conn.md5sum not in ("", "*")
+        if known and has_md5 and ros1_definition(conn.msgtype)[1] == conn.md5sum:
             return None
         try:
             found = get_types_from_msg(conn.definition, conn.msgtype) if conn.definition else {}
