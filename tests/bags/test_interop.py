@@ -214,14 +214,44 @@ def test_rosbags_reads_our_mcap_files(tmp_path: Path) -> None:
 
 
 def test_mcap_package_reads_our_files(tmp_path: Path) -> None:
+    """Foxglove's reader (the mcap package) takes our files: chunk CRCs, indexes, summary."""
     mcap_reader = pytest.importorskip("mcap.reader")
-    path = tmp_path / "ours.mcap"
-    write_sample(path, compression="lz4")
-    with path.open("rb") as f:
-        reader = mcap_reader.make_reader(f)
-        summary = reader.get_summary()
-        assert summary.statistics.message_count == 221
-        assert sum(1 for _ in reader.iter_messages()) == 221
+    for compression in ("none", "lz4"):
+        path = tmp_path / f"ours-{compression}.mcap"
+        write_sample(path, compression=compression, flush_every=70)
+        with path.open("rb") as f:
+            reader = mcap_reader.make_reader(f, validate_crcs=True)
+            assert reader.get_header().profile == "ros2"
+            summary = reader.get_summary()
+            assert summary is not None
+            assert summary.statistics.message_count == 221
+            assert len(summary.chunk_indexes) == 3  # flushed after 70 and 140, and closed
+            schemas = {s.name: s for s in summary.schemas.values()}
+            assert schemas["nav_msgs/msg/Odometry"].encoding == "ros2msg"
+            channels = {c.topic: c for c in summary.channels.values()}
+            assert channels["/odom"].message_encoding == "cdr"
+            assert channels["/odom"].metadata["callerid"] == "/gazebo"
+            seen = [(c.topic, m.log_time, m.data) for _, c, m in reader.iter_messages()]
+            ours = [(m.connection.topic, m.stamp_ns, m.data) for m in open_bag(path).messages()]
+            assert seen == ours
+    # a recording killed outright, recovered: whole again for the mcap package too
+    active = tmp_path / "rec.mcap.active"
+    writer = create_writer(active)
+    odom = writer.add_connection("/odom", "nav_msgs/msg/Odometry", callerid="/g", latching=False)
+    for i in range(90):
+        writer.write(odom, (i + 1) * 10 * MS, encode(odometry(i), writer.encoding))
+        if i == 59:
+            writer.flush()
+    killed = tmp_path / "killed.mcap"
+    killed.write_bytes(active.read_bytes() + b"\x06\x00\x10")
+    writer.close()
+    from belvedere.bags import reindex
+
+    reindex(killed)
+    with killed.open("rb") as f:
+        reader = mcap_reader.make_reader(f, validate_crcs=True)
+        assert sum(1 for _ in reader.iter_messages()) == 60
+        assert reader.get_summary().statistics.message_count == 60
 
 
 def test_ros2_mcap_files_play_here(tmp_path: Path) -> None:
