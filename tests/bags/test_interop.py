@@ -302,3 +302,49 @@ def test_ros2_mcap_files_play_here(tmp_path: Path) -> None:
     assert got[7].child_frame_id == "base_link"
     assert got[7].pose.pose.position.x == 7 * 1.5
     assert got[7].twist.twist.linear.x == 0.5
+
+
+def test_ros1_profile_mcap_files_play_here(tmp_path: Path) -> None:
+    """MCAP of the ros1 profile (as ``mcap convert`` makes from a ROS 1 bag): ROS 1 bytes
+    under ros1msg schemas, latching in the channel's metadata."""
+    mcap_writer = pytest.importorskip("mcap.writer")
+    from belvedere.bags._model import ros1_definition
+
+    path = tmp_path / "ros1.mcap"
+    with path.open("wb") as f:
+        writer = mcap_writer.Writer(f)
+        writer.start(profile="ros1")
+        name, md5, text = ros1_definition("nav_msgs/msg/Odometry")
+        schema = writer.register_schema(name, "ros1msg", text.encode())
+        odom = writer.register_channel("/odom", "ros1", schema, {"md5sum": md5, "latching": "0"})
+        name, md5, text = ros1_definition("std_msgs/msg/String")
+        schema = writer.register_schema(name, "ros1msg", text.encode())
+        latched = writer.register_channel("/map_name", "ros1", schema, {"latching": "1"})
+        writer.add_message(latched, 1, encode(_string("office"), "ros1"), 1)
+        for i in range(30):
+            stamp = (i + 1) * 10 * MS
+            writer.add_message(odom, stamp, encode(odometry(i), "ros1"), stamp, i)
+        writer.finish()
+    bag = open_bag(path)
+    assert bag.version == "MCAP (ros1 profile)"
+    conns = {c.topic: c for c in bag.connections}
+    assert conns["/map_name"].latching
+    assert conns["/odom"].encoding == "ros1"
+    graph = Graph(sim_time=True)
+    got: list[tuple[int, Any]] = []
+    graph.create_node("l").subscribe(
+        "/odom", "nav_msgs/Odometry", partial(_keep, got, graph), queue_size=0
+    )
+    player = Player(graph.create_node("play"), PlayOptions(bags=(path,), clock=True), bags=[bag])
+    player.start()
+    graph.run(rtf=None, until=player.done.is_set)
+    bag.close()
+    assert [when for when, _ in got] == [(i + 1) * 10 * MS for i in range(30)]
+    assert got[12][1].pose.pose.position.x == odometry(12).pose.pose.position.x
+    assert graph.topics["/map_name"].publishers[0].latch
+
+
+def _string(text: str) -> Any:
+    from belvedere.msgs import message_from_data
+
+    return message_from_data("std_msgs/String", {"data": text})

@@ -338,3 +338,52 @@ def test_rosbag_nodes_report_bad_arguments_at_their_line(tmp_path: Path) -> None
     assert caught.value.location is not None
     assert caught.value.location.line == 2
     assert "cannot use both --bz2 and --lz4" in caught.value.message
+
+
+def _ticking_graph(topics: dict[str, float]) -> Graph:
+    """A simulated-time graph publishing a counter on each topic at its rate (Hz)."""
+    graph = Graph(sim_time=True)
+    node = graph.create_node("ticker")
+    for topic, hz in topics.items():
+        pub = node.publisher(topic, "std_msgs/UInt32")
+        count = [0]
+
+        def tick(pub: Any = pub, count: list[int] = count) -> None:
+            pub.publish_data({"data": count[0]})
+            count[0] += 1
+
+        node.timer(1.0 / hz, tick)
+    return graph
+
+
+def test_split_by_duration_keeps_the_newest_files(tmp_path: Path) -> None:
+    from belvedere.bags import GraphRecording, Recorder, parse_record_args
+
+    graph = _ticking_graph({"/a": 50.0, "/b": 10.0})
+    options = parse_record_args(
+        ["-a", "--split", "--duration", "1", "--max-splits", "2", "-O", "part.mcap"]
+    )
+    recorder = Recorder(options, directory=tmp_path)
+    recorder.start(GraphRecording(graph.create_node("record"), recorder))
+    graph.run(duration=3.5, rtf=None)
+    recorder.stop()
+    names = sorted(p.name for p in tmp_path.iterdir())
+    assert names == ["part_2.mcap", "part_3.mcap"]  # _0 and _1 were erased
+    bag = open_bag(tmp_path / "part_2.mcap")
+    stamps = [m.stamp_ns for m in bag.messages()]
+    bag.close()
+    assert stamps[0] > 2 * 10**9
+    assert stamps[-1] - stamps[0] <= 10**9
+    assert _counts(tmp_path / "part_3.mcap")["/a"] > 0
+
+
+def test_limit_per_topic_ends_the_recording(tmp_path: Path) -> None:
+    from belvedere.bags import GraphRecording, Recorder, parse_record_args
+
+    graph = _ticking_graph({"/a": 50.0, "/b": 10.0})
+    recorder = Recorder(parse_record_args(["/a", "/b", "-l", "5", "-O", "few"]), directory=tmp_path)
+    recorder.start(GraphRecording(graph.create_node("record"), recorder))
+    graph.run(duration=2.0, rtf=None)
+    wait_until(recorder.finished.is_set, what="the limits to end the recording")
+    recorder.stop()
+    assert _counts(tmp_path / "few.bag") == Counter({"/a": 5, "/b": 5})
