@@ -387,3 +387,17 @@ def test_limit_per_topic_ends_the_recording(tmp_path: Path) -> None:
     wait_until(recorder.finished.is_set, what="the limits to end the recording")
     recorder.stop()
     assert _counts(tmp_path / "few.bag") == Counter({"/a": 5, "/b": 5})
+
+
+def test_a_full_disk_is_one_error(full_disk: Path) -> None:
+    from belvedere.bags import GraphRecording, Recorder, parse_record_args
+
+    graph = _ticking_graph({"/a": 1000.0})
+    recorder = Recorder(parse_record_args(["-a", "-O", "x.bag"]), directory=full_disk)
+    recorder.start(GraphRecording(graph.create_node("record"), recorder))
+    graph.run(duration=10.0, rtf=None)  # ~300 KB of messages for a 64 KiB disk
+    wait_until(recorder.finished.is_set, what="the recording to fail")
+    with pytest.raises(BagError) as caught:
+        recorder.stop()
+    assert caught.value.message.startswith(f"cannot write {full_disk / 'x.bag.active'}: ")
+    assert "No space left on device" in caught.value.message

@@ -28,8 +28,9 @@ from pathlib import Path
 from typing import Any, Final
 
 from belvedere.bags._files import BagWriter, create_writer
-from belvedere.bags._model import encode, transcode
+from belvedere.bags._model import BagError, encode, transcode
 from belvedere.bags._options import RecordOptions, bag_name
+from belvedere.errors import BelvedereError
 from belvedere.graph import GraphError, Node, ZenohTransport
 from belvedere.msgs import MessageTypeError, types
 
@@ -120,6 +121,7 @@ class Recorder:
         self._latched: dict[str, Sample] = {}
         self._start_ns: int | None = None
         self._thread: threading.Thread | None = None
+        self._active: Path | None = None
         self.written = 0
 
     # --- control (any thread) -------------------------------------------------------------
@@ -144,6 +146,10 @@ class Recorder:
             self._thread = None
         if self.error is not None:
             error, self.error = self.error, None
+            if isinstance(error, OSError):
+                where = error.filename or self._active or "the bag"
+                msg = f"cannot write {where}: {error.strerror or error}"
+                raise BagError(msg) from None
             raise error
 
     @property
@@ -190,7 +196,11 @@ class Recorder:
             self.error = err
             self.finished.set()
         finally:
-            self._close()
+            try:
+                self._close()
+            except OSError as err:
+                self.error = self.error or err
+                self.finished.set()
 
     def _write(self, sample: Sample) -> None:
         if self.finished.is_set() or sample.msgtype is None or sample.stamp_ns is None:
@@ -272,6 +282,7 @@ class Recorder:
             active, compression=self.options.compression, chunk_size=self.options.chunk_size
         )
         self._file = _File(writer, name)
+        self._active = active
         if not self.options.quiet:
             logger.info("Recording to '%s'.", name)
 
@@ -279,7 +290,11 @@ class Recorder:
         file, self._file = self._file, None
         if file is None:
             return
-        file.writer.close()
+        try:
+            file.writer.close()
+        except OSError as err:
+            err.filename = err.filename or str(file.writer.path)
+            raise
         file.writer.path.replace(file.final)
         self.files.append(file.final)
 
@@ -355,6 +370,12 @@ class GraphRecording(Source):
 
     def _subscribe(self, name: str, type_name: str) -> None:
         self._subscribed.add(name)
+        try:
+            self._subscribe_to(name, type_name)
+        except BelvedereError as err:
+            logger.warning("not recording %s: %s", name, err.message)
+
+    def _subscribe_to(self, name: str, type_name: str) -> None:
         graph = self.node.graph
         topic = graph.topics.get(name)
         latching = topic is not None and any(p.latch for p in topic.publishers)
