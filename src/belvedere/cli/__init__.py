@@ -33,6 +33,7 @@ _VERBS = (
     "service",
     "node",
     "tf",
+    "bag",
     "run",
     "rospack",
     "map",

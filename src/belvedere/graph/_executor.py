@@ -99,6 +99,19 @@ class Executor:
         """The outside clock reads ``ns`` (executor thread; time never goes back)."""
         self._sim_ns = max(self._sim_ns, ns)
         self._clock_seen = True
+    def start_at(self, ns: int) -> None:
+        """Begin simulated time at ``ns`` rather than where it stands (a recording's start,
+        for a bag played in its own time): every timer keeps its phase. Only before the
+        executor first runs."""
+        if not self.sim_time or self.thread is not None:
+            msg = "only a simulated clock that has not run yet can be set"
+            raise ValueError(msg)
+        delta = ns - self._sim_ns
+        self._sim_ns = self._pace_sim = ns
+        for _, _, timer in self._timers:
+            timer.due_ns += delta
+        self._timers = [(due + delta, seq, timer) for due, seq, timer in self._timers]
+        heapq.heapify(self._timers)
 
     # --- registration ----------------------------------------------------------------------------
     def add_timer(

@@ -35,6 +35,7 @@ import json
 import logging
 import os
 import socket
+import struct
 import threading
 import time
 import weakref
@@ -80,6 +81,8 @@ MAX_DOMAIN: Final = 232
 """The highest domain (as ROS 2's ``ROS_DOMAIN_ID``)."""
 DEFAULT_ENDPOINT: Final = f"tcp/127.0.0.1:{BASE_PORT}"
 """Domain 0's endpoint."""
+_STAMP: Final = struct.Struct("<cq")
+"""A message's publication time, sent with it: kind (``s`` simulated, ``w`` wall) and ns."""
 NEWEST_ONLY: Final = 2
 """Publishers with a queue size up to this (and above 0) want only their newest messages sent."""
 
@@ -115,7 +118,9 @@ def _bulky(msg: Any) -> bool:
 class _Outbox:
     """The newest messages of queue-size-1/2 topics, sent from a thread of their own."""
 
-    def __init__(self, put: Callable[[Topic, Any], None], stats: Callable[[str], TopicStats]):
+    def __init__(
+        self, put: Callable[[Topic, Any, bytes], None], stats: Callable[[str], TopicStats]
+    ):
         self._put = put
         self._stats = stats
         self._queues: dict[str, tuple[Topic, deque[Any]]] = {}
@@ -125,7 +130,7 @@ class _Outbox:
         self._closed = False
         self._thread: threading.Thread | None = None
 
-    def push(self, topic: Topic, msg: Any, depth: int) -> None:
+    def push(self, topic: Topic, msg: Any, stamp: bytes, depth: int) -> None:
         with self._cond:
             if self._closed:
                 return
@@ -136,7 +141,7 @@ class _Outbox:
             queue = entry[1]
             if len(queue) == depth:
                 self._stats(topic.name).superseded += 1
-            queue.append(msg)
+            queue.append((msg, stamp))
             if topic.name not in self._ready:
                 self._ready.append(topic.name)
             if self._thread is None:
@@ -157,12 +162,12 @@ class _Outbox:
                     return
                 name = self._ready.popleft()
                 topic, queue = self._queues[name]
-                msg = queue.popleft()
+                msg, stamp = queue.popleft()
                 if queue:
                     self._ready.append(name)
                 self._busy = True
             try:
-                self._put(topic, msg)
+                self._put(topic, msg, stamp)
             except Exception as err:  # noqa: BLE001 (a closed session, a refused message)
                 logger.debug("not sent on %s: %s", topic.name, err)
 
@@ -449,23 +454,26 @@ class ZenohTransport:
 
     # --- topics --------------------------------------------------------------------------------
     def advertise(self, topic: Topic, publisher: Publisher) -> None:
+        # The token goes last: whoever sees it finds the publisher and its latched messages.
+        self._declare_publisher(topic, publisher)
         self._token("pub", topic.name, topic.type, publisher.node.full_name)
+
+    def _declare_publisher(self, topic: Topic, publisher: Publisher) -> None:
         with self._lock:
-            if topic.name in self._publishers:
-                return
-            zpub = self.session.declare_publisher(
-                self._key("t", topic.name),
-                congestion_control=zenoh.CongestionControl.BLOCK,
-                allowed_destination=zenoh.Locality.REMOTE,
-            )
-            self._publishers[topic.name] = zpub
+            if topic.name not in self._publishers:
+                zpub = self.session.declare_publisher(
+                    self._key("t", topic.name),
+                    congestion_control=zenoh.CongestionControl.BLOCK,
+                    allowed_destination=zenoh.Locality.REMOTE,
+                )
+                self._publishers[topic.name] = zpub
 
-            def matching(status: Any) -> None:
-                topic.remote = bool(status.matching)
+                def matching(status: Any) -> None:
+                    topic.remote = bool(status.matching)
 
-            self._matching[topic.name] = zpub.declare_matching_listener(matching)
-            # (zenoh's type stubs call this a bool; it is a MatchingStatus)
-            topic.remote = bool(cast(Any, zpub).matching_status.matching)
+                self._matching[topic.name] = zpub.declare_matching_listener(matching)
+                # (zenoh's type stubs call this a bool; it is a MatchingStatus)
+                topic.remote = bool(cast(Any, zpub).matching_status.matching)
         if publisher.latch and topic.name not in self._latch_queryables:
 
             def latched(query: Any) -> None:
@@ -490,28 +498,38 @@ class ZenohTransport:
         return stats
 
     def send(self, topic: Topic, msg: Any) -> None:
+        stamp = self._stamp()
         depth = max((p.queue_size for p in topic.publishers), default=0)
         if (
             0 < depth <= NEWEST_ONLY
             and min(p.queue_size for p in topic.publishers) > 0
             and _bulky(msg)
         ):
-            self._outbox.push(topic, msg, depth)
+            self._outbox.push(topic, msg, stamp, depth)
         else:
-            self._put(topic, msg)
+            self._put(topic, msg, stamp)
+
+    def _stamp(self) -> bytes:
+        """When a message is published, in the publishing graph's time: ``s`` (simulated)
+        or ``w`` (wall) and nanoseconds. Sent with each message (a Zenoh attachment), so a
+        recorder in another process stamps it exactly, whatever order its topics arrive in."""
+        graph = self.graph
+        if graph is None:
+            return b""
+        return _STAMP.pack(b"s" if graph.sim_time else b"w", graph.now_ns())
 
     def flush(self, timeout: float = 5.0) -> bool:
         """Wait until the newest-only topics' messages are handed to Zenoh."""
         return self._outbox.flush(timeout)
 
-    def _put(self, topic: Topic, msg: Any) -> None:
+    def _put(self, topic: Topic, msg: Any, stamp: bytes) -> None:
         zpub = self._publishers.get(topic.name)
         if zpub is None:
             return
         start = time.perf_counter()
         data = types().serialize(msg)
         serialized = time.perf_counter()
-        zpub.put(data)
+        zpub.put(data, attachment=stamp or None)
         stats = self._topic_stats(topic.name)
         stats.sent += 1
         stats.serialize_s += serialized - start
@@ -608,6 +626,61 @@ class ZenohTransport:
 
     def unsubscribe(self, topic: Topic, subscription: Subscription) -> None:
         self._drop_token("sub", topic.name, topic.type, subscription.node.full_name)
+
+    # --- raw access (recorders) ----------------------------------------------------------------
+    def tap(
+        self, topic: str | None, callback: Callable[[str, bytes, tuple[bool, int] | None], None]
+    ) -> Any:
+        """Call ``callback(topic, cdr_bytes, sent)`` on Zenoh's thread for each message other
+        processes publish on ``topic`` (on every topic when None), never deserialized here;
+        ``sent`` is (simulated?, ns): the publishing graph's time when it was published (None
+        from a publisher that does not say). One tap delivers in arrival order; separate taps
+        run on separate threads. Returns the subscriber (``undeclare()`` ends it). A tap on
+        every topic makes every publisher send (as ``rosbag record -a`` subscribes to all)."""
+        prefix = self._key("t")
+        key = self._key("t", topic) if topic else self._key("t/**")
+        skip = len(prefix)
+
+        def on_sample(sample: Any) -> None:
+            attachment = sample.attachment
+            sent = None
+            if attachment is not None:
+                raw = attachment.to_bytes()
+                if len(raw) == _STAMP.size:
+                    kind, ns = _STAMP.unpack(raw)
+                    sent = (kind == b"s", ns)
+            callback(str(sample.key_expr)[skip:], sample.payload.to_bytes(), sent)
+
+        return self.session.declare_subscriber(key, on_sample)
+
+    def watch_publishers(self, callback: Callable[[str, str, str, bool], None]) -> Any:
+        """Call ``callback(topic, type, node, alive)`` for each publisher in other processes,
+        those there now and each that comes (alive) or goes. Returns the watch."""
+        prefix = self._key("g/pub/")
+        own = self._zid
+
+        def on_token(sample: Any) -> None:
+            chunks = str(sample.key_expr).removeprefix(prefix).split("/")
+            if len(chunks) != 4 or chunks[3] == own:
+                return
+            topic, type_name, node = (decode_key(c) for c in chunks[:3])
+            callback(topic, type_name, node, sample.kind == zenoh.SampleKind.PUT)
+
+        return self.session.liveliness().declare_subscriber(prefix + "**", on_token, history=True)
+
+    def latched_raw(self, topic: str, timeout: float = 2.0) -> list[bytes]:
+        """The CDR bytes of the messages latching publishers in other processes hold on
+        ``topic`` (none if no publisher there latches)."""
+        found: list[bytes] = []
+        with contextlib.suppress(zenoh.ZError):
+            replies = self.session.get(
+                self._key("l", topic),
+                timeout=timeout,
+                consolidation=zenoh.ConsolidationMode.NONE,
+                allowed_destination=zenoh.Locality.REMOTE,
+            )
+            found = [r.ok.payload.to_bytes() for r in replies if r.ok is not None]
+        return found
 
     # --- services ------------------------------------------------------------------------------
     def offer_service(self, server: ServiceServer) -> None:

@@ -69,6 +69,11 @@ class Session(Protocol):
     """Model name → the node spec that spawned it."""
     finished: dict[str, int]
     """Nodes that ended by themselves (:func:`end_node`): full name → exit status."""
+    closers: list[Callable[[], None]]
+    """Run when the session ends (a recorder closes its bag), last added first."""
+    exits: list[tuple[Any, Callable[[], bool]]]
+    """(node spec, has it finished?) of in-process nodes that end on their own (a bag
+    played to its end): a required one ends the session."""
 
 
 Starter = Callable[[Session, NodeSpec, Node], None]
@@ -83,6 +88,7 @@ MODULES: Final = {
     "joint_state_publisher_gui": "joint_state_publisher_gui",
     "map_server": "map_server",
     "robot_state_publisher": "robot_state_publisher",
+    "rosbag": "rosbag",
     "rviz": "rviz",
     "teleop_twist_keyboard": "teleop_twist_keyboard",
     "tf": "tf",

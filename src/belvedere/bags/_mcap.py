@@ -1,0 +1,740 @@
+"""MCAP files (https://mcap.dev/spec): written, read and recovered here.
+
+belvedere writes the ``ros2`` profile: each message CDR-encoded, exactly as belvedere's
+transport carries it, under a ``ros2msg`` schema that describes that layout (belvedere's
+types are ROS 1's, so a ``std_msgs/Header`` keeps its ``seq``); Foxglove and rosbags (with
+its ROS 1 Noetic type store) read them. Latched topics are marked as rosbag2 marks them
+(``offered_qos_profiles`` with transient-local durability). It reads that profile and the
+``ros1`` one (ROS 1 wire format under ``ros1msg`` schemas, as ``mcap convert`` makes from a
+ROS 1 bag).
+
+Messages go in chunks, each followed by its message indexes; the summary at the end holds
+the schemas, channels, chunk indexes and statistics. A chunk is written at least every
+second, so a recording killed outright loses at most its last second: :func:`recover_mcap`
+keeps every whole chunk and writes the summary again.
+"""
+
+from __future__ import annotations
+
+import heapq
+import shutil
+import struct
+import zlib
+from collections import defaultdict
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, BinaryIO, Final
+
+import lz4.frame
+
+from belvedere import __version__
+from belvedere.bags._model import BagError, BagMessage, Connection, cdr_schema
+from belvedere.bags._ros1 import ChunkStats
+
+__all__ = ["MAGIC", "McapBag", "McapWriter", "recover_mcap"]
+
+MAGIC: Final = b"\x89MCAP0\r\n"
+CHUNK_SIZE: Final = 768 * 1024
+
+OP_HEADER: Final = 0x01
+OP_FOOTER: Final = 0x02
+OP_SCHEMA: Final = 0x03
+OP_CHANNEL: Final = 0x04
+OP_MESSAGE: Final = 0x05
+OP_CHUNK: Final = 0x06
+OP_MESSAGE_INDEX: Final = 0x07
+OP_CHUNK_INDEX: Final = 0x08
+OP_STATISTICS: Final = 0x0B
+OP_SUMMARY_OFFSET: Final = 0x0E
+OP_DATA_END: Final = 0x0F
+
+_U16: Final = struct.Struct("<H")
+_U32: Final = struct.Struct("<I")
+_U64: Final = struct.Struct("<Q")
+_RECORD: Final = struct.Struct("<BQ")
+_MESSAGE: Final = struct.Struct("<HIQQ")
+
+_QOS: Final = (
+    "- history: 1\n  depth: {depth}\n  reliability: 1\n  durability: {durability}\n"
+    "  deadline:\n    sec: 0\n    nsec: 0\n  lifespan:\n    sec: 0\n    nsec: 0\n"
+    "  liveliness: 1\n  liveliness_lease_duration:\n    sec: 0\n    nsec: 0\n"
+    "  avoid_ros_namespace_conventions: false"
+)
+"""rosbag2's offered_qos_profiles (its version 8 spelling): durability 1 is transient local
+(ROS 2's latching), 2 volatile."""
+
+
+def _string(text: str | bytes) -> bytes:
+    raw = text.encode() if isinstance(text, str) else text
+    return _U32.pack(len(raw)) + raw
+
+
+def _map(items: dict[str, str]) -> bytes:
+    body = b"".join(_string(k) + _string(v) for k, v in items.items())
+    return _U32.pack(len(body)) + body
+
+
+def _record(op: int, body: bytes) -> bytes:
+    return _RECORD.pack(op, len(body)) + body
+
+
+@dataclass(frozen=True, slots=True)
+class _Schema:
+    id: int
+    name: str
+    encoding: str
+    data: bytes
+
+    def record(self) -> bytes:
+        return _record(
+            OP_SCHEMA,
+            _U16.pack(self.id) + _string(self.name) + _string(self.encoding) + _string(self.data),
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class _Channel:
+    id: int
+    schema_id: int
+    topic: str
+    encoding: str
+    metadata: dict[str, str]
+
+    def record(self) -> bytes:
+        body = _U16.pack(self.id) + _U16.pack(self.schema_id) + _string(self.topic)
+        return _record(OP_CHANNEL, body + _string(self.encoding) + _map(self.metadata))
+
+
+@dataclass
+class _Summary:
+    """What the summary section lists; the writer and the recovery fill it alike."""
+
+    schemas: dict[int, _Schema] = field(default_factory=dict)
+    channels: dict[int, _Channel] = field(default_factory=dict)
+    chunk_indexes: list[bytes] = field(default_factory=list)
+    counts: dict[int, int] = field(default_factory=lambda: defaultdict(int))
+    start: int = 2**64 - 1
+    end: int = 0
+
+    def add_message(self, channel: int, stamp: int) -> None:
+        self.counts[channel] += 1
+        self.start = min(self.start, stamp)
+        self.end = max(self.end, stamp)
+
+    def write(self, f: BinaryIO) -> None:
+        """DataEnd, the summary, its offsets, the footer and the closing magic."""
+        f.write(_record(OP_DATA_END, _U32.pack(0)))
+        summary_start = f.tell()
+        groups: list[tuple[int, int, int]] = []
+
+        def group(op: int, records: Iterable[bytes]) -> None:
+            start = f.tell()
+            for rec in records:
+                f.write(rec)
+            if f.tell() > start:
+                groups.append((op, start, f.tell() - start))
+
+        group(OP_SCHEMA, (s.record() for s in self.schemas.values()))
+        group(OP_CHANNEL, (c.record() for c in self.channels.values()))
+        group(OP_CHUNK_INDEX, self.chunk_indexes)
+        total = sum(self.counts.values())
+        counts = b"".join(_U16.pack(c) + _U64.pack(n) for c, n in sorted(self.counts.items()))
+        stats = struct.pack(
+            "<QHIIIIQQ",
+            total,
+            len(self.schemas),
+            len(self.channels),
+            0,
+            0,
+            len(self.chunk_indexes),
+            self.start if total else 0,
+            self.end if total else 0,
+        )
+        group(OP_STATISTICS, [_record(OP_STATISTICS, stats + _U32.pack(len(counts)) + counts)])
+        offsets_start = f.tell()
+        for op, start, length in groups:
+            f.write(_record(OP_SUMMARY_OFFSET, bytes([op]) + _U64.pack(start) + _U64.pack(length)))
+        f.write(
+            _record(OP_FOOTER, _U64.pack(summary_start) + _U64.pack(offsets_start) + _U32.pack(0))
+        )
+        f.write(MAGIC)
+
+
+def _chunk_index(
+    start: int,
+    end: int,
+    chunk_pos: int,
+    chunk_len: int,
+    index_offsets: dict[int, int],
+    index_len: int,
+    compression: str,
+    compressed: int,
+    uncompressed: int,
+) -> bytes:
+    offsets = b"".join(_U16.pack(c) + _U64.pack(o) for c, o in index_offsets.items())
+    return _record(
+        OP_CHUNK_INDEX,
+        _U64.pack(start)
+        + _U64.pack(end)
+        + _U64.pack(chunk_pos)
+        + _U64.pack(chunk_len)
+        + _U32.pack(len(offsets))
+        + offsets
+        + _U64.pack(index_len)
+        + _string(compression)
+        + _U64.pack(compressed)
+        + _U64.pack(uncompressed),
+    )
+
+
+def _message_indexes(
+    f: BinaryIO, index: dict[int, list[tuple[int, int]]]
+) -> tuple[dict[int, int], int]:
+    """Write one message index per channel; returns (channel → offset, total length)."""
+    start = f.tell()
+    offsets = {}
+    for channel, entries in sorted(index.items()):
+        offsets[channel] = f.tell()
+        body = b"".join(_U64.pack(t) + _U64.pack(o) for t, o in entries)
+        f.write(_record(OP_MESSAGE_INDEX, _U16.pack(channel) + _U32.pack(len(body)) + body))
+    return offsets, f.tell() - start
+
+
+def _compressor(name: str) -> Callable[[bytes], bytes]:
+    if name == "lz4":
+        return lambda data: bytes(lz4.frame.compress(data))
+    if name == "zstd":
+        zstd = _zstd()
+        return lambda data: bytes(zstd.compress(data))
+    return lambda data: data
+
+
+def _zstd() -> Any:
+    try:
+        from compression import zstd  # type: ignore[import-not-found]  # Python 3.14
+    except ImportError:
+        try:
+            from backports import zstd
+        except ImportError:
+            msg = "zstd-compressed MCAP chunks need the backports.zstd package"
+            raise BagError(msg) from None
+    return zstd
+
+
+def _decompress(name: str, data: bytes, size: int) -> bytes | None:
+    try:
+        if name == "":
+            return data
+        if name == "lz4":
+            return bytes(lz4.frame.decompress(data))
+        if name == "zstd":
+            return bytes(_zstd().decompress(data))
+    except (OSError, ValueError, RuntimeError):
+        return None
+    return None
+
+
+# --- writing ---------------------------------------------------------------------------------
+
+
+class McapWriter:
+    """Writes an MCAP file (ros2 profile, CDR), a chunk at least every :meth:`flush`."""
+
+    encoding: Final = "cdr"
+
+    def __init__(
+        self, path: Path, *, compression: str = "none", chunk_size: int = CHUNK_SIZE
+    ) -> None:
+        if compression == "bz2":
+            msg = "MCAP has no bz2 compression: use --lz4 (or a .bag file)"
+            raise BagError(msg)
+        self.path = path
+        try:
+            self._f: BinaryIO = path.open("wb")
+        except OSError as err:
+            msg = f"cannot write {path}: {err.strerror or err}"
+            raise BagError(msg) from None
+        self._f.write(MAGIC)
+        self._f.write(_record(OP_HEADER, _string("ros2") + _string(f"belvedere {__version__}")))
+        self._compression = "" if compression == "none" else compression
+        self._compress = _compressor(self._compression)
+        self._chunk_size = chunk_size
+        self._summary = _Summary()
+        self._schema_ids: dict[str, int] = {}
+        self._seq: dict[int, int] = {}
+        self._new_chunk()
+
+    def _new_chunk(self) -> None:
+        self._buf = bytearray()
+        self._index: dict[int, list[tuple[int, int]]] = defaultdict(list)
+        self._start = 2**64 - 1
+        self._end = 0
+
+    def add_connection(
+        self, topic: str, msgtype: str, *, callerid: str | None, latching: bool
+    ) -> int:
+        summary = self._summary
+        schema_id = self._schema_ids.get(msgtype)
+        if schema_id is None:
+            schema_id = self._schema_ids[msgtype] = len(summary.schemas) + 1
+            schema = _Schema(schema_id, msgtype, "ros2msg", cdr_schema(msgtype).encode())
+            summary.schemas[schema_id] = schema
+            self._buf += schema.record()
+        channel_id = len(summary.channels)
+        metadata = {
+            "offered_qos_profiles": _QOS.format(
+                depth=1 if latching else 10, durability=1 if latching else 2
+            )
+        }
+        if callerid:
+            metadata["callerid"] = callerid
+        channel = _Channel(channel_id, schema_id, topic, "cdr", metadata)
+        summary.channels[channel_id] = channel
+        self._buf += channel.record()
+        self._seq[channel_id] = 0
+        return channel_id
+
+    def write(self, channel: int, stamp_ns: int, data: bytes) -> None:
+        seq = self._seq[channel] + 1
+        self._seq[channel] = seq
+        buf = self._buf
+        self._index[channel].append((stamp_ns, len(buf)))
+        buf += _RECORD.pack(OP_MESSAGE, _MESSAGE.size + len(data))
+        buf += _MESSAGE.pack(channel, seq & 0xFFFFFFFF, stamp_ns, stamp_ns)
+        buf += data
+        self._start = min(self._start, stamp_ns)
+        self._end = max(self._end, stamp_ns)
+        self._summary.add_message(channel, stamp_ns)
+        if len(buf) >= self._chunk_size:
+            self._write_chunk()
+
+    @property
+    def size(self) -> int:
+        return self._f.tell() + len(self._buf)
+
+    def _write_chunk(self) -> None:
+        if not self._index:
+            return  # schemas and channels wait for their first message
+        f = self._f
+        raw = bytes(self._buf)
+        data = self._compress(raw)
+        start, end = self._start, self._end
+        pos = f.tell()
+        body = struct.pack("<QQQI", start, end, len(raw), zlib.crc32(raw))
+        f.write(_record(OP_CHUNK, body + _string(self._compression) + _U64.pack(len(data)) + data))
+        length = f.tell() - pos
+        offsets, index_len = _message_indexes(f, self._index)
+        self._summary.chunk_indexes.append(
+            _chunk_index(
+                start, end, pos, length, offsets, index_len, self._compression, len(data), len(raw)
+            )
+        )
+        self._new_chunk()
+
+    def flush(self) -> None:
+        self._write_chunk()
+        self._f.flush()
+
+    def close(self) -> None:
+        self._write_chunk()
+        if self._buf:  # connections that never had a message: keep them in the data section
+            self._f.write(self._buf)
+        self._summary.write(self._f)
+        self._f.close()
+
+
+# --- reading ---------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class _ChunkRef:
+    pos: int
+    """Where the chunk record starts."""
+    start: int
+    end: int
+    compression: str
+    compressed: int
+    uncompressed: int
+
+
+def _read_string(buf: bytes, pos: int) -> tuple[str, int]:
+    (n,) = _U32.unpack_from(buf, pos)
+    return buf[pos + 4 : pos + 4 + n].decode(), pos + 4 + n
+
+
+def _read_map(buf: bytes, pos: int) -> tuple[dict[str, str], int]:
+    (n,) = _U32.unpack_from(buf, pos)
+    end = pos + 4 + n
+    pos += 4
+    items = {}
+    while pos < end:
+        key, pos = _read_string(buf, pos)
+        value, pos = _read_string(buf, pos)
+        items[key] = value
+    return items, end
+
+
+def _parse_schema(body: bytes) -> _Schema:
+    (sid,) = _U16.unpack_from(body, 0)
+    name, pos = _read_string(body, 2)
+    encoding, pos = _read_string(body, pos)
+    (n,) = _U32.unpack_from(body, pos)
+    return _Schema(sid, name, encoding, body[pos + 4 : pos + 4 + n])
+
+
+def _parse_channel(body: bytes) -> _Channel:
+    cid, sid = struct.unpack_from("<HH", body, 0)
+    topic, pos = _read_string(body, 4)
+    encoding, pos = _read_string(body, pos)
+    metadata, _ = _read_map(body, pos)
+    return _Channel(cid, sid, topic, encoding, metadata)
+
+
+def _parse_chunk_header(body: bytes) -> tuple[int, int, int, int, str, int, int]:
+    """(start, end, uncompressed size, crc, compression, compressed size, data offset)."""
+    start, end, size, crc = struct.unpack_from("<QQQI", body, 0)
+    compression, pos = _read_string(body, 28)
+    (compressed,) = _U64.unpack_from(body, pos)
+    return start, end, size, crc, compression, compressed, pos + 8
+
+
+def _records(buf: bytes, pos: int = 0, end: int | None = None) -> Iterator[tuple[int, int, int]]:
+    """(op, body start, body end) of each whole record in ``buf[pos:end]``."""
+    end = len(buf) if end is None else end
+    while pos + 9 <= end:
+        op, length = _RECORD.unpack_from(buf, pos)
+        body = pos + 9
+        if body + length > end:
+            return
+        yield op, body, body + length
+        pos = body + length
+
+
+def _msgtype(name: str) -> str:
+    parts = [p for p in name.split("/") if p]
+    return f"{parts[0]}/msg/{parts[1]}" if len(parts) == 2 else "/".join(parts)
+
+
+class McapBag:
+    """An MCAP file, open for reading (its summary, or a scan when it has none)."""
+
+    format: Final = "mcap"
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        try:
+            self._f: BinaryIO = path.open("rb")
+        except OSError as err:
+            msg = f"cannot read {path}: {err.strerror or err}"
+            raise BagError(msg) from None
+        try:
+            self._open()
+        except (struct.error, UnicodeDecodeError, IndexError) as err:
+            self._f.close()
+            msg = f"cannot read {path}: a damaged MCAP record ({err})"
+            raise BagError(msg) from None
+        except BaseException:
+            self._f.close()
+            raise
+
+    def _open(self) -> None:
+        f = self._f
+        head = f.read(8 + 9)
+        if head[:8] != MAGIC:
+            msg = f"{self.path} is not an MCAP file"
+            raise BagError(msg)
+        if len(head) < 17 or head[8] != OP_HEADER:
+            msg = f"{self.path} is not a whole MCAP file (its header is cut short)"
+            raise BagError(msg)
+        (length,) = _U64.unpack_from(head, 9)
+        header = f.read(length)
+        if len(header) != length:
+            msg = f"{self.path} is not a whole MCAP file (its header is cut short)"
+            raise BagError(msg)
+        self.profile, _ = _read_string(header, 0)
+        self.data_start = 17 + length
+        self.version = f"MCAP ({self.profile or 'no'} profile)"
+        self._schemas: dict[int, _Schema] = {}
+        self._channels: dict[int, _Channel] = {}
+        self._chunks: list[_ChunkRef] = []
+        self._loose: list[tuple[int, int, int, int]] = []
+        """Messages outside chunks: (time, channel, data position, data length)."""
+        self.counts: dict[int, int] = defaultdict(int)
+        size = self.path.stat().st_size
+        f.seek(max(0, size - 8 - 29))
+        tail = f.read()
+        summary_start = 0
+        if len(tail) == 37 and tail[-8:] == MAGIC and tail[0] == OP_FOOTER:
+            (summary_start,) = _U64.unpack_from(tail, 9)
+        else:
+            msg = f"{self.path} is not a whole MCAP file (its recording did not end cleanly)"
+            raise BagError(msg, hint=f"belvedere bag reindex {self.path}")
+        if summary_start:
+            f.seek(summary_start)
+            self._read_summary(f.read(size - 37 - summary_start))
+        if not self._chunks and not self.counts:
+            self._scan(size - 37)
+        self.start_ns = min((c.start for c in self._chunks), default=0)
+        self.end_ns = max((c.end for c in self._chunks), default=0)
+        if self._loose:
+            self.start_ns = min(self.start_ns or 2**64, min(t for t, *_ in self._loose))
+            self.end_ns = max(self.end_ns, max(t for t, *_ in self._loose))
+
+    def _read_summary(self, buf: bytes) -> None:
+        for op, start, end in _records(buf):
+            body = buf[start:end]
+            if op == OP_SCHEMA:
+                schema = _parse_schema(body)
+                self._schemas[schema.id] = schema
+            elif op == OP_CHANNEL:
+                channel = _parse_channel(body)
+                self._channels[channel.id] = channel
+            elif op == OP_CHUNK_INDEX:
+                cstart, cend, pos = struct.unpack_from("<QQQ", body, 0)
+                (olen,) = _U32.unpack_from(body, 32)
+                at = 36 + olen + 8
+                compression, at = _read_string(body, at)
+                compressed, uncompressed = struct.unpack_from("<QQ", body, at)
+                self._chunks.append(
+                    _ChunkRef(pos, cstart, cend, compression, compressed, uncompressed)
+                )
+            elif op == OP_STATISTICS:
+                (n,) = _U32.unpack_from(body, 42)
+                for i in range(n // 10):
+                    cid, count = struct.unpack_from("<HQ", body, 46 + 10 * i)
+                    self.counts[cid] = count
+
+    def _scan(self, end: int) -> None:
+        """Find schemas, channels, chunks and messages by reading the data section."""
+        f = self._f
+        f.seek(self.data_start)
+        buf = f.read(end - self.data_start)
+        for op, start, stop in _records(buf):
+            if op == OP_SCHEMA:
+                schema = _parse_schema(buf[start:stop])
+                self._schemas[schema.id] = schema
+            elif op == OP_CHANNEL:
+                channel = _parse_channel(buf[start:stop])
+                self._channels[channel.id] = channel
+            elif op == OP_MESSAGE:
+                cid, _, stamp, _ = _MESSAGE.unpack_from(buf, start)
+                pos = self.data_start + start + _MESSAGE.size
+                self._loose.append((stamp, cid, pos, stop - start - _MESSAGE.size))
+                self.counts[cid] += 1
+            elif op == OP_CHUNK:
+                cstart, cend, size, _, compression, compressed, _ = _parse_chunk_header(
+                    buf[start:stop]
+                )
+                ref = _ChunkRef(
+                    self.data_start + start - 9, cstart, cend, compression, compressed, size
+                )
+                self._chunks.append(ref)
+                for rop, rstart, rend, raw in self._chunk_records(ref):
+                    if rop == OP_SCHEMA:
+                        schema = _parse_schema(raw[rstart:rend])
+                        self._schemas[schema.id] = schema
+                    elif rop == OP_CHANNEL:
+                        channel = _parse_channel(raw[rstart:rend])
+                        self._channels[channel.id] = channel
+                    elif rop == OP_MESSAGE:
+                        self.counts[_U16.unpack_from(raw, rstart)[0]] += 1
+
+    def _chunk_data(self, ref: _ChunkRef) -> bytes:
+        f = self._f
+        # start, end, size (8 bytes each), crc (4), the compression's name, its data's size
+        f.seek(ref.pos + 9 + 28 + 4 + len(ref.compression.encode()) + 8)
+        raw = _decompress(ref.compression, f.read(ref.compressed), ref.uncompressed)
+        if raw is None or len(raw) != ref.uncompressed:
+            msg = f"cannot read {self.path}: a damaged chunk at byte {ref.pos}"
+            raise BagError(msg)
+        return raw
+
+    def _chunk_records(self, ref: _ChunkRef) -> Iterator[tuple[int, int, int, bytes]]:
+        raw = self._chunk_data(ref)
+        for op, start, end in _records(raw):
+            yield op, start, end, raw
+
+    # --- the common face ------------------------------------------------------------------
+    @property
+    def connections(self) -> list[Connection]:
+        out = []
+        for channel in self._channels.values():
+            schema = self._schemas.get(channel.schema_id)
+            meta = channel.metadata
+            encoding = "ros1" if channel.encoding == "ros1" else "cdr"
+            latching = meta.get("latching") == "1" or "durability: 1" in meta.get(
+                "offered_qos_profiles", ""
+            )
+            out.append(
+                Connection(
+                    id=channel.id,
+                    topic=channel.topic,
+                    msgtype=_msgtype(schema.name) if schema else "",
+                    encoding=encoding,
+                    md5sum=meta.get("md5sum", ""),
+                    definition=schema.data.decode(errors="replace") if schema else "",
+                    callerid=meta.get("callerid"),
+                    latching=latching,
+                )
+            )
+        return out
+
+    @property
+    def size(self) -> int:
+        return self.path.stat().st_size
+
+    def chunks(self) -> list[ChunkStats]:
+        return [
+            ChunkStats(c.compression or "none", c.compressed, c.uncompressed) for c in self._chunks
+        ]
+
+    def messages(
+        self,
+        connections: Iterable[Connection] | None = None,
+        start_ns: int | None = None,
+        stop_ns: int | None = None,
+    ) -> Iterator[BagMessage]:
+        conns = {c.id: c for c in self.connections}
+        if connections is not None:
+            wanted = {c.id for c in connections}
+            conns = {k: v for k, v in conns.items() if k in wanted}
+        lo = 0 if start_ns is None else start_ns
+        hi = 2**64 if stop_ns is None else stop_ns
+        sources = [
+            self._chunk_messages(ref, conns, lo, hi)
+            for ref in sorted(self._chunks, key=lambda r: (r.start, r.pos))
+            if ref.end >= lo and ref.start < hi
+        ]
+        if self._loose:
+            sources.append(self._loose_messages(conns, lo, hi))
+        for item in heapq.merge(*sources, key=lambda m: m[0]):
+            if item[1] is not None:
+                yield item[1]
+
+    def _chunk_messages(
+        self, ref: _ChunkRef, conns: dict[int, Connection], lo: int, hi: int
+    ) -> Iterator[tuple[int, BagMessage | None]]:
+        yield ref.start, None  # a chunk is read only when the merge reaches it
+        found = []
+        for op, start, end, raw in self._chunk_records(ref):
+            if op != OP_MESSAGE:
+                continue
+            cid, _, stamp, _ = _MESSAGE.unpack_from(raw, start)
+            conn = conns.get(cid)
+            if conn is not None and lo <= stamp < hi:
+                found.append(BagMessage(conn, stamp, raw[start + _MESSAGE.size : end]))
+        found.sort(key=lambda m: m.stamp_ns)
+        for message in found:
+            yield message.stamp_ns, message
+
+    def _loose_messages(
+        self, conns: dict[int, Connection], lo: int, hi: int
+    ) -> Iterator[tuple[int, BagMessage | None]]:
+        for stamp, cid, pos, length in sorted(self._loose):
+            conn = conns.get(cid)
+            if conn is None or not lo <= stamp < hi:
+                continue
+            self._f.seek(pos)
+            yield stamp, BagMessage(conn, stamp, self._f.read(length))
+
+    def close(self) -> None:
+        self._f.close()
+
+
+# --- recovery --------------------------------------------------------------------------------
+
+
+def recover_mcap(path: Path, output: Path, backup: Path | None) -> tuple[int, int]:
+    """Write the whole chunks (and loose records) of the MCAP file at ``path`` to ``output``
+    with a new summary (``output`` may be ``path``: the original is moved to ``backup``
+    first). Returns (messages kept, bytes dropped)."""
+    with path.open("rb") as f:
+        data = f.read()
+    if data[:8] != MAGIC or len(data) < 17 or data[8] != OP_HEADER:
+        msg = f"{path} is not an MCAP file"
+        raise BagError(msg)
+    (hlen,) = _U64.unpack_from(data, 9)
+    data_start = 17 + hlen
+    summary = _Summary()
+    kept: list[tuple[int, int, dict[int, list[tuple[int, int]]] | None, _ChunkRef | None]] = []
+    good_end = data_start
+    for op, start, end in _records(data, data_start):
+        body = data[start:end]
+        if op in (OP_DATA_END, OP_FOOTER) or op > 0x0F:
+            break
+        try:
+            if op == OP_SCHEMA:
+                schema = _parse_schema(body)
+                summary.schemas[schema.id] = schema
+                kept.append((start - 9, end, None, None))
+            elif op == OP_CHANNEL:
+                channel = _parse_channel(body)
+                summary.channels[channel.id] = channel
+                kept.append((start - 9, end, None, None))
+            elif op == OP_MESSAGE:
+                cid, _, stamp, _ = _MESSAGE.unpack_from(body, 0)
+                summary.add_message(cid, stamp)
+                kept.append((start - 9, end, None, None))
+            elif op == OP_CHUNK:
+                cstart, cend, size, crc, compression, compressed, offset = _parse_chunk_header(body)
+                raw = _decompress(compression, body[offset : offset + compressed], size)
+                if raw is None or len(raw) != size or (crc and zlib.crc32(raw) != crc):
+                    break
+                index: dict[int, list[tuple[int, int]]] = defaultdict(list)
+                for rop, rstart, rend in _records(raw):
+                    if rop == OP_SCHEMA:
+                        schema = _parse_schema(raw[rstart:rend])
+                        summary.schemas[schema.id] = schema
+                    elif rop == OP_CHANNEL:
+                        channel = _parse_channel(raw[rstart:rend])
+                        summary.channels[channel.id] = channel
+                    elif rop == OP_MESSAGE:
+                        cid, _, stamp, _ = _MESSAGE.unpack_from(raw, rstart)
+                        index[cid].append((stamp, rstart - 9))
+                        summary.add_message(cid, stamp)
+                kept.append(
+                    (
+                        start - 9,
+                        end,
+                        index,
+                        _ChunkRef(start - 9, cstart, cend, compression, compressed, size),
+                    )
+                )
+        except (struct.error, UnicodeDecodeError):
+            break
+        good_end = end
+    if backup is not None:
+        shutil.move(path, backup)
+    temp = output.with_name(f".{output.name}.reindex")
+    try:
+        with temp.open("wb") as out:
+            out.write(data[:data_start])
+            for start, end, chunk_index, ref in kept:
+                pos = out.tell()
+                out.write(data[start:end])
+                if chunk_index is not None and ref is not None:
+                    length = out.tell() - pos
+                    offsets, index_len = _message_indexes(out, chunk_index)
+                    summary.chunk_indexes.append(
+                        _chunk_index(
+                            ref.start,
+                            ref.end,
+                            pos,
+                            length,
+                            offsets,
+                            index_len,
+                            ref.compression,
+                            ref.compressed,
+                            ref.uncompressed,
+                        )
+                    )
+            summary.write(out)
+        temp.replace(output)
+    except OSError as err:
+        temp.unlink(missing_ok=True)
+        if backup is not None and not path.exists():
+            shutil.move(backup, path)
+        msg = f"cannot write {output}: {err.strerror or err}"
+        raise BagError(msg) from None
+    return sum(summary.counts.values()), len(data) - good_end

@@ -1,0 +1,202 @@
+"""What every bag format shares: connections, messages, errors, and the message types.
+
+A connection is one topic as one publisher offered it: its type (the store's spelling,
+``pkg/msg/Type``), how its messages are encoded (``ros1``: ROS 1's wire format, as ROS 1
+bags hold it; ``cdr``: as belvedere's transport and ROS 2 carry it), the type's definition
+and MD5 sum, and whether it latched.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+from functools import cache
+from typing import Any, NamedTuple
+
+from rosbags.interfaces import Nodetype
+from rosbags.typesys import Stores, TypesysError, get_types_from_msg, get_typestore
+from rosbags.typesys.store import Typestore
+
+from belvedere.errors import BelvedereError
+from belvedere.msgs import MessageTypeError, message_from_data, short, types
+
+__all__ = [
+    "BagError",
+    "BagMessage",
+    "Connection",
+    "Decoder",
+    "cdr_schema",
+    "ros1_definition",
+]
+
+logger = logging.getLogger("belvedere.bags")
+
+
+class BagError(BelvedereError):
+    """A bag that cannot be read or written as asked."""
+
+
+@dataclass(frozen=True, slots=True)
+class Connection:
+    """One topic as one publisher offered it."""
+
+    id: int
+    topic: str
+    msgtype: str
+    """The store's spelling: ``geometry_msgs/msg/Twist``."""
+    encoding: str
+    """``ros1`` or ``cdr``."""
+    md5sum: str
+    """ROS 1's MD5 sum of the type ('' where the file does not say)."""
+    definition: str
+    """The type's definition as the file holds it (ROS 1's full text, or a ros2msg schema)."""
+    callerid: str | None = None
+    latching: bool = False
+
+
+class BagMessage(NamedTuple):
+    connection: Connection
+    stamp_ns: int
+    """When it was recorded (ROS 1 bags' time, MCAP's log time)."""
+    data: bytes
+
+
+@cache
+def ros1_definition(msgtype: str) -> tuple[str, str, str]:
+    """(ROS 1 name, MD5 sum, full definition text) of a store type, as genpy has them."""
+    from belvedere.ros1 import message_class
+
+    cls = message_class(msgtype)
+    return cls._type, cls._md5sum, cls._full_text
+
+
+@cache
+def cdr_schema(msgtype: str) -> str:
+    """The ros2msg schema of a store type (its definition and those it uses)."""
+    text, _ = types().store.generate_msgdef(msgtype, ros_version=2)
+    return text
+
+
+class Decoder:
+    """Turns a bag's messages into the store's objects.
+
+    A type the store lacks is learnt from the bag's definition. A type the store has, but
+    laid out otherwise in the bag (a ROS 2 ``std_msgs/Header`` without ``seq``, a message of
+    another ROS version: another MD5 sum), is read with the bag's own definition and copied
+    field by field, by name (case aside), into belvedere's type; fields the bag lacks keep
+    their defaults. A connection whose definition cannot be read is skipped, with a warning.
+    """
+
+    def __init__(self) -> None:
+        self._plans: dict[tuple[str, str, str, str], Typestore | bool | None] = {}
+
+    def usable(self, conn: Connection) -> bool:
+        return self._plan(conn) is not False
+
+    def _plan(self, conn: Connection) -> Typestore | bool | None:
+        """None: the store reads it; a type store: the bag's own layout; False: unreadable."""
+        key = (conn.msgtype, conn.encoding, conn.md5sum, conn.definition)
+        if key not in self._plans:
+            self._plans[key] = self._check(conn)
+        return self._plans[key]
+
+    def _check(self, conn: Connection) -> Typestore | bool | None:
+        store = types().store
+        known = conn.msgtype in store.fielddefs
+        has_md5 = conn.encoding == "ros1" and conn.md5sum not in ("", "*")
+        if known and has_md5 and ros1_definition(conn.msgtype)[1] == conn.md5sum:
+            return None
+        try:
+            found = get_types_from_msg(conn.definition, conn.msgtype) if conn.definition else {}
+        except (TypesysError, ValueError, KeyError) as err:
+            if known and conn.encoding == "cdr":
+                return None  # no definition to go by: the store's
+            logger.warning(
+                "skipping %s: cannot read its type %s: %s", conn.topic, conn.msgtype, err
+            )
+            return False
+        if not found:
+            return None if known else self._unknown(conn)
+        differs = [
+            n for n, d in found.items() if n in store.fielddefs and d[1] != store.fielddefs[n][1]
+        ]
+        try:
+            if not differs:
+                store.register({n: d for n, d in found.items() if n not in store.fielddefs})
+                types().resolve(conn.msgtype)
+                return None
+            own = get_typestore(Stores.EMPTY)
+            own.register(found)
+            if not known:  # belvedere's version: the bag's fields, with the store's parts
+                store.register({n: d for n, d in found.items() if n not in store.fielddefs})
+        except (TypesysError, MessageTypeError, ValueError, KeyError) as err:
+            logger.warning(
+                "skipping %s: cannot read its type %s: %s", conn.topic, conn.msgtype, err
+            )
+            return False
+        logger.info(
+            "%s: the bag's %s differs from belvedere's (%s): converting it field by field",
+            conn.topic,
+            short(conn.msgtype),
+            ", ".join(short(n) for n in differs),
+        )
+        return own
+
+    @staticmethod
+    def _unknown(conn: Connection) -> bool:
+        logger.warning("skipping %s: its type %s is unknown here", conn.topic, conn.msgtype)
+        return False
+
+    def decode(self, message: BagMessage) -> Any:
+        conn = message.connection
+        plan = self._plan(conn)
+        store = types().store if plan is None or plan is False else plan
+        assert isinstance(store, Typestore)
+        if conn.encoding == "ros1":
+            obj = store.deserialize_ros1(message.data, conn.msgtype)
+        else:
+            obj = store.deserialize_cdr(message.data, conn.msgtype)
+        return obj if plan is None else _convert(obj, conn.msgtype)
+
+
+def _convert(obj: Any, msgtype: str) -> Any:
+    """A message of another layout as the store's ``msgtype``: fields by name (case aside)."""
+    store = types().store
+    cls = store.types[msgtype]
+    source = {name.lower(): name for name in getattr(obj, "__dataclass_fields__", {})}
+    default: Any = None
+    values = {}
+    for name, (kind, detail) in store.fielddefs[msgtype][1]:
+        theirs = source.get(name.lower())
+        if theirs is None:
+            if default is None:
+                default = message_from_data(msgtype, None)
+            values[name] = getattr(default, name)
+            continue
+        value = getattr(obj, theirs)
+        if kind == Nodetype.NAME:
+            value = _convert(value, str(detail))
+        elif kind in (Nodetype.ARRAY, Nodetype.SEQUENCE) and detail[0][0] == Nodetype.NAME:
+            value = [_convert(v, str(detail[0][1])) for v in value]
+        values[name] = value
+    return cls(**values)
+
+
+def encode(msg: Any, encoding: str) -> bytes:
+    """A store object in ``encoding`` (``ros1`` or ``cdr``)."""
+    if encoding == "ros1":
+        return bytes(types().store.serialize_ros1(msg, msg.__msgtype__))
+    return types().serialize(msg)
+
+
+def transcode(data: bytes, msgtype: str, source: str, target: str) -> bytes:
+    """Bytes of one encoding in another (through the store's object)."""
+    if source == target:
+        return data
+    store = types().store
+    obj = (
+        store.deserialize_ros1(data, msgtype)
+        if source == "ros1"
+        else store.deserialize_cdr(data, msgtype)
+    )
+    return encode(obj, target)
