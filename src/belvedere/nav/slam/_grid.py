@@ -66,12 +66,16 @@ class FieldGrid:
             lo = np.minimum(lo, have_lo)
             hi = np.maximum(hi, have_hi)
         res = self.resolution
-        # Grow by whole cells so that old cells keep their boundaries.
-        new_lo = self.origin + np.floor((lo - _GROW_MARGIN - self.origin) / res) * res
-        if not self.hits.size:
-            new_lo = np.floor((lo - _GROW_MARGIN) / res) * res
-        cols = math.ceil((hi[0] + _GROW_MARGIN - new_lo[0]) / res)
-        rows = math.ceil((hi[1] + _GROW_MARGIN - new_lo[1]) / res)
+        # Grow by whole cells so that old cells keep their boundaries, and by a margin that
+        # grows with the grid (so that a grid growing step by step is copied seldom).
+        margin = _GROW_MARGIN
+        if self.hits.size:
+            margin = max(margin, 0.25 * float(np.max(have_hi - have_lo)))
+            new_lo = self.origin + np.floor((lo - margin - self.origin) / res) * res
+        else:
+            new_lo = np.floor((lo - margin) / res) * res
+        cols = math.ceil((hi[0] + margin - new_lo[0]) / res)
+        rows = math.ceil((hi[1] + margin - new_lo[1]) / res)
         hits = np.zeros((rows, cols), dtype=np.float32)
         field = np.zeros((rows, cols))
         if self.hits.size:

@@ -166,12 +166,55 @@ class PoseGraph:
             h[:, f : f + 3] = 0.0
             h[f : f + 3, f : f + 3] = np.eye(3)
             g[f : f + 3] = 0.0
-            try:
-                step = np.linalg.solve(h + np.eye(count * 3) * 1e-9, -g)
-            except np.linalg.LinAlgError:
+            step = _solve_spd(h + np.eye(count * 3) * 1e-9, -g)
+            if step is None:
                 break
             self.poses = self.poses + step.reshape(count, 3)
             self.poses[:, 2] = wrap(self.poses[:, 2])
             if np.abs(step).max() < 1e-6:
                 break
         return cost
+
+
+_BLOCK = 96
+"""LAPACK (OpenBLAS) solves systems under 10 000 entries on one thread; larger ones start
+threads, which on a loaded machine cost a hundred times the arithmetic."""
+
+
+def _solve_spd(a: Array, b: Array) -> Array | None:
+    """``a⁻¹ b`` for a symmetric positive definite ``a``, by a Cholesky factorisation over
+    blocks small enough for LAPACK to stay on one thread, the products between blocks in
+    ``einsum`` (numpy's own loops, never threaded). None if ``a`` is not positive definite."""
+    n = len(a)
+    edges = list(range(0, n, _BLOCK)) + [n]
+    spans = list(zip(edges[:-1], edges[1:], strict=True))
+    low: dict[tuple[int, int], Array] = {}
+    inv: list[Array] = []
+    try:
+        for k, (k0, k1) in enumerate(spans):
+            diag = a[k0:k1, k0:k1].copy()
+            for j in range(k):
+                diag -= np.einsum("ik,jk->ij", low[k, j], low[k, j])
+            lkk = np.linalg.cholesky(diag)
+            inv.append(np.linalg.inv(lkk))
+            for i in range(k + 1, len(spans)):
+                i0, i1 = spans[i]
+                block = a[i0:i1, k0:k1].copy()
+                for j in range(k):
+                    block -= np.einsum("ik,jk->ij", low[i, j], low[k, j])
+                low[i, k] = np.einsum("ik,jk->ij", block, inv[k])
+    except np.linalg.LinAlgError:
+        return None
+    y: list[Array] = []
+    for k, (k0, k1) in enumerate(spans):
+        rhs = b[k0:k1].copy()
+        for j in range(k):
+            rhs -= np.einsum("ik,k->i", low[k, j], y[j])
+        y.append(np.einsum("ik,k->i", inv[k], rhs))
+    x: list[Array] = [np.zeros(0)] * len(spans)
+    for k in range(len(spans) - 1, -1, -1):
+        rhs = y[k].copy()
+        for i in range(k + 1, len(spans)):
+            rhs -= np.einsum("ki,k->i", low[i, k], x[i])
+        x[k] = np.einsum("ki,k->i", inv[k], rhs)
+    return np.concatenate(x)

@@ -94,9 +94,9 @@ class Tuning:
     loop_radius: float = 4.0
     """Finished submaps with a keyframe this near (m) are searched for loop closures."""
     loop_min_score: float = 0.45
-    loop_window_xy: tuple[float, float, float] = (0.3, 0.03, 3.0)
+    loop_window_xy: tuple[float, float, float] = (0.3, 0.08, 5.0)
     """Linear window: base (m), growth per metre travelled since the last closure, cap."""
-    loop_window_theta: tuple[float, float, float] = (0.05, 0.002, 0.26)
+    loop_window_theta: tuple[float, float, float] = (0.05, 0.0035, 0.35)
     loop_max_range: float = 20.0
     """Beams used to search for closures are cut to this range (m) (finer angular steps
     would otherwise be needed)."""
@@ -531,10 +531,19 @@ class SubmapSlam:
 
     def pose(self) -> Array:
         """The base's current pose in the map frame."""
+        home = self._active[0]
+        pose = compose(self.graph.poses[home], self._local)
         other, weight = self._blend()
-        return self._poses(
-            np.array([self._active[0]]), self._local[None, :], np.array([other]), np.array([weight])
-        )[0]
+        if other < 0 or weight <= 0.0:
+            return pose
+        anchor = self.submaps[other].anchor
+        assert anchor is not None
+        alt = compose(self.graph.poses[other], between(anchor[1], self._local))
+        d = alt - pose
+        d[2] = (d[2] + math.pi) % (2 * math.pi) - math.pi
+        mixed = pose + weight * d
+        mixed[2] = (mixed[2] + math.pi) % (2 * math.pi) - math.pi
+        return mixed
 
     def map_to_odom(self) -> Array:
         """The map → odom transform implied by the current pose and odometry."""
