@@ -35,6 +35,7 @@ _VERBS = (
     "tf",
     "run",
     "rospack",
+    "slam",
 )
 """The verbs, in the order ``--help`` lists them; each is the module ``belvedere.cli.VERB``.
 Only the verb being run is imported (``xacro`` need not load the simulator)."""

@@ -74,6 +74,7 @@ MODULES: Final = {
     "controller_manager": "controller_manager",
     "depthimage_to_laserscan": "depthimage_to_laserscan",
     "gazebo_ros": "gazebo_ros",
+    "gmapping": "gmapping",
     "joint_state_publisher": "joint_state_publisher",
     "joint_state_publisher_gui": "joint_state_publisher_gui",
     "robot_state_publisher": "robot_state_publisher",

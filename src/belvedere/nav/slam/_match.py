@@ -28,6 +28,8 @@ class Match:
     """Mean field value at the end points (1 = every point on a wall's centre)."""
     hessian: Array
     """``JᵀJ`` of the field term alone (the match's information, up to a scale)."""
+    cost: float = 0.0
+    """``Σ (1 - F)²`` at the pose."""
 
 
 def refine(
@@ -121,7 +123,10 @@ def refine(
             damping = 1.0 if damping == 0.0 else damping * 4.0
             if damping > 1e3:
                 break
-    return Match(pose=pose, score=float(value.sum() / n), hessian=jtj)
+    residual = 1.0 - value
+    return Match(
+        pose=pose, score=float(value.sum() / n), hessian=jtj, cost=float(residual @ residual)
+    )
 
 
 def _solve3(h: Array, b: Array) -> Array:

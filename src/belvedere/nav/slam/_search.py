@@ -32,6 +32,8 @@ class SearchResult:
     pose: Array
     """Pose of the scan's frame in the grid's frame (on the search lattice)."""
     score: float
+    runner_up: float = 0.0
+    """The best score away from the best pose (0: none above the ambiguity asked for)."""
 
 
 class SearchPyramid:
@@ -90,10 +92,15 @@ class SearchPyramid:
         angular_window: float,
         angular_step: float,
         min_score: float,
+        ambiguity: float | None = None,
+        distinct_xy: float = 0.5,
+        distinct_theta: float = 0.09,
     ) -> SearchResult | None:
         """The best pose within ``±linear_window`` (m) and ``±angular_window`` (rad) of
         ``center`` (pose in the grid's frame) for ``points`` (N, 2) in the scan's frame, if
-        its score reaches ``min_score``."""
+        its score reaches ``min_score``. With ``ambiguity``, also the best score of the poses
+        at least ``distinct_xy`` or ``distinct_theta`` away from it, if it reaches
+        ``ambiguity`` times the best (a second peak: the scan fits two places)."""
         res = self.resolution
         half = max(int(math.ceil(linear_window / res)), 0)
         steps = max(int(math.ceil(angular_window / angular_step)), 0)
@@ -115,9 +122,7 @@ class SearchPyramid:
         ka, kx, ky = np.meshgrid(
             np.arange(len(angles)), np.arange(count) * size, np.arange(count) * size, indexing="ij"
         )
-        cand = np.stack([ka.ravel(), kx.ravel(), ky.ravel()], axis=1)
-        best_score = min_score
-        best: tuple[int, int, int] | None = None
+        start = np.stack([ka.ravel(), kx.ravel(), ky.ravel()], axis=1)
 
         def evaluate(level: int, cand: npt.NDArray[np.int64]) -> Array:
             a = cand[:, 0]
@@ -131,42 +136,71 @@ class SearchPyramid:
             keep = (out[:, 1] < span) & (out[:, 2] < span)
             return out[keep]
 
-        bounds = evaluate(top, cand)
-        # Greedy descent from the best span gives a first complete score to prune with.
-        order = np.argsort(-bounds, kind="stable")
-        probe = cand[order[:1]]
-        for level in range(top, 0, -1):
-            kids = children(level, probe)
-            kb = evaluate(level - 1, kids)
-            probe = kids[np.argmax(kb)][None, :]
-            if level == 1 and kb.max() > best_score:
-                best_score = float(kb.max())
-                best = (int(probe[0, 0]), int(probe[0, 1]), int(probe[0, 2]))
-        if top == 0:
-            i = int(np.argmax(bounds))
-            if bounds[i] > best_score:
-                best_score = float(bounds[i])
-                best = (int(cand[i, 0]), int(cand[i, 1]), int(cand[i, 2]))
-        for level in range(top, 0, -1):
-            keep = bounds > best_score
-            cand = cand[keep]
-            bounds = bounds[keep]
-            if not len(cand):
-                break
-            if len(cand) > _FRONTIER_CAP:
-                top_k = np.argsort(-bounds, kind="stable")[:_FRONTIER_CAP]
-                cand = cand[top_k]
-            cand = children(level, cand)
-            bounds = evaluate(level - 1, cand)
-            if level == 1 and len(bounds):
+        def finest(cand: npt.NDArray[np.int64], exclude: tuple[int, int, int, int, int] | None) -> Array:
+            scores = evaluate(0, cand)
+            if exclude is not None:
+                a0, x0, y0, da, dxy = exclude
+                near = (
+                    (np.abs(cand[:, 0] - a0) <= da)
+                    & (np.abs(cand[:, 1] - x0) <= dxy)
+                    & (np.abs(cand[:, 2] - y0) <= dxy)
+                )
+                scores = np.where(near, -np.inf, scores)
+            return scores
+
+        def best_of(
+            floor: float, exclude: tuple[int, int, int, int, int] | None
+        ) -> tuple[float, tuple[int, int, int] | None]:
+            best_score = floor
+            best: tuple[int, int, int] | None = None
+            cand = start
+            if top == 0:
+                bounds = finest(cand, exclude)
                 i = int(np.argmax(bounds))
                 if bounds[i] > best_score:
-                    best_score = float(bounds[i])
-                    best = (int(cand[i, 0]), int(cand[i, 1]), int(cand[i, 2]))
+                    return float(bounds[i]), (int(cand[i, 0]), int(cand[i, 1]), int(cand[i, 2]))
+                return best_score, None
+            bounds = evaluate(top, cand)
+            # A greedy descent from the best span gives a first complete score to prune with.
+            probe = cand[np.argsort(-bounds, kind="stable")[:1]]
+            for level in range(top, 0, -1):
+                kids = children(level, probe)
+                kb = finest(kids, exclude) if level == 1 else evaluate(level - 1, kids)
+                probe = kids[np.argmax(kb)][None, :]
+                if level == 1 and kb.max() > best_score:
+                    best_score = float(kb.max())
+                    best = (int(probe[0, 0]), int(probe[0, 1]), int(probe[0, 2]))
+            for level in range(top, 0, -1):
+                keep = bounds > best_score
+                cand = cand[keep]
+                bounds = bounds[keep]
+                if not len(cand):
+                    break
+                if len(cand) > _FRONTIER_CAP:
+                    cand = cand[np.argsort(-bounds, kind="stable")[:_FRONTIER_CAP]]
+                cand = children(level, cand)
+                bounds = finest(cand, exclude) if level == 1 else evaluate(level - 1, cand)
+                if level == 1 and len(bounds):
+                    i = int(np.argmax(bounds))
+                    if bounds[i] > best_score:
+                        best_score = float(bounds[i])
+                        best = (int(cand[i, 0]), int(cand[i, 1]), int(cand[i, 2]))
+            return best_score, best
+
+        score, best = best_of(min_score, None)
         if best is None:
             return None
         a, ox, oy = best
-        pose = np.array(
-            [center[0] + (ox - half) * res, center[1] + (oy - half) * res, angles[a]]
-        )
-        return SearchResult(pose=pose, score=best_score)
+        runner_up = 0.0
+        if ambiguity is not None:
+            exclude = (
+                a,
+                ox,
+                oy,
+                int(math.ceil(distinct_theta / angular_step)),
+                int(math.ceil(distinct_xy / res)),
+            )
+            other, found = best_of(score * ambiguity, exclude)
+            runner_up = other if found is not None else 0.0
+        pose = np.array([center[0] + (ox - half) * res, center[1] + (oy - half) * res, angles[a]])
+        return SearchResult(pose=pose, score=score, runner_up=runner_up)

@@ -24,6 +24,7 @@ Plain arrays in, plain arrays out; deterministic (no random numbers at all).
 
 from __future__ import annotations
 
+import logging
 import math
 from dataclasses import dataclass, field
 
@@ -39,6 +40,8 @@ from belvedere.nav.slam._se2 import between, compose, inverse, transform_points
 from belvedere.nav.slam._search import SearchPyramid
 
 __all__ = ["LaserGeometry", "ScanPose", "SubmapSlam", "Tuning"]
+
+logger = logging.getLogger("belvedere.nav.slam")
 
 Array = npt.NDArray[np.float64]
 
@@ -110,14 +113,19 @@ class Tuning:
     """Closures whose translational information is this lopsided (corridors) are dropped."""
     loop_max_error: float = 5.0
     """After optimising, a new closure this far (Mahalanobis) from the graph is dropped."""
+    loop_ambiguity: float = 0.9
+    """A closure whose scan fits another pose in the window nearly as well (this fraction of
+    the best score) is dropped."""
     agree_xy: float = 0.1
     agree_theta: float = 0.01
     """A closure moving its keyframe less than this agrees with the graph: accepted."""
     consistent_xy: float = 0.25
     consistent_theta: float = 0.025
-    """Two closures asking for corrections this close confirm each other."""
-    pending_keyframes: int = 10
-    """How long (keyframes) a closure waits for confirmation."""
+    consistent_rate: float = 0.1
+    """Two closures asking for corrections this close confirm each other (the linear part
+    grows by this fraction of the correction asked for)."""
+    pending_travel: float = 30.0
+    """How long (metres travelled) a closure waits for confirmation."""
     loop_length: float = 1.0
     """A loop edge's length for the search windows (metres of travel it stands for)."""
     chain_sigma_xy: tuple[float, float] = (0.01, 0.01)
@@ -161,6 +169,8 @@ class _Keyframe:
     """The (subsampled, range-limited) points used to search for loop closures."""
     other: int = -1
     weight: float = 0.0
+    travel: float = 0.0
+    """Metres travelled (by odometry) when it was taken."""
 
 
 @dataclass(eq=False)
@@ -169,13 +179,26 @@ class _Closure:
     submap: int
     measurement: Array
     """The keyframe's home submap seen from ``submap``."""
+    information: Array
+    """Of the keyframe's pose in ``submap`` (its own frame's axes)."""
 
 
-def _consistent(a: Array, b: Array, tuning: Tuning) -> bool:
-    return bool(
-        math.hypot(a[0] - b[0], a[1] - b[1]) <= tuning.consistent_xy
-        and abs(a[2] - b[2]) <= tuning.consistent_theta
-    )
+def _moved_information(information: Array, local: Array) -> Array:
+    """The information of ``z = m ∘ local⁻¹`` (the home submap seen from the old one) given
+    that of ``m`` (the keyframe seen from the old one) in the keyframe's own axes: the same
+    uncertainty, carried from the keyframe's origin to the home submap's."""
+    # δz ≈ J δm with δm in the keyframe's axes; z's error is taken in z's axes.
+    c, s = math.cos(local[2]), math.sin(local[2])
+    lx, ly = local[0], local[1]
+    inv_local = np.array([-(c * lx + s * ly), s * lx - c * ly])
+    # Moving the keyframe by δm (its axes) moves z's origin by R(δθ)·inv_local + δt,
+    # seen in z's axes: rotate the keyframe's axes into z's by -local's angle.
+    rot = np.array([[c, s], [-s, c]])
+    jac = np.eye(3)
+    jac[:2, :2] = rot.T
+    jac[:2, 2] = rot.T @ np.array([-inv_local[1], inv_local[0]])
+    cov = jac @ np.linalg.inv(information) @ jac.T
+    return np.asarray(np.linalg.inv(cov))
 
 
 @dataclass
@@ -225,7 +248,9 @@ class SubmapSlam:
         self._state = _State()
         self.loop_closures = 0
         self._last_score = 1.0
+        self._covariance_source: tuple[Array, float] | None = None
         self._pending: list[_Closure] = []
+        self._travel = 0.0
         self._map: OccupancyCounts | None = None
         self._map_poses = np.zeros((0, 3))
 
@@ -263,6 +288,7 @@ class SubmapSlam:
         self._last_odom = odom
         dist = math.hypot(motion[0], motion[1])
         self._since_linear += dist
+        self._travel += dist
         self._since_angular += abs(motion[2])
         predicted = compose(self._local, motion)
         if dist < 1e-4 and abs(motion[2]) < 1e-4:
@@ -341,6 +367,10 @@ class SubmapSlam:
         info = np.array([1 / sxy**2, 1 / sxy**2, 1 / sth**2])
         result = refine(grid, points, predicted, predicted, info, iterations=max(p.iterations, 1) * 2)
         self._local = result.pose
+        # The pose's covariance: the residuals' variance over the information of the match
+        # and of the motion prior together.
+        dof = max(len(points) - 3, 1)
+        self._covariance_source = (result.hessian + np.diag(info), result.cost / dof)
         return result.score
 
     # -------------------------------------------------------------- keyframes
@@ -386,6 +416,7 @@ class SubmapSlam:
             search=search,
         )
         kf.other, kf.weight = self._blend()
+        kf.travel = self._travel
         self.keyframes.append(kf)
         for s in self._active:
             sub = self.submaps[s]
@@ -446,7 +477,7 @@ class SubmapSlam:
             return
         far = float(np.hypot(kf.search[:, 0], kf.search[:, 1]).max())
         step = self.resolution / max(far, self.resolution)
-        found_edges: list[tuple[int, Array]] = []
+        found_edges: list[tuple[int, Array, Array]] = []
         pts: Array | None = None
         for b in candidates:
             sub = self.submaps[int(b)]
@@ -454,59 +485,107 @@ class SubmapSlam:
                 continue
             center = between(self.graph.poses[b], g)
             found = sub.pyramid.search(
-                kf.search, center, float(wxy[b]), float(wth[b]), step, t.loop_min_score
+                kf.search,
+                center,
+                float(wxy[b]),
+                float(wth[b]),
+                step,
+                t.loop_min_score,
+                ambiguity=t.loop_ambiguity,
             )
-            if found is None:
+            if found is None or found.runner_up > 0.0:
                 continue
             if pts is None:
                 pts, _ = self._points(kf.ranges.astype(np.float64))
             match = refine(sub.grid, pts, found.pose, iterations=10)
             if match.score < t.loop_min_score or _degenerate(match.hessian, t.loop_min_ratio):
                 continue
-            found_edges.append((int(b), compose(match.pose, inverse(kf.local))))
+            # The match's covariance (residual variance over its information), with a floor:
+            # a closure along a corridor pins the corridor's direction down loosely only.
+            dof = max(len(pts) - 3, 1)
+            try:
+                cov = np.linalg.inv(match.hessian) * (match.cost / dof)
+            except np.linalg.LinAlgError:
+                continue
+            cov = cov + np.diag([t.loop_sigma_xy**2, t.loop_sigma_xy**2, t.loop_sigma_theta**2])
+            found_edges.append((int(b), compose(match.pose, inverse(kf.local)), np.linalg.inv(cov)))
         self._consider(k, found_edges)
 
-    def _correction(self, closure: _Closure) -> Array:
-        """How the closure would move its keyframe, in the keyframe's frame."""
+    def _correction(self, closure: _Closure) -> tuple[Array, Array]:
+        """Where the closure would put its keyframe, and where the graph has it now."""
         kf = self.keyframes[closure.keyframe]
         now = compose(self.graph.poses[kf.home], kf.local)
         there = compose(self.graph.poses[closure.submap], compose(closure.measurement, kf.local))
-        return between(now, there)
+        return there, now
 
-    def _consider(self, k: int, found: list[tuple[int, Array]]) -> None:
+    def _agree(self, a: _Closure, b: _Closure) -> bool:
+        """Whether moving ``a``'s keyframe where ``a`` says, and everything near it along,
+        puts ``b``'s keyframe where ``b`` says."""
+        t = self.tuning
+        there_a, now_a = self._correction(a)
+        there_b, now_b = self._correction(b)
+        moved = compose(compose(there_a, inverse(now_a)), now_b)
+        d = between(moved, there_b)
+        size = math.hypot(*between(now_b, there_b)[:2])
+        return bool(
+            math.hypot(d[0], d[1]) <= t.consistent_xy + t.consistent_rate * size
+            and abs(d[2]) <= t.consistent_theta
+        )
+
+    def _consider(self, k: int, found: list[tuple[int, Array, Array]]) -> None:
         """Accept closures that agree with the graph as it is; hold the others until a
         closure from another keyframe asks for the same correction (two different views
         of a corridor seldom alias the same way)."""
         t = self.tuning
         accepted: list[_Closure] = []
-        for b, z in found:
-            closure = _Closure(keyframe=k, submap=b, measurement=z)
-            c = self._correction(closure)
+        for b, z, info in found:
+            closure = _Closure(keyframe=k, submap=b, measurement=z, information=info)
+            c = between(*reversed(self._correction(closure)))
+            logger.debug(
+                "closure t=%.1f keyframe %d (submap %d) -> submap %d: correction %+.2f %+.2f %+.1f°",
+                self.keyframes[k].stamp,
+                k,
+                self.keyframes[k].home,
+                b,
+                c[0],
+                c[1],
+                math.degrees(c[2]),
+            )
             if math.hypot(c[0], c[1]) <= t.agree_xy and abs(c[2]) <= t.agree_theta:
                 accepted.append(closure)
                 continue
-            partners = [
-                p
-                for p in self._pending
-                if p.keyframe != k and _consistent(c, self._correction(p), t)
-            ]
+            partners = [p for p in self._pending if p.keyframe != k and self._agree(closure, p)]
             if partners:
                 accepted.append(closure)
                 accepted.extend(partners)
                 self._pending = [p for p in self._pending if p not in partners]
             else:
                 self._pending.append(closure)
-        self._pending = [p for p in self._pending if k - p.keyframe < t.pending_keyframes]
+        self._pending = [
+            p
+            for p in self._pending
+            if self._travel - self.keyframes[p.keyframe].travel < t.pending_travel
+        ]
         if not accepted:
             return
-        info = np.diag([1 / t.loop_sigma_xy**2, 1 / t.loop_sigma_xy**2, 1 / t.loop_sigma_theta**2])
         added: list[int] = []
         for closure in accepted:
             added.append(self.graph.edge_count)
             home = self.keyframes[closure.keyframe].home
+            # The measurement is the keyframe's pose in the old submap, turned into the home
+            # submap's: its covariance turns with it (the home frame's origin is elsewhere).
             self.graph.add_edge(
-                closure.submap, home, closure.measurement, info, huber=t.loop_huber, length=t.loop_length
+                closure.submap,
+                home,
+                closure.measurement,
+                _moved_information(closure.information, self.keyframes[closure.keyframe].local),
+                huber=t.loop_huber,
+                length=t.loop_length,
             )
+        logger.debug(
+            "accepted: %s",
+            ", ".join(f"{self.keyframes[c.keyframe].stamp:.1f}->{c.submap}" for c in accepted),
+        )
         self._optimize()
         # A closure the rest of the graph cannot agree with is most likely a false match.
         while added:
@@ -515,6 +594,7 @@ class SubmapSlam:
             if errors[worst] <= t.loop_max_error:
                 break
             removed = added.pop(worst)
+            logger.debug("closure edge %d dropped: %.1f from the graph", removed, errors[worst])
             self.graph.remove_edge(removed)
             added = [e - 1 if e > removed else e for e in added]
             self._optimize()
@@ -544,6 +624,25 @@ class SubmapSlam:
         mixed = pose + weight * d
         mixed[2] = (mixed[2] + math.pi) % (2 * math.pi) - math.pi
         return mixed
+
+    def covariance(self) -> Array:
+        """The covariance (x, y, yaw) of the last scan's match (zero before any match)."""
+        if self._covariance_source is None:
+            return np.zeros((3, 3))
+        information, variance = self._covariance_source
+        try:
+            return np.linalg.inv(information) * max(variance, 1e-12)
+        except np.linalg.LinAlgError:
+            return np.zeros((3, 3))
+
+    def entropy(self) -> float:
+        """The differential entropy (nats) of the pose estimate as a Gaussian of
+        :meth:`covariance`: lower is surer. (slam_gmapping publishes the entropy of its
+        particles' weights; one hypothesis has none, so this takes its place.)"""
+        det = float(np.linalg.det(self.covariance()))
+        if det <= 0.0:
+            return 0.0
+        return 0.5 * math.log((2.0 * math.pi * math.e) ** 3 * det)
 
     def map_to_odom(self) -> Array:
         """The map → odom transform implied by the current pose and odometry."""
