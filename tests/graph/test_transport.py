@@ -121,3 +121,39 @@ def test_who_publishes_a_topic_across_graphs(peer: Any, endpoint: str) -> None:
         assert not transport.service_offered("/nothing")
     finally:
         graph.shutdown()
+
+
+def test_a_graph_follows_the_clock_of_a_running_simulation(endpoint: str) -> None:
+    """A graph that joins a simulation takes its time from /clock: its timers fire as that
+    clock passes them, its time never runs ahead of the simulation's, and a run's duration
+    counts from the first time the clock reads."""
+    sim = Graph(sim_time=True, transport=ZenohTransport(endpoint=endpoint))
+    sim.start(rtf=4.0)
+    try:
+        wait_until(lambda: sim.now_ns() > 300_000_000, what="the simulation at 0.3 s")
+        joined = Graph(
+            sim_time=True,
+            clock_hz=None,
+            transport=ZenohTransport(endpoint=endpoint, serve_params=False),
+        )
+        fired: list[tuple[int, int]] = []
+        clocks: list[int] = []
+        node = joined.create_node("follower")
+        joined.follow_clock(node)
+        node.subscribe("/clock", "rosgraph_msgs/Clock", lambda m: clocks.append(joined.now_ns()))
+        node.timer(0.5, lambda: fired.append((joined.now_ns(), sim.now_ns())), oneshot=True)
+        assert joined.executor.following
+        assert joined.executor.horizon_ns() == 0
+        try:
+            joined.run(duration=1.0)
+        finally:
+            joined.shutdown()
+    finally:
+        sim.shutdown()
+    mine, theirs = fired[0]
+    assert 500_000_000 <= mine <= theirs
+    assert clocks[0] > 300_000_000
+    assert joined.now_ns() >= clocks[0] + 1_000_000_000
+    wall = Graph(sim_time=False)
+    with pytest.raises(GraphError, match="only a graph in simulated time can follow /clock"):
+        wall.follow_clock(wall.create_node("x"))

@@ -9,7 +9,8 @@ import os
 import pty
 import subprocess
 import sys
-import time
+import threading
+from collections.abc import Callable
 from typing import Any
 
 import pytest
@@ -30,12 +31,46 @@ ENGINES = {
 }
 
 
-def _type(fd: int, keys: str, seconds: float) -> None:
-    """Press ``keys`` over and over for ``seconds`` (the teleop stops without a key)."""
-    end = time.monotonic() + seconds
-    while time.monotonic() < end:
-        os.write(fd, keys.encode())
-        time.sleep(0.1)
+class _Terminal:
+    """The user's side of a pseudo-terminal: what the teleop prints is read as it comes (a
+    full terminal would block it), and keys are typed into it."""
+
+    def __init__(self) -> None:
+        self.fd, self.slave = pty.openpty()
+        self.output = b""
+        self._reader = threading.Thread(target=self._read, daemon=True)
+        self._reader.start()
+
+    def _read(self) -> None:
+        while True:
+            try:
+                chunk = os.read(self.fd, 4096)
+            except OSError:
+                return
+            if not chunk:
+                return
+            self.output += chunk
+
+    def wait_for(self, text: str) -> None:
+        wait_until(
+            lambda: text.encode() in self.output,
+            what=f"the teleop to print {text!r}",
+            detail=lambda: self.output[-200:],
+        )
+
+    def close(self) -> None:
+        os.close(self.slave)
+        os.close(self.fd)
+
+
+def _press_until(fd: int, key: str, done: Callable[[], bool], what: str) -> None:
+    """Press ``key`` every 0.1 s (the teleop stops when no key comes) until ``done()``."""
+
+    def press() -> bool:
+        os.write(fd, key.encode())
+        return done()
+
+    wait_until(press, what=what, interval=0.1)
 
 
 @pytest.mark.parametrize("engine", sorted(ENGINES))
@@ -55,25 +90,29 @@ def test_the_course_teleop_drives_the_simulation(endpoint: str, engine: str) -> 
 
     watcher.create_node("watcher").subscribe("/odom", "nav_msgs/Odometry", on_odom)
     watcher.start(rtf=None)
-    main_fd, terminal = pty.openpty()
+    terminal = _Terminal()
     teleop = None
     try:
         wait_until(lambda: poses, what=f"the {engine} simulation's /odom")
         teleop = subprocess.Popen(
             [*RUN, "mbot_teleop", "mbot_teleop.py", "_speed:=0.4"],
-            stdin=terminal,
-            stdout=terminal,
+            stdin=terminal.slave,
+            stdout=terminal.slave,
             stderr=subprocess.PIPE,
             text=True,
         )
+        terminal.wait_for("currently:")
         start = poses[-1]
-        _type(main_fd, "i", 2.0)
-        wait_until(lambda: poses[-1][0] - start[0] > 0.1, what="the robot to drive forward")
+        _press_until(terminal.fd, "i", lambda: poses[-1][0] - start[0] > 0.1, "the robot to drive")
         turned_from = poses[-1]
-        _type(main_fd, "j", 1.5)
-        wait_until(lambda: abs(poses[-1][2] - turned_from[2]) > 0.3, what="the robot to turn left")
-        os.write(main_fd, b"\x03")  # Ctrl-C, as a raw terminal passes it: the script quits
-        assert teleop.wait(timeout=DEADLINE) == 0, teleop.stderr.read() if teleop.stderr else ""
+        _press_until(
+            terminal.fd, "j", lambda: abs(poses[-1][2] - turned_from[2]) > 0.3, "the robot to turn"
+        )
+        # Ctrl-C as a raw terminal passes it: the script quits. (Typed in the instant the
+        # script has its terminal cooked between two keys, the line discipline eats it, as a
+        # real terminal would: press again.)
+        _press_until(terminal.fd, "\x03", lambda: teleop.poll() is not None, "the teleop to quit")
+        assert teleop.wait(timeout=DEADLINE) == 0
         assert teleop.stderr is not None
         assert "a Python 2 script: running its Python 3 form" in teleop.stderr.read()
         # its last word is a zero Twist: the robot stops
@@ -85,8 +124,7 @@ def test_the_course_teleop_drives_the_simulation(endpoint: str, engine: str) -> 
     finally:
         if teleop is not None and teleop.poll() is None:
             teleop.kill()
-        os.close(main_fd)
-        os.close(terminal)
+        terminal.close()
         watcher.shutdown()
         sim.terminate()
         sim.wait(timeout=DEADLINE)

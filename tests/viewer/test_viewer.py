@@ -1,15 +1,27 @@
-"""Viewer parts that need no browser: mesh-path guard, rviz configs, floor clicks, CLI errors."""
+"""Viewer parts that need no browser: mesh-path guard, rviz configs, floor clicks, CLI errors,
+the Map display's updates."""
 
 from __future__ import annotations
 
+import socket
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from belvedere.cli import main
+from belvedere.graph import Graph
+from belvedere.maps import OccupancyMap, grid_message
 from belvedere.packages import PackageIndex
-from belvedere.viewer import MeshAccessError, allowed_mesh_path, floor_point, read_rviz
+from belvedere.viewer import (
+    MeshAccessError,
+    Viewer,
+    allowed_mesh_path,
+    floor_point,
+    read_rviz,
+)
 from tests.conftest import EXAMPLES
+from tests.waiting import wait_until
 
 PKG = EXAMPLES / "mbot_description"
 
@@ -73,3 +85,40 @@ def test_display_of_a_broken_model_is_an_error(
     assert main(["display", str(bad), "--port", "0"]) == 1
     err = capsys.readouterr().err
     assert err.startswith(f"{bad}:1:1: error: two root links found")
+
+
+def test_a_growing_map_is_redrawn_as_it_grows() -> None:
+    """The Map display shows the latest /map: a SLAM map that grows is drawn again (and a
+    map that does not change is not rebuilt every frame)."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    graph = Graph(sim_time=False)
+    viewer = Viewer(graph, port=port, fixed_frame="map")
+    try:
+        display = viewer.add_display("OccupancyGrid", "/map")
+        pub = graph.create_node("slam").publisher("/map", "nav_msgs/OccupancyGrid", latch=True)
+        graph.start(rtf=None)
+
+        def width() -> int:
+            drawn = getattr(display, "drawn", None)
+            return int(drawn.info.width) if drawn is not None else 0
+
+        small = grid_message(OccupancyMap(np.zeros((4, 5), np.int8), 0.05))
+        graph.executor.post(lambda: pub.publish(small))
+        wait_until(lambda: width() == 5, what="the 5-cell-wide map drawn")
+        handle = display.handles["grid"]
+        assert len(handle.points) == 20
+        assert (handle.colors == 255).all()  # free: white
+        frames = viewer.frames_rendered
+        wait_until(lambda: viewer.frames_rendered > frames + 2, what="more frames")
+        assert display.handles["grid"] is handle  # the same map: not rebuilt
+        bigger = grid_message(OccupancyMap(np.full((8, 10), 100, np.int8), 0.05))
+        graph.executor.post(lambda: pub.publish(bigger))
+        wait_until(lambda: width() == 10, what="the grown map drawn")
+        grown = display.handles["grid"]
+        assert len(grown.points) == 80
+        assert (grown.colors == 0).all()  # occupied: black
+    finally:
+        viewer.close()
+        graph.shutdown()

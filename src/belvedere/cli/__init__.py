@@ -35,6 +35,7 @@ _VERBS = (
     "tf",
     "run",
     "rospack",
+    "map",
     "slam",
 )
 """The verbs, in the order ``--help`` lists them; each is the module ``belvedere.cli.VERB``.

@@ -89,12 +89,15 @@ class ScriptOptions:
         return cls(tuple(pubs), tuple(resolve_name(t) for t in args.echo))
 
 
-def install_script(graph: Graph, options: ScriptOptions) -> None:
-    """Add the ``--pub`` publishers and ``--echo`` printers to ``graph`` as a node of their own.
+def install_script(graph: Graph, options: ScriptOptions, *, name: str = "belvedere_script") -> None:
+    """Add the ``--pub`` publishers and ``--echo`` printers to ``graph`` as a node of their own,
+    ``name`` (none when there are neither).
 
     Echo subscriptions are made first, so they see the start-up messages too; a topic nobody
     publishes gets its type from the first ``--pub`` of it or is waited for."""
-    node = graph.create_node("belvedere_script")
+    if not options.pubs and not options.echoes:
+        return
+    node = graph.create_node(name)
     published_types = {topic: type_name for topic, type_name, _ in options.pubs}
     for topic in options.echoes:
         existing = graph.topics.get(topic)

@@ -3,18 +3,27 @@
 from __future__ import annotations
 
 import argparse
+import logging
+import os
 import sys
+import threading
 import time
 from pathlib import Path
+from typing import Any
 
 from belvedere.cli._script import ScriptOptions, install_script
 from belvedere.cli._tool import open_transport
-from belvedere.graph import Graph
+from belvedere.graph import Graph, GraphError
 from belvedere.launch import LaunchConfig, LaunchNode
 from belvedere.launch._runtime import LaunchRuntime
 from belvedere.packages import PackageIndex
 
 __all__ = ["run_session"]
+
+logger = logging.getLogger("belvedere.cli")
+
+PROCESS_POLL_S = 0.2
+"""How often subprocesses are looked at (in-process nodes are seen at once)."""
 
 
 def run_session(
@@ -25,13 +34,19 @@ def run_session(
     script: tuple[LaunchNode, Path, list[str]] | None = None,
     sim_time: bool = True,
     quiet_end: bool = False,
+    join: bool = False,
 ) -> int:
     """Start everything ``config`` asks for on one graph (and ``script``: a user's script
     run as that node, with those arguments) and run until Ctrl-C, ``--duration``, or a
     required node exits. ``sim_time``: the graph's time is simulated (``/clock``,
     ``/use_sim_time``), else the wall clock's, as with a bare roscore. ``quiet_end``: a
-    required node's exit ends the run without a word (rosrun's way)."""
-    graph = Graph(sim_time=sim_time, seed=args.seed, transport=open_transport(args))
+    required node's exit ends the run without a word, and its exit status is the run's
+    (rosrun's way). ``join``: the nodes join the graph that is running (its parameters, its
+    clock) instead of making one, as ROS nodes join a running master."""
+    if join:
+        graph = _joined_graph(args)
+    else:
+        graph = Graph(sim_time=sim_time, seed=args.seed, transport=open_transport(args))
     runtime = LaunchRuntime(
         config,
         graph,
@@ -43,43 +58,105 @@ def run_session(
             "allow_origins": args.allow_origins,
         },
     )
+    status = 0
     try:
+        if join:
+            _share_params(graph, config)
         runtime.start()
         if script is not None and not runtime.run_script(script[0], script[1], argv=script[2]):
             return 1
-        install_script(graph, ScriptOptions.from_args(args))
-        _run(graph, runtime, args, quiet_end=quiet_end)
+        suffix = f"_{os.getpid()}" if join else ""
+        install_script(graph, ScriptOptions.from_args(args), name=f"belvedere_script{suffix}")
+        ended = _run(graph, runtime, args, quiet_end=quiet_end)
+        if ended is not None and quiet_end:
+            status = runtime.exit_status(ended)
     except KeyboardInterrupt:
         pass
     finally:
         sys.stdout.flush()
         runtime.close()
         graph.shutdown()
-    return 0
+    return status
+
+
+def _joined_graph(args: argparse.Namespace) -> Graph:
+    """A graph on the running one: its parameters copied, in its time (following its
+    ``/clock`` when it simulates time)."""
+    transport = open_transport(args, serve_params=False)
+    try:
+        remote: Any = transport.param_request({"op": "get", "name": "/"})
+    except GraphError:
+        remote = {}  # a graph without a parameter server (a tool's): nothing to copy
+    if not isinstance(remote, dict):
+        remote = {}
+    sim_time = bool(remote.get("use_sim_time", False))
+    graph = Graph(sim_time=sim_time, seed=args.seed, transport=transport, clock_hz=None)
+    if remote:
+        graph.params.set("/", remote)
+    if sim_time:
+        graph.follow_clock(graph.create_node(f"belvedere_clock_{os.getpid()}"))
+    return graph
+
+
+def _share_params(graph: Graph, config: LaunchConfig) -> None:
+    """The run's own parameters (rosrun's ``_name:=value``) are set on the running graph's
+    parameter server too, as rosrun sets them on the master."""
+    transport = graph.transport
+    request = getattr(transport, "param_request", None)
+    if request is None:
+        return
+    for name, param in config.params.items():
+        try:
+            request({"op": "set", "name": name, "value": param.value})
+        except GraphError as err:
+            logger.warning("cannot set %s on the running graph: %s", name, err.message)
+
+
+def _nothing() -> None:
+    pass
 
 
 def _run(
-    graph: Graph, runtime: LaunchRuntime, args: argparse.Namespace, *, quiet_end: bool
-) -> None:
+    graph: Graph,
+    runtime: LaunchRuntime,
+    args: argparse.Namespace,
+    *,
+    quiet_end: bool,
+) -> LaunchNode | None:
+    """Run the graph; the required node whose end ended the run, if one did."""
     started = time.monotonic()
     last_check = [0.0]
+    ended: list[LaunchNode] = []
 
     def required_exited() -> bool:
-        now = time.monotonic()
-        if now - last_check[0] < 0.2:
-            return False
-        last_check[0] = now
-        spec = runtime.poll_processes()
+        spec = runtime.ended_in_process()
+        if spec is None:
+            now = time.monotonic()
+            if now - last_check[0] < PROCESS_POLL_S:
+                return False
+            last_check[0] = now
+            spec = runtime.poll_processes()
         if spec is not None:
+            ended.append(spec)
             if not quiet_end:
                 sys.stderr.write(f"required node {spec.full_name} exited: shutting down\n")
             return True
         return False
 
-    if not graph.sim_time:
-        # In wall time nothing else may be scheduled: wake up to look at the processes.
-        graph.create_node("belvedere_run").timer(0.2, lambda: None)
-    graph.run(duration=args.duration, rtf=args.rtf, until=required_exited)
+    stop = threading.Event()
+    if not graph.sim_time or graph.executor.following:
+        # Time may stand still here (no timer due on the wall clock, a paused simulation's
+        # clock): wake the executor now and then to look at the processes.
+        def wake() -> None:
+            while not stop.wait(PROCESS_POLL_S):
+                graph.executor.post(_nothing)
+
+        threading.Thread(target=wake, name="belvedere-run-waker", daemon=True).start()
+    try:
+        graph.run(duration=args.duration, rtf=args.rtf, until=required_exited)
+    finally:
+        stop.set()
     if args.duration is not None:
         wall = time.monotonic() - started
         sys.stderr.write(f"simulated {args.duration:g} s in {wall:.3f} s\n")
+    return ended[0] if ended else None

@@ -128,7 +128,12 @@ def run(args: argparse.Namespace) -> int:
         for key, value in params.items():
             config.set_param(f"{spec.full_name}/{key}", value, None)
         config.nodes.append(spec)
-        return run_session(config, packages, args)
+        # A client of the graph (map_saver…) joins the graph that runs, as a ROS node joins
+        # the master; the rest (simulators) make the graph.
+        join = nodes.joins_running_graph(package, executable) and graph_running(
+            args.endpoint, args.domain
+        )
+        return run_session(config, packages, args, quiet_end=True, join=join)
     # A script gets its arguments as rosrun passes them (rospy reads its own remaps,
     # _param:= and __name:=). Like rosrun it joins the graph that runs; only when none
     # does, this provides one as roscore would: the parameter server, in wall time.

@@ -79,10 +79,26 @@ class Executor:
         self._pace_wall = time.monotonic()
         self._pace_sim = start_ns
         self._end_ns: int | None = None
+        self._following = False
+        self._clock_seen = False
 
     # --- time ----------------------------------------------------------------------------------
     def now_ns(self) -> int:
         return self._sim_ns if self.sim_time else time.time_ns()
+
+    def follow(self) -> None:
+        """Take simulated time from outside (another process's ``/clock``, fed to
+        :meth:`set_clock`) instead of advancing it: timers fire as that clock passes them."""
+        self._following = True
+
+    @property
+    def following(self) -> bool:
+        return self._following
+
+    def set_clock(self, ns: int) -> None:
+        """The outside clock reads ``ns`` (executor thread; time never goes back)."""
+        self._sim_ns = max(self._sim_ns, ns)
+        self._clock_seen = True
 
     # --- registration ----------------------------------------------------------------------------
     def add_timer(
@@ -156,7 +172,7 @@ class Executor:
         due (at equal times the other one fires first, as it would have), no further than the
         end of the run or of a step or :data:`MAX_BATCH_NS`, and nowhere while outside events
         are waiting. Wall-clock graphs cannot run ahead."""
-        if not self.sim_time:
+        if not self.sim_time or self._following:
             return self.now_ns()
         if not self._inbox.empty() or self._ready:
             return self._sim_ns
@@ -167,6 +183,8 @@ class Executor:
         a batch is taken, no timer that may be idle does (it may have found work since, from
         another thread: it then fires late, once), nor anything that arrived from outside."""
         now = self._sim_ns
+        if self._following:
+            return now  # the outside clock leads
         limit = now + MAX_BATCH_NS
         for due, _, timer in self._timers:
             if due - 1 >= limit or (timer.idle is not None and (not planning or timer.idle())):
@@ -209,16 +227,25 @@ class Executor:
         self._stop.clear()
         self.rtf = rtf
         self._rebase()
+        # Following a clock, the run's duration counts from the first time it reads.
+        wait_for_clock = self._following and not self._clock_seen and duration is not None
         end_ns = None if duration is None else self.now_ns() + round(duration * NS)
         self._end_ns = end_ns
         while not self._stop.is_set():
             self._drain()
             if until is not None and until():
                 return
+            if wait_for_clock and self._clock_seen and duration is not None:
+                wait_for_clock = False
+                end_ns = self._end_ns = self._sim_ns + round(duration * NS)
             next_due = self._timers[0][0] if self._timers else None
             if end_ns is not None and (next_due is None or next_due > end_ns):
                 next_due = end_ns
-            if self.sim_time:
+            if self.sim_time and self._following:
+                if next_due is None or next_due > self._sim_ns:
+                    self._wait(None)  # time moves only when the outside clock says so
+                    continue
+            elif self.sim_time:
                 paced = self.rtf is not None
                 if self.paused:
                     if self._step_to is None:

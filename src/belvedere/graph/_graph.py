@@ -493,6 +493,20 @@ class Graph:
         ns = self.now_ns()
         return ns // NS, ns % NS
 
+    def follow_clock(self, node: Node) -> Subscription:
+        """Take simulated time from the ``/clock`` another process publishes (``node``
+        subscribes to it): a graph that joins a running simulation. Needs ``sim_time``."""
+        if not self.sim_time:
+            msg = "only a graph in simulated time can follow /clock"
+            raise GraphError(msg)
+        executor = self.executor
+        executor.follow()
+
+        def tick(msg: Any) -> None:
+            executor.set_clock(msg.clock.sec * NS + msg.clock.nanosec)
+
+        return node.subscribe("/clock", "rosgraph_msgs/Clock", tick, queue_size=1)
+
     def sleep_until_ns(self, target_ns: int) -> None:
         """Block a non-executor thread until graph time reaches ``target_ns``."""
         while self.now_ns() < target_ns and not self.executor.stopped:

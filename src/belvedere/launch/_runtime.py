@@ -23,7 +23,7 @@ from belvedere import nodes
 from belvedere.description.urdf import RobotModel
 from belvedere.errors import BelvedereError
 from belvedere.fileio import FileWriteError, write_file
-from belvedere.graph import Graph, ZenohTransport
+from belvedere.graph import Graph, Node, ZenohTransport
 from belvedere.launch._model import LaunchConfig, LaunchError, LaunchNode
 from belvedere.packages import BUILTIN_PACKAGES, PackageIndex
 from belvedere.pyscripts import ScriptError, script_command
@@ -77,6 +77,10 @@ class LaunchRuntime:
     respawn_at: dict[int, float] = field(default_factory=dict)
     script_argv: dict[int, list[str]] = field(default_factory=dict)
     """Each script process's arguments (a respawn gets the same)."""
+    in_process: list[tuple[LaunchNode, Node]] = field(default_factory=list)
+    """The nodes running in this process, with their specs."""
+    finished: dict[str, int] = field(default_factory=dict)
+    """In-process nodes that ended by themselves: full name → exit status."""
 
     def start(self) -> None:
         params = self.graph.params
@@ -117,6 +121,7 @@ class LaunchRuntime:
         node = self.graph.create_node(
             spec.name, namespace=spec.namespace, remappings=dict(spec.remappings)
         )
+        self.in_process.append((spec, node))
         self._call(lambda: starter(self, spec, node))
 
     @staticmethod
@@ -125,7 +130,7 @@ class LaunchRuntime:
         try:
             action()
         except nodes.StartError as err:
-            raise LaunchError(err.message, err.location, hint=err.hint) from None
+            raise LaunchError(err.message, err.location, hint=err.hint, trail=err.trail) from None
 
     # --- user scripts ------------------------------------------------------------------------
     def _user_script(self, spec: LaunchNode) -> Path | None:
@@ -167,6 +172,25 @@ class LaunchRuntime:
         self.processes.append((spec, process))
         self.script_argv[id(process)] = argv
         return True
+
+    def ended_in_process(self) -> LaunchNode | None:
+        """A required in-process node that has ended (the launch then ends), if any."""
+        for spec, node in self.in_process:
+            if node.closed and spec.required:
+                return spec
+        return None
+
+    def exit_status(self, spec: LaunchNode) -> int:
+        """The exit status of a node that has ended (0 if it is unknown): an in-process
+        node's own, a script's (128 + N for a script killed by signal N)."""
+        status = self.finished.get(spec.full_name)
+        if status is not None:
+            return status
+        for other, process in self.processes:
+            if other is spec and process.returncode is not None:
+                code = process.returncode
+                return 128 - code if code < 0 else code
+        return 0
 
     def poll_processes(self) -> LaunchNode | None:
         """A required node that has exited (the launch then ends), if any; nodes with

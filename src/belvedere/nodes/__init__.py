@@ -1,7 +1,8 @@
 """The ROS executables belvedere has, one module per ROS package, for ``launch`` and ``run``.
 
 Each module names its package (``PACKAGE``) and its executables by their ROS names
-(``EXECUTABLES``: name → starter); a starter gets the running :class:`Session`, the node's
+(``EXECUTABLES``: name → starter, and ``JOINING``: those that join a graph already running
+when ``run`` starts them); a starter gets the running :class:`Session`, the node's
 :class:`NodeSpec` (what ``<node>`` or ``rosrun`` said) and its graph node. Adding a package
 is adding one module to :data:`MODULES`.
 """
@@ -14,8 +15,10 @@ from belvedere.nodes._registry import (
     Session,
     Starter,
     StartError,
+    end_node,
     executables,
     find,
+    joins_running_graph,
     package_names,
 )
 
@@ -25,7 +28,9 @@ __all__ = [
     "Session",
     "StartError",
     "Starter",
+    "end_node",
     "executables",
     "find",
+    "joins_running_graph",
     "package_names",
 ]

@@ -19,8 +19,10 @@ __all__ = [
     "Session",
     "StartError",
     "Starter",
+    "end_node",
     "executables",
     "find",
+    "joins_running_graph",
     "package_names",
 ]
 
@@ -65,6 +67,8 @@ class Session(Protocol):
     """Run after that (controller spawners)."""
     spawned: dict[str, Any]
     """Model name → the node spec that spawned it."""
+    finished: dict[str, int]
+    """Nodes that ended by themselves (:func:`end_node`): full name → exit status."""
 
 
 Starter = Callable[[Session, NodeSpec, Node], None]
@@ -75,8 +79,10 @@ MODULES: Final = {
     "depthimage_to_laserscan": "depthimage_to_laserscan",
     "gazebo_ros": "gazebo_ros",
     "gmapping": "gmapping",
+    "hector_mapping": "hector_mapping",
     "joint_state_publisher": "joint_state_publisher",
     "joint_state_publisher_gui": "joint_state_publisher_gui",
+    "map_server": "map_server",
     "robot_state_publisher": "robot_state_publisher",
     "rviz": "rviz",
     "teleop_twist_keyboard": "teleop_twist_keyboard",
@@ -84,6 +90,14 @@ MODULES: Final = {
     "tf2_ros": "tf2_ros",
 }
 """ROS package → the module here that provides its executables."""
+
+
+def end_node(session: Session, node: Node, status: int = 0) -> None:
+    """``node`` ends by itself, as a ROS executable that exits (map_saver once it has saved):
+    it leaves the graph with its exit status; a required node's end ends the launch or run.
+    Call on the executor thread (or while starting)."""
+    session.finished[node.full_name] = status
+    node.shutdown()
 
 
 def _module_executables(package: str) -> dict[str, Starter]:
@@ -97,6 +111,17 @@ def find(package: str, executable: str) -> Starter | None:
     if package not in MODULES:
         return None
     return _module_executables(package).get(executable)
+
+
+def joins_running_graph(package: str, executable: str) -> bool:
+    """Whether ``run`` starts ``executable`` on a graph that is already running (as a ROS
+    client joins the master), rather than on a graph of its own: true for the nodes whose
+    module lists it in ``JOINING`` (map_saver, map_server…), not for simulators."""
+    if package not in MODULES:
+        return False
+    module = importlib.import_module(f"belvedere.nodes.{MODULES[package]}")
+    joining: frozenset[str] = getattr(module, "JOINING", frozenset())
+    return executable in joining
 
 
 def executables(package: str) -> list[str]:

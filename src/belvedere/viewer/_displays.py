@@ -163,14 +163,22 @@ class PointCloud2Display(Display):
 
 
 class OccupancyGridDisplay(Display):
+    """A map (or costmap): redrawn when a new grid comes (a SLAM map grows), moved with its
+    frame in between."""
+
     kind = "OccupancyGrid"
     msg_type = "nav_msgs/OccupancyGrid"
     scheme = "map"
+    drawn: Any = None
+    """The message the scene shows."""
 
     def draw(self, msg: Any, fixed: str) -> None:
         pose = self.frame_pose(msg.header.frame_id, fixed)
         info = msg.info
         if pose is None or info.width == 0 or info.height == 0:
+            return
+        if msg is self.drawn and "grid" in self.handles:
+            self.place("grid", self.handles["grid"], pose @ _pose(info.origin))
             return
         grid = np.asarray(msg.data, dtype=np.int16).reshape(info.height, info.width)
         # Cells as square points (positions are exact; large maps are thinned to ~250k cells).
@@ -199,6 +207,7 @@ class OccupancyGridDisplay(Display):
             point_shading="flat",
         )
         self.place("grid", handle, pose @ _pose(info.origin))
+        self.drawn = msg
 
 
 class CostmapDisplay(OccupancyGridDisplay):
