@@ -13,7 +13,6 @@ from __future__ import annotations
 import argparse
 import logging
 import math
-import os
 import sys
 import time
 from collections import deque
@@ -26,13 +25,14 @@ from belvedere.cli._args import mappings_only
 from belvedere.errors import BelvedereError
 from belvedere.fileio import stage_write
 from belvedere.graph import NS
-from belvedere.nav.slam import GMappingParams, OccupancyMap
+from belvedere.maps import format_tum_line, save_map
+from belvedere.nav.slam import GMappingParams
 from belvedere.nodes.gmapping import NODE_PARAMETERS, GMappingCore, LaserMountError
 from belvedere.tf import TFBuffer, TFError
 
 logger = logging.getLogger("belvedere.cli")
 
-__all__ = ["add_parser", "run", "tum_lines", "write_map"]
+__all__ = ["add_parser", "run", "tum_text"]
 
 _QUEUE = 5
 
@@ -146,44 +146,14 @@ def _progress(total: int, quiet: bool) -> tuple[AbstractContextManager[Any], Any
     return progress, progress.add_task("slam", total=total, status="")
 
 
-def _stamp_text(ns: int) -> str:
-    return f"{ns // NS}.{ns % NS:09d}"
-
-
-def tum_lines(stamps_ns: list[int], poses: Any) -> str:
+def tum_text(stamps_ns: list[int], poses: Any) -> str:
     """TUM trajectory text: ``stamp tx ty tz qx qy qz qw`` per pose (x, y, yaw)."""
-    lines = []
-    for ns, (x, y, yaw) in zip(stamps_ns, poses, strict=True):
-        qz, qw = math.sin(yaw / 2.0), math.cos(yaw / 2.0)
-        lines.append(f"{_stamp_text(ns)} {x:.6f} {y:.6f} 0 0 0 {qz:.9f} {qw:.9f}\n")
-    return "".join(lines)
-
-
-def write_map(prefix: str, grid: OccupancyMap) -> None:
-    """``PREFIX.pgm`` and ``PREFIX.yaml`` as map_saver writes them (default thresholds: cells
-    ≥ 65 occupied, 0–25 free, the rest unknown), both or neither."""
-    import numpy as np
-
-    data = grid.data[::-1]  # the image's first row is the map's last
-    pixels = np.full(data.shape, 205, dtype=np.uint8)
-    pixels[(data >= 0) & (data <= 25)] = 254
-    pixels[data >= 65] = 0
-    header = (
-        f"P5\n# CREATOR: map_saver.cpp {grid.resolution:.3f} m/pix\n"
-        f"{grid.width} {grid.height}\n255\n"
-    ).encode("ascii")
-    image = os.path.basename(prefix) + ".pgm"
-    yaml = (
-        f"image: {image}\nresolution: {grid.resolution:f}\n"
-        f"origin: [{grid.origin[0]:f}, {grid.origin[1]:f}, {0.0:f}]\n"
-        "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n\n"
+    return "".join(
+        format_tum_line(
+            ns / NS, (float(x), float(y), 0.0), (0.0, 0.0, math.sin(yaw / 2), math.cos(yaw / 2))
+        )
+        for ns, (x, y, yaw) in zip(stamps_ns, poses, strict=True)
     )
-    staged = [
-        stage_write(prefix + ".pgm", header + pixels.tobytes(), make_dirs=True),
-        stage_write(prefix + ".yaml", yaml, make_dirs=True),
-    ]
-    for item in staged:
-        item.commit()
 
 
 def run(args: argparse.Namespace) -> int:
@@ -232,13 +202,12 @@ def run(args: argparse.Namespace) -> int:
         raise BelvedereError(message, hint=hint)
     _, poses = core.slam.trajectory()
     if args.trajectory:
-        stage_write(
-            args.trajectory, tum_lines([p.stamp_ns for p in core.processed], poses), make_dirs=True
-        ).commit()
+        text = tum_text([p.stamp_ns for p in core.processed], poses)
+        stage_write(args.trajectory, text, make_dirs=True).commit()
     if args.output:
         grid = core.occupancy()
         assert grid is not None
-        write_map(args.output, grid)
+        save_map(args.output, grid)
     logger.info(
         "%d scans, %d added to the map, %d loop closures, %.1f s",
         len(core.processed),

@@ -26,15 +26,9 @@ import numpy as np
 import numpy.typing as npt
 
 from belvedere.graph import NS, Node, ServiceFailedError
-from belvedere.msgs import message_from_data, types
-from belvedere.nav.slam import (
-    GMappingParams,
-    LaserGeometry,
-    OccupancyMap,
-    ScanPose,
-    SubmapSlam,
-    Tuning,
-)
+from belvedere.msgs import types
+from belvedere.maps import OccupancyMap, grid_message
+from belvedere.nav.slam import GMappingParams, LaserGeometry, ScanPose, SubmapSlam, Tuning
 from belvedere.nodes._registry import NodeSpec, Session, Starter, StartError
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster
 
@@ -45,7 +39,6 @@ __all__ = [
     "GMappingCore",
     "LaserMountError",
     "Processed",
-    "occupancy_grid_message",
 ]
 
 PACKAGE = "gmapping"
@@ -184,31 +177,8 @@ class GMappingCore:
         return None if self.slam is None else self.slam.occupancy()
 
 
-def _stamp(ns: int) -> dict[str, int]:
-    return {"sec": ns // NS, "nanosec": ns % NS}
-
-
 def _quat(yaw: float) -> tuple[float, float, float, float]:
     return (0.0, 0.0, math.sin(yaw / 2.0), math.cos(yaw / 2.0))
-
-
-def occupancy_grid_message(grid: OccupancyMap, frame: str, stamp_ns: int) -> Any:
-    """A ``nav_msgs/OccupancyGrid`` of the map."""
-    info = {
-        "resolution": grid.resolution,
-        "width": grid.width,
-        "height": grid.height,
-        "origin": {
-            "position": {"x": grid.origin[0], "y": grid.origin[1], "z": 0.0},
-            "orientation": {"w": 1.0},
-        },
-    }
-    msg = message_from_data(
-        "nav_msgs/OccupancyGrid",
-        {"header": {"stamp": _stamp(stamp_ns), "frame_id": frame}, "info": info},
-    )
-    msg.data = np.ascontiguousarray(grid.data).reshape(-1)
-    return msg
 
 
 class _GMappingNode:
@@ -284,7 +254,7 @@ class _GMappingNode:
         if grid is None or slam is None:
             return
         self.entropy_pub.publish_data({"data": slam.entropy()})
-        msg = occupancy_grid_message(grid, self.core.map_frame, self.node.now_ns())
+        msg = grid_message(grid, frame_id=self.core.map_frame, stamp_ns=self.node.now_ns())
         self.map_msg = msg
         self.map_pub.publish(msg)
         self.meta_pub.publish(msg.info)

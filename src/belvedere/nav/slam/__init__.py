@@ -3,7 +3,6 @@
 (:class:`HectorSlam`)."""
 
 from belvedere.nav.slam._hector import HectorParams, HectorSlam, LogOddsGrid
-from belvedere.nav.slam._occupancy import OccupancyMap
 from belvedere.nav.slam._params import GMappingParams
 from belvedere.nav.slam._slam import LaserGeometry, ScanPose, SubmapSlam, Tuning
 
@@ -13,7 +12,6 @@ __all__ = [
     "HectorSlam",
     "LaserGeometry",
     "LogOddsGrid",
-    "OccupancyMap",
     "ScanPose",
     "SubmapSlam",
     "Tuning",

@@ -164,3 +164,71 @@ class FieldGrid:
         grad[0] = (d0 + (d1 - d0) * fy) * inv
         grad[1] = ba * inv
         return value, grad
+
+
+class FreeGrid:
+    """Where beams have passed: a coarse count of crossings per cell, grown as needed. A
+    scan matched at the wrong place puts end points where the submap's own beams passed
+    freely; at the right place its points fall on walls or in space never seen."""
+
+    def __init__(self, resolution: float) -> None:
+        self.resolution = resolution
+        self.origin = np.zeros(2)
+        self.counts: npt.NDArray[np.int32] = np.zeros((0, 0), dtype=np.int32)
+
+    def _ensure(self, lo: Array, hi: Array) -> None:
+        res = self.resolution
+        h, w = self.counts.shape
+        have_hi = self.origin + np.array([w, h]) * res
+        if self.counts.size and np.all(lo >= self.origin) and np.all(hi < have_hi):
+            return
+        margin = _GROW_MARGIN
+        if self.counts.size:
+            lo = np.minimum(lo, self.origin)
+            hi = np.maximum(hi, have_hi)
+            margin = max(margin, 0.25 * float(np.max(have_hi - self.origin)))
+            new_lo = self.origin + np.floor((lo - margin - self.origin) / res) * res
+        else:
+            new_lo = np.floor((lo - margin) / res) * res
+        cols = math.ceil((hi[0] + margin - new_lo[0]) / res)
+        rows = math.ceil((hi[1] + margin - new_lo[1]) / res)
+        counts = np.zeros((rows, cols), dtype=np.int32)
+        if self.counts.size:
+            di, dj = np.rint((self.origin - new_lo) / res).astype(int)
+            counts[dj : dj + h, di : di + w] = self.counts
+        self.origin = new_lo
+        self.counts = counts
+
+    def add_beams(self, sensor: Array, ends: Array, short: float) -> None:
+        """Beams from ``sensor`` (2,) to ``ends`` (N, 2), all in the grid's frame, each
+        counted up to ``short`` metres before its end."""
+        if not len(ends):
+            return
+        d = ends - sensor
+        length = np.hypot(d[:, 0], d[:, 1]) - short
+        keep = length > 0
+        d, length = d[keep], length[keep]
+        if not len(d):
+            return
+        unit = d / (length + short)[:, None]
+        steps = np.ceil(length / self.resolution).astype(np.int64)
+        self._ensure(np.minimum(ends.min(axis=0), sensor), np.maximum(ends.max(axis=0), sensor))
+        ray = np.repeat(np.arange(len(steps)), steps)
+        first = np.cumsum(steps) - steps
+        t = (np.arange(int(steps.sum())) - first[ray]) * self.resolution
+        pts = sensor + unit[ray] * t[:, None]
+        ij = np.floor((pts - self.origin) / self.resolution).astype(np.int64)
+        w = self.counts.shape[1]
+        flat = np.unique(ij[:, 1] * w + ij[:, 0])  # once per beam set is enough
+        self.counts.reshape(-1)[flat] += 1
+
+    def at(self, points: Array) -> npt.NDArray[np.int32]:
+        """Crossing counts at points (N, 2) (0 off the grid)."""
+        if not self.counts.size:
+            return np.zeros(len(points), dtype=np.int32)
+        ij = np.floor((points - self.origin) / self.resolution).astype(np.int64)
+        h, w = self.counts.shape
+        inside = (ij[:, 0] >= 0) & (ij[:, 1] >= 0) & (ij[:, 0] < w) & (ij[:, 1] < h)
+        out = np.zeros(len(points), dtype=np.int32)
+        out[inside] = self.counts[ij[inside, 1], ij[inside, 0]]
+        return out

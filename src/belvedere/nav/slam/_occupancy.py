@@ -9,36 +9,18 @@ other (Bresenham's cells for all but rare ties), all beams of a batch of scans a
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["OccupancyCounts", "OccupancyMap"]
+from belvedere.maps import OccupancyMap
+
+__all__ = ["OccupancyCounts"]
 
 Array = npt.NDArray[np.float64]
 
 _BATCH_CELLS = 4_000_000
 """Cells traced per batch (memory bound)."""
-
-
-@dataclass(frozen=True)
-class OccupancyMap:
-    """A ``nav_msgs/OccupancyGrid``'s content: ``data`` rows from the lowest y up, values
-    -1 (unknown), 0 (free) or 100 (occupied)."""
-
-    data: npt.NDArray[np.int8]
-    resolution: float
-    origin: tuple[float, float]
-    """World position of cell (0, 0)'s corner."""
-
-    @property
-    def width(self) -> int:
-        return int(self.data.shape[1])
-
-    @property
-    def height(self) -> int:
-        return int(self.data.shape[0])
 
 
 class OccupancyCounts:
@@ -128,7 +110,5 @@ class OccupancyCounts:
         occ[seen] = self.hits[seen] / self.visits[seen]
         data[seen] = np.where(occ[seen] > occ_thresh, 100, 0)
         return OccupancyMap(
-            data=data,
-            resolution=self.resolution,
-            origin=(float(self.origin[0]), float(self.origin[1])),
+            data, self.resolution, (float(self.origin[0]), float(self.origin[1]), 0.0)
         )

@@ -14,10 +14,10 @@ reads the same parameters, each with the same intent:
     ``sqrt(sigma / 2)`` metres — GMapping scores ``exp(-d²/sigma)`` — around every end point,
     cut ``kernelSize + 2`` cells away.
 ``lstep``, ``astep``, ``iterations``
-    When a match scores below ``minimumScore``, the pose is searched exhaustively on a
-    lattice of ``lstep`` metres and ``astep`` radians around the prediction (±2^iterations
-    steps, coarse to fine) before the final refinement; ``iterations`` also bounds the
-    Gauss-Newton iterations of every match.
+    When a match scores below ``minimumScore``, the pose is searched (branch and bound) within
+    ``±iterations·lstep`` metres and ``±iterations·astep`` radians of the prediction before
+    it is refined again; ``2·iterations`` bounds the Levenberg-Marquardt iterations of every
+    match.
 ``lsigma``, ``ogain``
     Loop closures: a candidate's likelihood is ``exp(-ogain · (1 − score)² / (2 lsigma²))``
     per beam (GMapping smooths the particle weights the same way); closures whose

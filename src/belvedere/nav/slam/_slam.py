@@ -31,9 +31,10 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
-from belvedere.nav.slam._grid import FieldGrid, gaussian_kernel
-from belvedere.nav.slam._match import refine
-from belvedere.nav.slam._occupancy import OccupancyCounts, OccupancyMap
+from belvedere.nav.slam._grid import FieldGrid, FreeGrid, gaussian_kernel
+from belvedere.nav.slam._match import Match, refine
+from belvedere.maps import OccupancyMap
+from belvedere.nav.slam._occupancy import OccupancyCounts
 from belvedere.nav.slam._params import GMappingParams
 from belvedere.nav.slam._posegraph import PoseGraph
 from belvedere.nav.slam._se2 import between, compose, inverse, transform_points
@@ -113,7 +114,14 @@ class Tuning:
     """Closures whose translational information is this lopsided (corridors) are dropped."""
     loop_max_error: float = 5.0
     """After optimising, a new closure this far (Mahalanobis) from the graph is dropped."""
-    loop_ambiguity: float = 0.9
+    loop_max_contradiction: float = 0.2
+    """A closure whose end points fall in the submap's free space more than this share of
+    those the submap knows about is dropped."""
+    free_cells: int = 4
+    """The free-space grid's cells, in map cells."""
+    free_short: float = 0.4
+    """Beams count as passing up to this far (m) before their end."""
+    loop_ambiguity: float = 0.8
     """A closure whose scan fits another pose in the window nearly as well (this fraction of
     the best score) is dropped."""
     agree_xy: float = 0.1
@@ -157,6 +165,8 @@ class _Submap:
     keyframes: int = 0
     pyramid: SearchPyramid | None = None
     finished: bool = False
+    free: FreeGrid | None = None
+    """Where the submap's keyframes' beams passed (coarse)."""
 
 
 @dataclass
@@ -365,7 +375,10 @@ class SubmapSlam:
         sxy = max(t.prior_floor_xy, p.srr * dist + p.str * turn)
         sth = max(t.prior_floor_theta, p.stt * turn + p.srt * dist)
         info = np.array([1 / sxy**2, 1 / sxy**2, 1 / sth**2])
-        result = refine(grid, points, predicted, predicted, info, iterations=max(p.iterations, 1) * 2)
+        iterations = max(p.iterations, 1) * 2
+        result = refine(grid, points, predicted, predicted, info, iterations=iterations)
+        if p.minimumScore > 0 and result.score * len(points) < p.minimumScore:
+            result = self._recover(grid, points, predicted, info, iterations, result)
         self._local = result.pose
         # The pose's covariance: the residuals' variance over the information of the match
         # and of the motion prior together.
@@ -373,11 +386,43 @@ class SubmapSlam:
         self._covariance_source = (result.hessian + np.diag(info), result.cost / dof)
         return result.score
 
+    def _recover(
+        self, grid: FieldGrid, points: Array, predicted: Array, info: Array, iterations: int, first: Match
+    ) -> Match:
+        """A match that scored under ``minimumScore``: search a lattice of ``lstep`` metres and
+        ``astep`` radians, ``iterations`` steps each way around the prediction, refine the
+        best; if that still scores under, keep the odometry's prediction (GMapping's "scan
+        matching failed, using odometry")."""
+        p = self.params
+        pyramid = SearchPyramid(grid, self.tuning.search_depth)
+        far = float(np.hypot(points[:, 0], points[:, 1]).max())
+        step = max(self.resolution / max(far, self.resolution), 1e-4)
+        found = pyramid.search(
+            points,
+            predicted,
+            p.lstep * p.iterations,
+            p.astep * p.iterations,
+            min(step, p.astep),
+            0.0,
+        )
+        if found is not None:
+            again = refine(grid, points, found.pose, predicted, info, iterations=iterations)
+            if again.score * len(points) >= p.minimumScore:
+                return again
+        logger.debug("scan matching failed, using odometry (score %.1f)", first.score * len(points))
+        return Match(pose=predicted, score=first.score, hessian=first.hessian, cost=first.cost)
+
     # -------------------------------------------------------------- keyframes
 
     def _new_submap(self, pose: Array, anchor: tuple[int, Array] | None) -> int:
         index = len(self.submaps)
-        self.submaps.append(_Submap(grid=FieldGrid(self.resolution, self._kernel), anchor=anchor))
+        self.submaps.append(
+            _Submap(
+                grid=FieldGrid(self.resolution, self._kernel),
+                anchor=anchor,
+                free=FreeGrid(self.resolution * self.tuning.free_cells),
+            )
+        )
         self.graph.add_node(pose)
         if anchor is not None:
             parent, local = anchor
@@ -420,8 +465,10 @@ class SubmapSlam:
         self.keyframes.append(kf)
         for s in self._active:
             sub = self.submaps[s]
-            sub.grid.insert(transform_points(self._local_in(s), points))
+            at = self._local_in(s)
+            sub.grid.insert(transform_points(at, points))
             sub.keyframes += 1
+            self._add_free(sub, at, ranges)
         g = compose(self.graph.poses[tracking], kf.local)
         self._kf_xy = np.vstack([self._kf_xy, g[None, :2]])
         self._kf_submaps.append(tracking)
@@ -436,6 +483,19 @@ class SubmapSlam:
             fresh = self._new_submap(pose, (tracking, self._local.copy()))
             self.submaps[fresh].grid.insert(points)
             self.submaps[fresh].keyframes += 1
+            self._add_free(self.submaps[fresh], np.zeros(3), ranges)
+
+    def _add_free(self, sub: _Submap, pose: Array, ranges: Array) -> None:
+        """Count the scan's beams (up to ``maxUrange``) as passing, in the submap's frame; a
+        beam with no return (+inf, REP 117) passed all the way."""
+        assert sub.free is not None
+        laser = self.laser
+        with np.errstate(invalid="ignore"):
+            ok = (ranges >= laser.range_min) & ~np.isnan(ranges)
+        r = np.minimum(ranges[ok], self.max_urange)
+        ends = laser.origin + laser.directions[ok] * r[:, None]
+        sensor = transform_points(pose, laser.origin[None, :])[0]
+        sub.free.add_beams(sensor, transform_points(pose, ends), self.tuning.free_short)
 
     def _finish(self, index: int) -> None:
         sub = self.submaps[index]
@@ -500,6 +560,8 @@ class SubmapSlam:
             match = refine(sub.grid, pts, found.pose, iterations=10)
             if match.score < t.loop_min_score or _degenerate(match.hessian, t.loop_min_ratio):
                 continue
+            if self._contradiction(sub, pts, match.pose) > t.loop_max_contradiction:
+                continue
             # The match's covariance (residual variance over its information), with a floor:
             # a closure along a corridor pins the corridor's direction down loosely only.
             dof = max(len(pts) - 3, 1)
@@ -510,6 +572,19 @@ class SubmapSlam:
             cov = cov + np.diag([t.loop_sigma_xy**2, t.loop_sigma_xy**2, t.loop_sigma_theta**2])
             found_edges.append((int(b), compose(match.pose, inverse(kf.local)), np.linalg.inv(cov)))
         self._consider(k, found_edges)
+
+    def _contradiction(self, sub: _Submap, points: Array, pose: Array) -> float:
+        """Of the scan's end points at ``pose`` that the submap has an opinion on, the share
+        it saw as free space (its beams passed there, no wall near): a scan fitted to the
+        wrong bay of a corridor puts its far walls in the submap's open corridor."""
+        assert sub.free is not None
+        world = transform_points(pose, points)
+        crossed = sub.free.at(world) >= 2
+        value, _ = sub.grid.sample(world)
+        supported = value >= 0.3
+        against = crossed & (value < 0.1)
+        known = int(against.sum() + supported.sum())
+        return float(against.sum() / known) if known >= 10 else 0.0
 
     def _correction(self, closure: _Closure) -> tuple[Array, Array]:
         """Where the closure would put its keyframe, and where the graph has it now."""
