@@ -61,7 +61,8 @@ def main() -> int:
     args = parser.parse_args()
     bag = args.data / f"{args.log}.bag"
     relations = args.data / f"{args.log}.relations"
-    (ref_t, ref_ts, ref_r, ref_rs), ref_wall = _reference(args.data / "README.md", args.log)
+    reference, ref_wall = _reference(args.data / "README.md", args.log)
+    ref_t, _, ref_r, _ = reference
     env = dict(os.environ)
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT / "src"), env.get("PYTHONPATH")]))
     with tempfile.TemporaryDirectory() as tmp:
@@ -93,8 +94,9 @@ def main() -> int:
     print(f"log: {args.log}   parameters: {' '.join(PARAMETERS + tuple(args.params))}")
     print(scored.strip())
     print(f"{'':14}{'translation (m)':>22}{'rotation (deg)':>20}{'wall (s)':>11}")
-    print(f"{'belvedere':14}{t:>12.4f} ± {ts:<7.4f}{r:>11.3f} ± {rs:<6.3f}{wall:>11.1f}")
-    print(f"{'GMapping':14}{ref_t:>12.4f} ± {ref_ts:<7.4f}{ref_r:>11.3f} ± {ref_rs:<6.3f}{ref_wall:>11.1f}")
+    for name, row in (("belvedere", (t, ts, r, rs, wall)), ("GMapping", (*reference, ref_wall))):
+        a, b, c, d, e = row
+        print(f"{name:14}{a:>12.4f} ± {b:<7.4f}{c:>11.3f} ± {d:<6.3f}{e:>11.1f}")
     print(f"{'ratio':14}{t / ref_t:>12.3f}{'':10}{r / ref_r:>11.3f}{'':9}{wall / ref_wall:>11.3f}")
     return 0
 

@@ -177,6 +177,7 @@ def errors(poses: Array, truth: Array) -> tuple[float, float]:
     """Mean translational error (m) and mean absolute heading error (rad) of the relative
     motions between scans 10 apart (a few metres) and between every scan and the first (the
     whole loop): the relations metric, with the ground truth's relations."""
+
     def relative(p: Array, i: npt.NDArray[np.int64], j: npt.NDArray[np.int64]) -> Array:
         c, s = np.cos(p[i, 2]), np.sin(p[i, 2])
         dx, dy = p[j, 0] - p[i, 0], p[j, 1] - p[i, 1]

@@ -120,10 +120,11 @@ def _messages(reader: Any, scan_topic: str) -> tuple[Iterator[tuple[str, Any]], 
     return generate(), total
 
 
-def _progress(total: int, quiet: bool) -> tuple[AbstractContextManager[Any], Any]:
-    """A rich progress bar on a terminal; nothing when piped or quiet."""
+def _progress(total: int, quiet: bool) -> tuple[AbstractContextManager[Any], Any, Any]:
+    """A rich progress bar on a terminal (the bar, and its task); nothing when piped or
+    quiet."""
     if quiet or not sys.stderr.isatty():
-        return nullcontext(), None
+        return nullcontext(), None, None
     from rich.progress import (
         BarColumn,
         MofNCompleteColumn,
@@ -143,7 +144,7 @@ def _progress(total: int, quiet: bool) -> tuple[AbstractContextManager[Any], Any
         TextColumn("{task.fields[status]}"),
         transient=False,
     )
-    return progress, progress.add_task("slam", total=total, status="")
+    return progress, progress, progress.add_task("slam", total=total, status="")
 
 
 def tum_text(stamps_ns: list[int], poses: Any) -> str:
@@ -173,11 +174,11 @@ def run(args: argparse.Namespace) -> int:
     try:
         messages, total = _messages(reader, args.scan_topic)
         total = -(-total // core.params.throttle_scans)
-        bar, task = _progress(total, args.quiet > 0)
+        context, bar, task = _progress(total, args.quiet > 0)
         buffer = TFBuffer(cache_time=3600.0)
         pending: deque[Any] = deque()
         problems: list[str] = []
-        with bar:
+        with context:
             for topic, msg in messages:
                 if topic == "/tf" or topic == "/tf_static":
                     buffer.set_message(msg, static=topic == "/tf_static")
@@ -188,7 +189,7 @@ def run(args: argparse.Namespace) -> int:
                         problems.append("a scan waited too long for its odometry and was dropped")
                 while pending and core.ready(pending[0], buffer):
                     _process(core, pending.popleft(), buffer, problems)
-                    if task is not None:
+                    if bar is not None:
                         slam = core.slam
                         status = "" if slam is None else f"{slam.loop_closures} loop closures"
                         bar.update(task, completed=len(core.processed), status=status)

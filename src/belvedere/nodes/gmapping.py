@@ -26,8 +26,8 @@ import numpy as np
 import numpy.typing as npt
 
 from belvedere.graph import NS, Node, ServiceFailedError
-from belvedere.msgs import types
 from belvedere.maps import OccupancyMap, grid_message
+from belvedere.msgs import types
 from belvedere.nav.slam import GMappingParams, LaserGeometry, ScanPose, SubmapSlam, Tuning
 from belvedere.nodes._registry import NodeSpec, Session, Starter, StartError
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster
@@ -278,7 +278,8 @@ def _start(session: Session, spec: NodeSpec, node: Node) -> None:
     try:
         _GMappingNode(node)
     except ValueError as err:
-        raise StartError(f"{spec.full_name}: {err}", spec.source) from None
+        msg = f"{spec.full_name}: {err}"
+        raise StartError(msg, spec.source) from None
 
 
 EXECUTABLES: dict[str, Starter] = {"slam_gmapping": _start}

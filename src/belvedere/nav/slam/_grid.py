@@ -25,7 +25,7 @@ _GROW_MARGIN = 10.0
 
 
 def gaussian_kernel(resolution: float, sigma: float, radius: int) -> Grid:
-    """``exp(-d² / 2σ²)`` over the (2r+1)² cells around a cell, ``d`` in metres."""
+    """``exp(-d² / 2sigma²)`` over the (2r+1)² cells around a cell, ``d`` in metres."""
     d = np.arange(-radius, radius + 1, dtype=np.float64) * resolution
     d2 = d[None, :] ** 2 + d[:, None] ** 2
     return np.exp(-d2 / (2.0 * sigma * sigma)).astype(np.float32)
@@ -33,7 +33,7 @@ def gaussian_kernel(resolution: float, sigma: float, radius: int) -> Grid:
 
 class FieldGrid:
     """Cells of ``resolution`` metres; cell (row j, column i) covers
-    ``origin + [i, i+1)·res × [j, j+1)·res`` of the grid's own frame."""
+    ``origin + [i, i+1)·res x [j, j+1)·res`` of the grid's own frame."""
 
     def __init__(self, resolution: float, kernel: Grid, saturation: float = 2.0) -> None:
         self.resolution = resolution
@@ -127,7 +127,7 @@ class FieldGrid:
             c0 = max(cols[0] - pad, 0)
             field = field[r0 : rows[-1] + pad + 1, c0 : cols[-1] + pad + 1]
             self.origin = self.origin + np.array([c0, r0]) * self.resolution
-        self.field = np.ascontiguousarray(field, dtype=np.float32)  # type: ignore[assignment]
+        self.field = np.ascontiguousarray(field, dtype=np.float32)
         self.hits = np.zeros((0, 0), dtype=np.float32)
 
     def sample(self, points: Array) -> tuple[Array, Array]:

@@ -130,7 +130,7 @@ def refine(
 
 
 def _solve3(h: Array, b: Array) -> Array:
-    """``h⁻¹ b`` for a symmetric 3×3 ``h`` (a near-singular one gives no step)."""
+    """``h⁻¹ b`` for a symmetric 3 x 3 ``h`` (a near-singular one gives no step)."""
     a00, a01, a02 = h[0]
     a11, a12, a22 = h[1, 1], h[1, 2], h[2, 2]
     c00 = a11 * a22 - a12 * a12

@@ -1,57 +1,54 @@
 """slam_gmapping's parameters, with its names and defaults, and what each does here.
 
-The mapper (:class:`belvedere.nav.slam.SubmapSlam`) is not GMapping's particle filter but
-reads the same parameters, each with the same intent:
+The mapper (:class:`belvedere.nav.slam.SubmapSlam`) is not GMapping's particle filter (see
+:mod:`belvedere.nav.slam._slam` for why) but reads the same parameters, each with the same
+intent where it has a counterpart:
 
 ``maxRange``
-    Beams longer than this are dropped altogether (no return). Default: the scan's
-    ``range_max`` − 0.01 m, as slam_gmapping sets it from the first scan.
+    Beams longer than this are dropped (no return). Default: the scan's ``range_max`` minus
+    0.01 m, as slam_gmapping sets it from the first scan.
 ``maxUrange``
-    Beams are used for matching and mapping up to this range; longer ones (up to
-    ``maxRange``) only clear the cells along them. Default: ``maxRange``.
+    Beams are used for matching and for the map's obstacles up to this range; longer ones
+    (up to ``maxRange``) only clear the cells they cross. Default: ``maxRange``.
 ``sigma``, ``kernelSize``
-    The matcher's likelihood field: a Gaussian of standard deviation
-    ``sqrt(sigma / 2)`` metres — GMapping scores ``exp(-d²/sigma)`` — around every end point,
-    cut ``kernelSize + 2`` cells away.
+    The matcher's likelihood field: a Gaussian of standard deviation ``sigma`` metres around
+    every end point, cut ``kernelSize + 2`` cells away.
 ``lstep``, ``astep``, ``iterations``
-    When a match scores below ``minimumScore``, the pose is searched (branch and bound) within
-    ``±iterations·lstep`` metres and ``±iterations·astep`` radians of the prediction before
-    it is refined again; ``2·iterations`` bounds the Levenberg-Marquardt iterations of every
-    match.
-``lsigma``, ``ogain``
-    Loop closures: a candidate's likelihood is ``exp(-ogain · (1 − score)² / (2 lsigma²))``
-    per beam (GMapping smooths the particle weights the same way); closures whose
-    likelihood falls under the gaussian's 3σ point are rejected.
+    A match scoring under ``minimumScore`` is searched again (branch and bound) within
+    ``iterations * lstep`` metres and ``iterations * astep`` radians of the prediction;
+    ``2 * iterations`` bounds the Levenberg-Marquardt iterations of every match.
 ``lskip``
     Take every (lskip+1)-th beam for matching.
 ``minimumScore``
-    GMapping's score is a sum over beams; here the mean field value per beam is multiplied by
-    the number of matched beams to compare with it. A match below it falls back to a lattice
-    search (and then to odometry). 0 accepts every match.
+    GMapping's score is a sum over beams; here it is the mean field value at the end points
+    times their number. A match under it is searched again as above, and if that fails too
+    the odometry's prediction is kept. 0 accepts every match.
 ``srr``, ``srt``, ``str``, ``stt``
     The odometry error model (translation from translation, translation from rotation,
-    rotation from translation, rotation from rotation): the standard deviations of the
-    motion prior each match is pulled towards, and of the submap chain in the pose graph.
+    rotation from rotation, rotation from translation): each match is pulled towards the
+    odometry's prediction with standard deviations ``srr*d + str*|a|`` (m) and
+    ``stt*|a| + srt*d`` (rad) for a step of ``d`` metres and ``a`` radians.
 ``linearUpdate``, ``angularUpdate``, ``temporalUpdate``
-    A scan is added to the map (a keyframe) after the robot travelled ``linearUpdate`` m,
-    turned ``angularUpdate`` rad, or ``temporalUpdate`` s passed (if ≥ 0) since the last one.
-    Every scan is still matched, so the trajectory has one pose per scan.
-``particles``, ``resampleThreshold``
-    The number of hypotheses and when to resample. This mapper keeps one trajectory and
-    closes loops by optimising a pose graph instead, so it reads them and ignores them.
+    A scan is added to the map (a keyframe) once the robot travelled ``linearUpdate`` metres
+    or turned ``angularUpdate`` radians (summed along the way, as GMapping does), or
+    ``temporalUpdate`` seconds passed if that is not negative. Every scan is still matched,
+    so the trajectory has one pose per scan.
 ``xmin``, ``ymin``, ``xmax``, ``ymax``, ``delta``
-    The map's initial extent (it grows to fit) and its resolution; ``delta`` is also the
-    resolution of the grids matched against.
-``llsamplerange``, ``llsamplestep``, ``lasamplerange``, ``lasamplestep``
-    GMapping samples the likelihood around the matched pose to estimate its covariance; here
-    the matcher's Hessian gives that covariance, the ranges floor its standard deviations.
+    The map's initial extent (it grows to hold what is seen) and its resolution, which is
+    also that of the grids scans are matched against.
 ``occ_thresh``, ``map_update_interval``, ``throttle_scans``
-    The node's: cells with hit/visit ratio above ``occ_thresh`` are occupied; the map is
-    rebuilt every ``map_update_interval`` s; only every ``throttle_scans``-th scan is used.
+    The node's: a cell whose hits over visits exceed ``occ_thresh`` is occupied; a new map
+    after ``map_update_interval`` seconds; only every ``throttle_scans``-th scan is used.
+``particles``, ``resampleThreshold``, ``lsigma``, ``ogain``, ``llsamplerange``,
+``llsamplestep``, ``lasamplerange``, ``lasamplestep``
+    The particle filter's: how many trajectories, when to resample, how a beam's likelihood
+    weighs a particle, and how the proposal is sampled. One trajectory and a pose graph
+    take their place here, so these are read (and checked) and have no effect.
 """
 
 from __future__ import annotations
 
+import builtins
 import dataclasses
 import math
 from collections.abc import Mapping
@@ -103,11 +100,11 @@ class GMappingParams:
     and draws no random numbers; kept so that runs name their seed."""
 
     @classmethod
-    def names(cls) -> tuple[str, ...]:
+    def names(cls) -> tuple[builtins.str, ...]:
         return tuple(f.name for f in dataclasses.fields(cls))
 
     @classmethod
-    def from_mapping(cls, values: Mapping[str, Any]) -> GMappingParams:
+    def from_mapping(cls, values: Mapping[builtins.str, Any]) -> GMappingParams:
         """Parameters from ``name → value`` (unknown names are the caller's business), each
         converted to its field's type; a wrong value raises ``ValueError`` naming it."""
         fields = {f.name: f for f in dataclasses.fields(cls)}
@@ -128,7 +125,8 @@ class GMappingParams:
                     if not math.isfinite(value):
                         raise ValueError
             except (TypeError, ValueError):
-                message = f"parameter {name}: expected a {'whole ' if kind in ('int', int) else ''}number, got {raw!r}"
+                whole = "whole " if kind in ("int", int) else ""
+                message = f"parameter {name}: expected a {whole}number, got {raw!r}"
                 raise ValueError(message) from None
             kwargs[name] = value
         params = cls(**kwargs)

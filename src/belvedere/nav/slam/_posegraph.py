@@ -6,6 +6,7 @@ is small (one node per submap), so the normal equations are solved densely."""
 from __future__ import annotations
 
 import heapq
+import itertools
 
 import numpy as np
 import numpy.typing as npt
@@ -55,7 +56,7 @@ class PoseGraph:
 
     def remove_edge(self, index: int) -> None:
         for store in (self._i, self._j, self._z, self._info, self._robust, self._length):
-            del store[index]  # type: ignore[attr-defined]
+            del store[index]
 
     def distances(self, source: int) -> Array:
         """Shortest total edge length from ``source`` to every node (inf: not connected)."""
@@ -85,7 +86,8 @@ class PoseGraph:
     def errors(self) -> Array:
         """Each edge's Mahalanobis distance at the current poses."""
         e, _, _, info = self._linearize()
-        return np.sqrt(np.maximum(np.einsum("ni,nij,nj->n", e, info, e), 0.0))
+        squared = np.einsum("ni,nij,nj->n", e, info, e)
+        return np.asarray(np.sqrt(np.maximum(squared, 0.0)), dtype=np.float64)
 
     def _linearize(self) -> tuple[Array, Array, Array, Array]:
         i = np.asarray(self._i)
@@ -132,8 +134,8 @@ class PoseGraph:
         if not self._i:
             return 0.0
         count = len(self.poses)
-        i = np.asarray(self._i)
-        j = np.asarray(self._j)
+        i = np.asarray(self._i, dtype=np.intp)
+        j = np.asarray(self._j, dtype=np.intp)
         huber = np.asarray(self._robust)
         cost = 0.0
         for _ in range(iterations):
@@ -186,8 +188,7 @@ def _solve_spd(a: Array, b: Array) -> Array | None:
     blocks small enough for LAPACK to stay on one thread, the products between blocks in
     ``einsum`` (numpy's own loops, never threaded). None if ``a`` is not positive definite."""
     n = len(a)
-    edges = list(range(0, n, _BLOCK)) + [n]
-    spans = list(zip(edges[:-1], edges[1:], strict=True))
+    spans = list(itertools.pairwise([*range(0, n, _BLOCK), n]))
     low: dict[tuple[int, int], Array] = {}
     inv: list[Array] = []
     try:

@@ -1,6 +1,6 @@
 """Correlative scan matching by branch and bound over a window of poses.
 
-For a finished grid, level ``h`` of a pyramid holds, per block of ``2^h × 2^h`` cells, the
+For a finished grid, level ``h`` of a pyramid holds, per block of ``2^h x 2^h`` cells, the
 largest field value over that block and its three neighbours towards +x/+y: every point of a
 scan shifted by any offset within one block's span lands in one of those four blocks, so the
 mean of those values over the scan bounds the score of every pose in the span from above.
@@ -102,8 +102,8 @@ class SearchPyramid:
         at least ``distinct_xy`` or ``distinct_theta`` away from it, if it reaches
         ``ambiguity`` times the best (a second peak: the scan fits two places)."""
         res = self.resolution
-        half = max(int(math.ceil(linear_window / res)), 0)
-        steps = max(int(math.ceil(angular_window / angular_step)), 0)
+        half = max(math.ceil(linear_window / res), 0)
+        steps = max(math.ceil(angular_window / angular_step), 0)
         angles = center[2] + np.arange(-steps, steps + 1) * angular_step
         c = np.cos(angles)[:, None]
         s = np.sin(angles)[:, None]
@@ -136,7 +136,9 @@ class SearchPyramid:
             keep = (out[:, 1] < span) & (out[:, 2] < span)
             return out[keep]
 
-        def finest(cand: npt.NDArray[np.int64], exclude: tuple[int, int, int, int, int] | None) -> Array:
+        def finest(
+            cand: npt.NDArray[np.int64], exclude: tuple[int, int, int, int, int] | None
+        ) -> Array:
             scores = evaluate(0, cand)
             if exclude is not None:
                 a0, x0, y0, da, dxy = exclude
@@ -197,8 +199,8 @@ class SearchPyramid:
                 a,
                 ox,
                 oy,
-                int(math.ceil(distinct_theta / angular_step)),
-                int(math.ceil(distinct_xy / res)),
+                math.ceil(distinct_theta / angular_step),
+                math.ceil(distinct_xy / res),
             )
             other, found = best_of(score * ambiguity, exclude)
             runner_up = other if found is not None else 0.0

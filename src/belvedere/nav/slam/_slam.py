@@ -31,9 +31,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
+from belvedere.maps import OccupancyMap
 from belvedere.nav.slam._grid import FieldGrid, FreeGrid, gaussian_kernel
 from belvedere.nav.slam._match import Match, refine
-from belvedere.maps import OccupancyMap
 from belvedere.nav.slam._occupancy import OccupancyCounts
 from belvedere.nav.slam._params import GMappingParams
 from belvedere.nav.slam._posegraph import PoseGraph
@@ -232,7 +232,10 @@ class SubmapSlam:
     :meth:`pose`, :meth:`trajectory`, :meth:`occupancy`."""
 
     def __init__(
-        self, laser: LaserGeometry, params: GMappingParams | None = None, tuning: Tuning | None = None
+        self,
+        laser: LaserGeometry,
+        params: GMappingParams | None = None,
+        tuning: Tuning | None = None,
     ) -> None:
         self.params = params = params or GMappingParams()
         self.tuning = tuning = tuning or Tuning()
@@ -342,7 +345,9 @@ class SubmapSlam:
             return -1, 0.0
         half = max(self.tuning.submap_keyframes // 2, 1)
         done = self.submaps[self._active[0]].keyframes - half
-        return self._active[1], min(max(done / max(self.tuning.submap_keyframes - half, 1), 0.0), 1.0)
+        return self._active[1], min(
+            max(done / max(self.tuning.submap_keyframes - half, 1), 0.0), 1.0
+        )
 
     def _poses(self, home: Array, local: Array, other: Array, weight: Array) -> Array:
         """Map-frame poses from (home submap, pose in it, newer submap, its weight)."""
@@ -387,7 +392,13 @@ class SubmapSlam:
         return result.score
 
     def _recover(
-        self, grid: FieldGrid, points: Array, predicted: Array, info: Array, iterations: int, first: Match
+        self,
+        grid: FieldGrid,
+        points: Array,
+        predicted: Array,
+        info: Array,
+        iterations: int,
+        first: Match,
     ) -> Match:
         """A match that scored under ``minimumScore``: search a lattice of ``lstep`` metres and
         ``astep`` radians, ``iterations`` steps each way around the prediction, refine the
@@ -440,7 +451,8 @@ class SubmapSlam:
         if submap == tracking:
             return self._local
         anchor = self.submaps[submap].anchor
-        assert anchor is not None and anchor[0] == tracking
+        assert anchor is not None
+        assert anchor[0] == tracking
         return between(anchor[1], self._local)
 
     def _add_keyframe(self, stamp: float, ranges: Array, points: Array) -> None:
@@ -617,7 +629,7 @@ class SubmapSlam:
             closure = _Closure(keyframe=k, submap=b, measurement=z, information=info)
             c = between(*reversed(self._correction(closure)))
             logger.debug(
-                "closure t=%.1f keyframe %d (submap %d) -> submap %d: correction %+.2f %+.2f %+.1f°",
+                "closure t=%.1f keyframe %d (submap %d) -> %d: correction %+.2f %+.2f %+.1f°",
                 self.keyframes[k].stamp,
                 k,
                 self.keyframes[k].home,
@@ -706,7 +718,7 @@ class SubmapSlam:
             return np.zeros((3, 3))
         information, variance = self._covariance_source
         try:
-            return np.linalg.inv(information) * max(variance, 1e-12)
+            return np.asarray(np.linalg.inv(information) * max(variance, 1e-12), dtype=np.float64)
         except np.linalg.LinAlgError:
             return np.zeros((3, 3))
 
@@ -780,7 +792,8 @@ class SubmapSlam:
         ox = laser.origin[0]
         oy = laser.origin[1]
         sensors = np.stack(
-            [poses[:, 0] + c[:, 0] * ox - s[:, 0] * oy, poses[:, 1] + s[:, 0] * ox + c[:, 0] * oy], axis=1
+            [poses[:, 0] + c[:, 0] * ox - s[:, 0] * oy, poses[:, 1] + s[:, 0] * ox + c[:, 0] * oy],
+            axis=1,
         )
         dx = laser.directions[None, :, 0] * r
         dy = laser.directions[None, :, 1] * r
