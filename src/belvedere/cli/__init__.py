@@ -37,6 +37,7 @@ _VERBS = (
     "run",
     "rospack",
     "map",
+    "slam",
 )
 """The verbs, in the order ``--help`` lists them; each is the module ``belvedere.cli.VERB``.
 Only the verb being run is imported (``xacro`` need not load the simulator)."""

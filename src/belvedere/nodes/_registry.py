@@ -83,6 +83,7 @@ MODULES: Final = {
     "controller_manager": "controller_manager",
     "depthimage_to_laserscan": "depthimage_to_laserscan",
     "gazebo_ros": "gazebo_ros",
+    "gmapping": "gmapping",
     "hector_mapping": "hector_mapping",
     "joint_state_publisher": "joint_state_publisher",
     "joint_state_publisher_gui": "joint_state_publisher_gui",

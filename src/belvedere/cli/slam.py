@@ -1,0 +1,230 @@
+"""``belvedere slam BAG --trajectory OUT.tum -o MAP_PREFIX [name:=value …]``: run the SLAM node
+offline over a bag, as fast as the CPU allows.
+
+The bag's ``/tf`` and ``/tf_static`` fill a TF buffer as they come; each scan waits, as the
+node's message filter makes it, until the odometry at its stamp is known. Writes the map in
+map_server's format (``MAP_PREFIX.pgm`` + ``MAP_PREFIX.yaml``, as map_saver writes them) and the
+base's trajectory in the map frame, one line per processed scan, in the TUM format
+(``stamp tx ty tz qx qy qz qw``). ``name:=value`` set the node's parameters.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import math
+import sys
+import time
+from collections import deque
+from collections.abc import Iterator
+from contextlib import AbstractContextManager, nullcontext
+from pathlib import Path
+from typing import Any
+
+from belvedere.cli._args import mappings_only
+from belvedere.errors import BelvedereError
+from belvedere.fileio import stage_write
+from belvedere.graph import NS
+from belvedere.maps import format_tum_line, save_map
+from belvedere.nav.slam import GMappingParams
+from belvedere.nodes.gmapping import NODE_PARAMETERS, GMappingCore, LaserMountError
+from belvedere.tf import TFBuffer, TFError
+
+logger = logging.getLogger("belvedere.cli")
+
+__all__ = ["add_parser", "run", "tum_text"]
+
+_QUEUE = 5
+
+
+def add_parser(
+    sub: argparse._SubParsersAction[argparse.ArgumentParser], common: argparse.ArgumentParser
+) -> None:
+    p = sub.add_parser(
+        "slam",
+        parents=[common],
+        help="build a map from a bag (offline SLAM)",
+        description="Run SLAM over a bag's laser scans and odometry (TF), as fast as the CPU "
+        "allows; write the map (map_server's format) and the trajectory (TUM). Arguments "
+        "name:=value set the node's parameters (slam_gmapping's names).",
+    )
+    p.add_argument("bag", metavar="BAG", help="a ROS 1 bag (or a ROS 2 bag directory)")
+    p.add_argument(
+        "--trajectory",
+        metavar="OUT.tum",
+        help="write the base's poses in the map frame, one line per processed scan",
+    )
+    p.add_argument(
+        "-o",
+        "--output",
+        metavar="MAP_PREFIX",
+        help="write the map as MAP_PREFIX.pgm and MAP_PREFIX.yaml",
+    )
+    p.add_argument(
+        "--algorithm",
+        choices=("gmapping", "hector"),
+        default="gmapping",
+        help="which node to run (default: gmapping)",
+    )
+    p.add_argument("--scan-topic", default="/scan", help="the LaserScan topic (default: /scan)")
+    p.add_argument("--base-frame", default=None, help="the base frame (default: base_link)")
+    p.add_argument("--odom-frame", default=None, help="the odometry frame (default: odom)")
+    p.set_defaults(run=run)
+
+
+def _parameters(args: argparse.Namespace) -> dict[str, Any]:
+    mappings = mappings_only(list(args.extra))
+    known = set(GMappingParams.names()) | set(NODE_PARAMETERS) | {"tf_delay"}
+    params: dict[str, Any] = {}
+    for name, text in mappings.items():
+        key = name.removeprefix("_").removeprefix("~")
+        if key not in known:
+            message = f"unknown parameter {name!r} for slam_gmapping"
+            raise BelvedereError(message, hint="its parameters: " + ", ".join(sorted(known)))
+        params[key] = text
+    if args.base_frame is not None:
+        params["base_frame"] = args.base_frame
+    if args.odom_frame is not None:
+        params["odom_frame"] = args.odom_frame
+    return params
+
+
+def _open_bag(path: str) -> Any:
+    from rosbags.highlevel import AnyReader  # only this verb needs it
+
+    try:
+        reader = AnyReader([Path(path)])
+        reader.open()
+    except FileNotFoundError:
+        message = f"{path}: no such bag"
+        raise BelvedereError(message) from None
+    except Exception as err:  # noqa: BLE001 - rosbags raises several kinds for a bad file
+        message = f"{path}: not a bag rosbags can read ({err})"
+        raise BelvedereError(message) from None
+    return reader
+
+
+def _messages(reader: Any, scan_topic: str) -> tuple[Iterator[tuple[str, Any]], int]:
+    """(topic, message) in the bag's order for the scan and TF topics, and how many scans."""
+    topics = {c.topic for c in reader.connections}
+    if scan_topic not in topics:
+        message = f"the bag has no topic {scan_topic}"
+        raise BelvedereError(message, hint="its topics: " + ", ".join(sorted(topics)))
+    wanted = [c for c in reader.connections if c.topic in (scan_topic, "/tf", "/tf_static")]
+    total = sum(c.msgcount for c in wanted if c.topic == scan_topic)
+
+    def generate() -> Iterator[tuple[str, Any]]:
+        for connection, _, raw in reader.messages(connections=wanted):
+            yield connection.topic, reader.deserialize(raw, connection.msgtype)
+
+    return generate(), total
+
+
+def _progress(total: int, quiet: bool) -> tuple[AbstractContextManager[Any], Any, Any]:
+    """A rich progress bar on a terminal (the bar, and its task); nothing when piped or
+    quiet."""
+    if quiet or not sys.stderr.isatty():
+        return nullcontext(), None, None
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
+
+    progress = Progress(
+        TextColumn("[bold]slam"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TextColumn("scans"),
+        TimeElapsedColumn(),
+        TimeRemainingColumn(),
+        TextColumn("{task.fields[status]}"),
+        transient=False,
+    )
+    return progress, progress, progress.add_task("slam", total=total, status="")
+
+
+def tum_text(stamps_ns: list[int], poses: Any) -> str:
+    """TUM trajectory text: ``stamp tx ty tz qx qy qz qw`` per pose (x, y, yaw)."""
+    return "".join(
+        format_tum_line(
+            ns / NS, (float(x), float(y), 0.0), (0.0, 0.0, math.sin(yaw / 2), math.cos(yaw / 2))
+        )
+        for ns, (x, y, yaw) in zip(stamps_ns, poses, strict=True)
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.algorithm == "hector":
+        message = "belvedere slam --algorithm hector is not available yet"
+        raise BelvedereError(message, hint="use --algorithm gmapping")
+    if not args.trajectory and not args.output:
+        message = "nothing to write: give --trajectory OUT.tum and/or -o MAP_PREFIX"
+        raise BelvedereError(message)
+    params = _parameters(args)
+    try:
+        core = GMappingCore(params)
+    except ValueError as err:
+        raise BelvedereError(str(err)) from None
+    reader = _open_bag(args.bag)
+    started = time.perf_counter()
+    try:
+        messages, total = _messages(reader, args.scan_topic)
+        total = -(-total // core.params.throttle_scans)
+        context, bar, task = _progress(total, args.quiet > 0)
+        buffer = TFBuffer(cache_time=3600.0)
+        pending: deque[Any] = deque()
+        problems: list[str] = []
+        with context:
+            for topic, msg in messages:
+                if topic == "/tf" or topic == "/tf_static":
+                    buffer.set_message(msg, static=topic == "/tf_static")
+                elif core.wanted():
+                    pending.append(msg)
+                    if len(pending) > _QUEUE:
+                        pending.popleft()
+                        problems.append("a scan waited too long for its odometry and was dropped")
+                while pending and core.ready(pending[0], buffer):
+                    _process(core, pending.popleft(), buffer, problems)
+                    if bar is not None:
+                        slam = core.slam
+                        status = "" if slam is None else f"{slam.loop_closures} loop closures"
+                        bar.update(task, completed=len(core.processed), status=status)
+    finally:
+        reader.close()
+    for text in sorted(set(problems)):
+        logger.warning("warning: %s (%d times)", text, problems.count(text))
+    if core.slam is None or not core.processed:
+        message = f"no scan on {args.scan_topic} could be placed"
+        hint = f"the bag needs TF from {core.odom_frame} to {core.base_frame} at the scans' stamps"
+        raise BelvedereError(message, hint=hint)
+    _, poses = core.slam.trajectory()
+    if args.trajectory:
+        text = tum_text([p.stamp_ns for p in core.processed], poses)
+        stage_write(args.trajectory, text, make_dirs=True).commit()
+    if args.output:
+        grid = core.occupancy()
+        assert grid is not None
+        save_map(args.output, grid)
+    logger.info(
+        "%d scans, %d added to the map, %d loop closures, %.1f s",
+        len(core.processed),
+        len(core.slam.keyframes),
+        core.slam.loop_closures,
+        time.perf_counter() - started,
+    )
+    return 0
+
+
+def _process(core: GMappingCore, scan: Any, buffer: TFBuffer, problems: list[str]) -> None:
+    try:
+        core.process(scan, buffer)
+    except LaserMountError as err:
+        raise BelvedereError(str(err)) from None
+    except TFError as err:
+        problems.append(f"a scan could not be placed ({err.message})")
+    except ValueError as err:
+        problems.append(str(err))

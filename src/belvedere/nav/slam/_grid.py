@@ -1,0 +1,234 @@
+"""A growable likelihood grid: where scan end points fell, and the smooth field matched against.
+
+Each cell counts the end points that fell in it; a cell's weight is its count over
+``saturation`` (capped at 1), so a stray reading weighs less than a wall seen again and again.
+The field is the upper envelope of a small kernel centred on every weighted cell — a
+likelihood field whose value falls off with the distance to the nearest end point — kept up to
+date as points arrive (weights only grow, so stamping ``max(field, weight·kernel)`` is exact).
+Matching samples it bilinearly, with the gradient, between cell centres.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import numpy.typing as npt
+
+__all__ = ["FieldGrid", "gaussian_kernel"]
+
+Array = npt.NDArray[np.float64]
+Grid = npt.NDArray[np.float32]
+
+_GROW_MARGIN = 10.0
+"""Metres added around the needed area whenever a grid grows (so that it grows seldom)."""
+
+
+def gaussian_kernel(resolution: float, sigma: float, radius: int) -> Grid:
+    """``exp(-d² / 2sigma²)`` over the (2r+1)² cells around a cell, ``d`` in metres."""
+    d = np.arange(-radius, radius + 1, dtype=np.float64) * resolution
+    d2 = d[None, :] ** 2 + d[:, None] ** 2
+    return np.exp(-d2 / (2.0 * sigma * sigma)).astype(np.float32)
+
+
+class FieldGrid:
+    """Cells of ``resolution`` metres; cell (row j, column i) covers
+    ``origin + [i, i+1)·res x [j, j+1)·res`` of the grid's own frame."""
+
+    def __init__(self, resolution: float, kernel: Grid, saturation: float = 2.0) -> None:
+        self.resolution = resolution
+        self.kernel = kernel
+        self.radius = (kernel.shape[0] - 1) // 2
+        self.saturation = saturation
+        self.origin = np.zeros(2)
+        self.hits: Grid = np.zeros((0, 0), dtype=np.float32)
+        self.field: npt.NDArray[np.float64] = np.zeros((0, 0))
+        """Float64 while the grid grows: arithmetic on it then needs no conversions."""
+        self.points = 0
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return (int(self.hits.shape[0]), int(self.hits.shape[1]))
+
+    def bounds(self) -> tuple[Array, Array]:
+        """The (x, y) corners of the area the grid covers."""
+        size = np.array([self.shape[1], self.shape[0]], dtype=np.float64) * self.resolution
+        return self.origin.copy(), self.origin + size
+
+    def _ensure(self, lo: Array, hi: Array) -> None:
+        pad = (self.radius + 2) * self.resolution
+        lo = lo - pad
+        hi = hi + pad
+        have_lo, have_hi = self.bounds()
+        if self.hits.size and np.all(lo >= have_lo) and np.all(hi <= have_hi):
+            return
+        if self.hits.size:
+            lo = np.minimum(lo, have_lo)
+            hi = np.maximum(hi, have_hi)
+        res = self.resolution
+        # Grow by whole cells so that old cells keep their boundaries, and by a margin that
+        # grows with the grid (so that a grid growing step by step is copied seldom).
+        margin = _GROW_MARGIN
+        if self.hits.size:
+            margin = max(margin, 0.25 * float(np.max(have_hi - have_lo)))
+            new_lo = self.origin + np.floor((lo - margin - self.origin) / res) * res
+        else:
+            new_lo = np.floor((lo - margin) / res) * res
+        cols = math.ceil((hi[0] + margin - new_lo[0]) / res)
+        rows = math.ceil((hi[1] + margin - new_lo[1]) / res)
+        hits = np.zeros((rows, cols), dtype=np.float32)
+        field = np.zeros((rows, cols))
+        if self.hits.size:
+            di, dj = np.rint((self.origin - new_lo) / res).astype(int)
+            h, w = self.shape
+            hits[dj : dj + h, di : di + w] = self.hits
+            field[dj : dj + h, di : di + w] = self.field
+        self.origin = new_lo
+        self.hits = hits
+        self.field = field
+
+    def insert(self, points: Array) -> None:
+        """Add end points ``(N, 2)`` given in the grid's frame."""
+        if not len(points):
+            return
+        self._ensure(points.min(axis=0), points.max(axis=0))
+        res = self.resolution
+        ij = np.floor((points - self.origin) / res).astype(np.int64)
+        width = self.shape[1]
+        flat = ij[:, 1] * width + ij[:, 0]
+        cells, counts = np.unique(flat, return_counts=True)
+        hits = self.hits.reshape(-1)
+        old = hits[cells]
+        new = old + counts.astype(np.float32)
+        hits[cells] = new
+        self.points += len(points)
+        w_old = np.minimum(old / self.saturation, 1.0)
+        w_new = np.minimum(new / self.saturation, 1.0)
+        grown = w_new > w_old
+        if not grown.any():
+            return
+        r = self.radius
+        dj, di = np.mgrid[-r : r + 1, -r : r + 1]
+        offsets = (dj * width + di).reshape(-1)
+        idx = (cells[grown][:, None] + offsets[None, :]).reshape(-1)
+        values = (w_new[grown][:, None] * self.kernel.reshape(-1)[None, :]).reshape(-1)
+        values = values.astype(np.float64)
+        np.maximum.at(self.field.reshape(-1), idx, values)
+
+    def finish(self) -> None:
+        """Drop what only growing needs: the counts, and the empty border beyond the
+        kernel's reach; the field becomes float32 (half the memory)."""
+        field = self.field
+        rows = np.flatnonzero(field.any(axis=1))
+        cols = np.flatnonzero(field.any(axis=0))
+        if len(rows):
+            pad = 2
+            r0 = max(rows[0] - pad, 0)
+            c0 = max(cols[0] - pad, 0)
+            field = field[r0 : rows[-1] + pad + 1, c0 : cols[-1] + pad + 1]
+            self.origin = self.origin + np.array([c0, r0]) * self.resolution
+        self.field = np.ascontiguousarray(field, dtype=np.float32)
+        self.hits = np.zeros((0, 0), dtype=np.float32)
+
+    def sample(self, points: Array) -> tuple[Array, Array]:
+        """The field at points ``(N, 2)`` of the grid's frame, bilinearly interpolated between
+        cell centres, and its gradient (per metre); zero off the grid."""
+        return self.sample_xy(points[:, 0], points[:, 1])
+
+    def sample_xy(self, x: Array, y: Array) -> tuple[Array, Array]:
+        """:meth:`sample` with the coordinates apart; returns the value and ``(gx, gy)``
+        stacked as a (2, N) array."""
+        inv = 1.0 / self.resolution
+        ux = x * inv - (self.origin[0] * inv + 0.5)
+        uy = y * inv - (self.origin[1] * inv + 0.5)
+        h, w = self.field.shape
+        # Cells within radius + 2 of the border never hold any weight (insert pads), so a point
+        # off the grid clamped onto the border reads 0 with a zero gradient, as it should.
+        ix = np.clip(np.floor(ux), 0, w - 2)
+        iy = np.clip(np.floor(uy), 0, h - 2)
+        fx = np.clip(ux - ix, 0.0, 1.0)
+        fy = np.clip(uy - iy, 0.0, 1.0)
+        flat = (iy * w + ix).astype(np.intp)
+        field = self.field.reshape(-1)
+        v00 = field[flat]
+        v10 = field[flat + 1]
+        v01 = field[flat + w]
+        v11 = field[flat + (w + 1)]
+        d0 = v10 - v00
+        d1 = v11 - v01
+        a = v00 + d0 * fx
+        b = v01 + d1 * fx
+        ba = b - a
+        value = a + ba * fy
+        grad = np.empty((2, len(x)))
+        grad[0] = (d0 + (d1 - d0) * fy) * inv
+        grad[1] = ba * inv
+        return value, grad
+
+
+class FreeGrid:
+    """Where beams have passed: a coarse count of crossings per cell, grown as needed. A
+    scan matched at the wrong place puts end points where the submap's own beams passed
+    freely; at the right place its points fall on walls or in space never seen."""
+
+    def __init__(self, resolution: float) -> None:
+        self.resolution = resolution
+        self.origin = np.zeros(2)
+        self.counts: npt.NDArray[np.int32] = np.zeros((0, 0), dtype=np.int32)
+
+    def _ensure(self, lo: Array, hi: Array) -> None:
+        res = self.resolution
+        h, w = self.counts.shape
+        have_hi = self.origin + np.array([w, h]) * res
+        if self.counts.size and np.all(lo >= self.origin) and np.all(hi < have_hi):
+            return
+        margin = _GROW_MARGIN
+        if self.counts.size:
+            lo = np.minimum(lo, self.origin)
+            hi = np.maximum(hi, have_hi)
+            margin = max(margin, 0.25 * float(np.max(have_hi - self.origin)))
+            new_lo = self.origin + np.floor((lo - margin - self.origin) / res) * res
+        else:
+            new_lo = np.floor((lo - margin) / res) * res
+        cols = math.ceil((hi[0] + margin - new_lo[0]) / res)
+        rows = math.ceil((hi[1] + margin - new_lo[1]) / res)
+        counts = np.zeros((rows, cols), dtype=np.int32)
+        if self.counts.size:
+            di, dj = np.rint((self.origin - new_lo) / res).astype(int)
+            counts[dj : dj + h, di : di + w] = self.counts
+        self.origin = new_lo
+        self.counts = counts
+
+    def add_beams(self, sensor: Array, ends: Array, short: float) -> None:
+        """Beams from ``sensor`` (2,) to ``ends`` (N, 2), all in the grid's frame, each
+        counted up to ``short`` metres before its end."""
+        if not len(ends):
+            return
+        d = ends - sensor
+        length = np.hypot(d[:, 0], d[:, 1]) - short
+        keep = length > 0
+        d, length = d[keep], length[keep]
+        if not len(d):
+            return
+        unit = d / (length + short)[:, None]
+        steps = np.ceil(length / self.resolution).astype(np.int64)
+        self._ensure(np.minimum(ends.min(axis=0), sensor), np.maximum(ends.max(axis=0), sensor))
+        ray = np.repeat(np.arange(len(steps)), steps)
+        first = np.cumsum(steps) - steps
+        t = (np.arange(int(steps.sum())) - first[ray]) * self.resolution
+        pts = sensor + unit[ray] * t[:, None]
+        ij = np.floor((pts - self.origin) / self.resolution).astype(np.int64)
+        w = self.counts.shape[1]
+        flat = np.unique(ij[:, 1] * w + ij[:, 0])  # once per beam set is enough
+        self.counts.reshape(-1)[flat] += 1
+
+    def at(self, points: Array) -> npt.NDArray[np.int32]:
+        """Crossing counts at points (N, 2) (0 off the grid)."""
+        if not self.counts.size:
+            return np.zeros(len(points), dtype=np.int32)
+        ij = np.floor((points - self.origin) / self.resolution).astype(np.int64)
+        h, w = self.counts.shape
+        inside = (ij[:, 0] >= 0) & (ij[:, 1] >= 0) & (ij[:, 0] < w) & (ij[:, 1] < h)
+        out = np.zeros(len(points), dtype=np.int32)
+        out[inside] = self.counts[ij[inside, 1], ij[inside, 0]]
+        return out
