@@ -99,6 +99,7 @@ class Executor:
         """The outside clock reads ``ns`` (executor thread; time never goes back)."""
         self._sim_ns = max(self._sim_ns, ns)
         self._clock_seen = True
+
     def start_at(self, ns: int) -> None:
         """Begin simulated time at ``ns`` rather than where it stands (a recording's start,
         for a bag played in its own time): every timer keeps its phase. Only before the
