@@ -115,7 +115,7 @@ def refine(
             gain = cost - t_cost
             pose, cost, value, jtj, rhs = trial, t_cost, t_value, t_jtj, t_rhs
             damping *= 0.25
-            if gain <= 1e-3 * cost or (
+            if gain <= 1e-4 * cost or (
                 abs(step[0]) < 1e-3 and abs(step[1]) < 1e-3 and abs(step[2]) < 2e-4
             ):
                 break

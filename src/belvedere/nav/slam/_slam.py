@@ -32,7 +32,7 @@ import numpy as np
 import numpy.typing as npt
 
 from belvedere.maps import OccupancyMap
-from belvedere.nav.slam._grid import FieldGrid, FreeGrid, gaussian_kernel
+from belvedere.nav.slam._grid import FieldGrid, FreeGrid
 from belvedere.nav.slam._match import Match, refine
 from belvedere.nav.slam._occupancy import OccupancyCounts
 from belvedere.nav.slam._params import GMappingParams
@@ -245,7 +245,7 @@ class SubmapSlam:
         self.resolution = params.delta
         sigma = tuning.field_sigma if tuning.field_sigma is not None else params.sigma
         radius = tuning.field_radius if tuning.field_radius is not None else params.kernelSize + 2
-        self._kernel = gaussian_kernel(self.resolution, sigma, radius)
+        self._field = (sigma, radius)
         self.submaps: list[_Submap] = []
         self.keyframes: list[_Keyframe] = []
         self.graph = PoseGraph()
@@ -429,7 +429,7 @@ class SubmapSlam:
         index = len(self.submaps)
         self.submaps.append(
             _Submap(
-                grid=FieldGrid(self.resolution, self._kernel),
+                grid=FieldGrid(self.resolution, *self._field),
                 anchor=anchor,
                 free=FreeGrid(self.resolution * self.tuning.free_cells),
             )
