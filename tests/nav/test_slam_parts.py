@@ -131,7 +131,9 @@ def test_branch_and_bound_finds_what_brute_force_finds() -> None:
 def test_the_ambiguity_test_sees_a_corridors_second_fit() -> None:
     # two long parallel walls: every shift along them fits as well
     x = np.linspace(-4, 4, 400)
-    walls = np.vstack([np.column_stack([x, np.full_like(x, 1.0)]), np.column_stack([x, -np.ones_like(x)])])
+    walls = np.vstack(
+        [np.column_stack([x, np.full_like(x, 1.0)]), np.column_stack([x, -np.ones_like(x)])]
+    )
     grid = FieldGrid(0.05, 0.05, 3)
     grid.insert(walls)
     grid.finish()
@@ -167,8 +169,13 @@ def test_occupancy_counts_as_gmapping_does() -> None:
     counts.add_scans_indexed(sensors, np.array([0, 0]), ends, np.array([True, False]))
     grid = counts.to_map(0.25)
     origin = grid.origin
-    col = lambda x: math.floor((x - origin[0]) / 0.1)  # noqa: E731
-    row = lambda y: math.floor((y - origin[1]) / 0.1)  # noqa: E731
+
+    def col(x: float) -> int:
+        return math.floor((x - origin[0]) / 0.1)
+
+    def row(y: float) -> int:
+        return math.floor((y - origin[1]) / 0.1)
+
     assert grid.data[row(0.05), col(0.55)] == 100  # the end cell: hit
     assert all(grid.data[row(0.05), col(x)] == 0 for x in (0.05, 0.15, 0.25, 0.35, 0.45))
     assert grid.data[row(0.75), col(0.05)] == 0  # crossed
