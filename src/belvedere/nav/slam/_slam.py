@@ -112,7 +112,7 @@ class Tuning:
     """Submaps nearer than this along the graph (m) are not searched for closures."""
     loop_min_ratio: float = 0.1
     """Closures whose translational information is this lopsided (corridors) are dropped."""
-    loop_max_error: float = 5.0
+    loop_max_error: float = 8.0
     """After optimising, a new closure this far (Mahalanobis) from the graph is dropped."""
     loop_max_contradiction: float = 0.2
     """A closure whose end points fall in the submap's free space more than this share of
