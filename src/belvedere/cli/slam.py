@@ -189,10 +189,12 @@ def run(args: argparse.Namespace) -> int:
                         problems.append("a scan waited too long for its odometry and was dropped")
                 while pending and core.ready(pending[0], buffer):
                     _process(core, pending.popleft(), buffer, problems)
-                    if bar is not None:
+                    if bar is not None and len(core.processed) % 25 == 0:
                         slam = core.slam
                         status = "" if slam is None else f"{slam.loop_closures} loop closures"
                         bar.update(task, completed=len(core.processed), status=status)
+            if bar is not None:
+                bar.update(task, completed=len(core.processed))
     finally:
         reader.close()
     for text in sorted(set(problems)):

@@ -2,10 +2,11 @@
 
 Each cell counts the end points that fell in it; a cell's weight is its count over
 ``saturation`` (capped at 1), so a stray reading weighs less than a wall seen again and again.
-The field is the upper envelope of a small kernel centred on every weighted cell — a
-likelihood field whose value falls off with the distance to the nearest end point — kept up to
-date as points arrive (weights only grow, so stamping ``max(field, weight·kernel)`` is exact).
-Matching samples it bilinearly, with the gradient, between cell centres.
+The field is the upper envelope of a Gaussian of the distance to each cell's points (their
+mean, so that the field follows the points within a cell, as GMapping's mean hit positions
+do), times the cell's weight, cut ``radius`` cells away — a likelihood field — kept up to date
+as points arrive (weights only grow, so stamping ``max(field, stamp)`` is exact but for the
+mean's later moves within its cell). Matching samples it bilinearly between cell centres.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ import math
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["FieldGrid", "gaussian_kernel"]
+__all__ = ["FieldGrid", "FreeGrid"]
 
 Array = npt.NDArray[np.float64]
 Grid = npt.NDArray[np.float32]
@@ -24,21 +25,16 @@ _GROW_MARGIN = 10.0
 """Metres added around the needed area whenever a grid grows (so that it grows seldom)."""
 
 
-def gaussian_kernel(resolution: float, sigma: float, radius: int) -> Grid:
-    """``exp(-d² / 2sigma²)`` over the (2r+1)² cells around a cell, ``d`` in metres."""
-    d = np.arange(-radius, radius + 1, dtype=np.float64) * resolution
-    d2 = d[None, :] ** 2 + d[:, None] ** 2
-    return np.exp(-d2 / (2.0 * sigma * sigma)).astype(np.float32)
-
-
 class FieldGrid:
     """Cells of ``resolution`` metres; cell (row j, column i) covers
     ``origin + [i, i+1)·res x [j, j+1)·res`` of the grid's own frame."""
 
-    def __init__(self, resolution: float, kernel: Grid, saturation: float = 2.0) -> None:
+    def __init__(
+        self, resolution: float, sigma: float, radius: int, saturation: float = 2.0
+    ) -> None:
         self.resolution = resolution
-        self.kernel = kernel
-        self.radius = (kernel.shape[0] - 1) // 2
+        self.sigma = sigma
+        self.radius = radius
         self.saturation = saturation
         self.origin = np.zeros(2)
         self.hits: Grid = np.zeros((0, 0), dtype=np.float32)
@@ -96,7 +92,7 @@ class FieldGrid:
         ij = np.floor((points - self.origin) / res).astype(np.int64)
         width = self.shape[1]
         flat = ij[:, 1] * width + ij[:, 0]
-        cells, counts = np.unique(flat, return_counts=True)
+        cells, where, counts = np.unique(flat, return_inverse=True, return_counts=True)
         hits = self.hits.reshape(-1)
         old = hits[cells]
         new = old + counts.astype(np.float32)
@@ -107,13 +103,22 @@ class FieldGrid:
         grown = w_new > w_old
         if not grown.any():
             return
+        # The kernel is centred on the mean of the cell's new points, not on the cell's
+        # centre: a wall on a cell boundary would otherwise move half a cell.
+        mean_x = np.bincount(where, weights=points[:, 0])[grown] / counts[grown]
+        mean_y = np.bincount(where, weights=points[:, 1])[grown] / counts[grown]
+        grown_cells = cells[grown]
         r = self.radius
         dj, di = np.mgrid[-r : r + 1, -r : r + 1]
         offsets = (dj * width + di).reshape(-1)
-        idx = (cells[grown][:, None] + offsets[None, :]).reshape(-1)
-        values = (w_new[grown][:, None] * self.kernel.reshape(-1)[None, :]).reshape(-1)
-        values = values.astype(np.float64)
-        np.maximum.at(self.field.reshape(-1), idx, values)
+        ci = grown_cells % width
+        cj = grown_cells // width
+        cx = self.origin[0] + (ci[:, None] + di.reshape(1, -1) + 0.5) * res
+        cy = self.origin[1] + (cj[:, None] + dj.reshape(1, -1) + 0.5) * res
+        d2 = (cx - mean_x[:, None]) ** 2 + (cy - mean_y[:, None]) ** 2
+        values = w_new[grown][:, None] * np.exp(d2 * (-0.5 / (self.sigma * self.sigma)))
+        idx = (grown_cells[:, None] + offsets[None, :]).reshape(-1)
+        np.maximum.at(self.field.reshape(-1), idx, values.reshape(-1))
 
     def finish(self) -> None:
         """Drop what only growing needs: the counts, and the empty border beyond the

@@ -103,11 +103,15 @@ def refine(
     pose = np.array(start, dtype=np.float64)
     cost, value, jtj, rhs = evaluate(pose)
     damping = 0.0
+    prior_matrix = np.diag(prior_info) if with_prior else np.zeros((3, 3))
+    diagonal = np.eye(3, dtype=bool)
     # Levenberg-Marquardt: the interpolated field's gradient jumps at cell boundaries, so
     # plain Gauss-Newton steps can overshoot and oscillate.
     for _ in range(max(iterations, 1)):
-        hess = jtj + np.diag(prior_info) if with_prior else jtj
-        step = _solve3(hess + np.diag(np.diag(hess)) * damping, rhs)
+        hess = jtj + prior_matrix
+        if damping:
+            hess = hess + np.where(diagonal, hess * damping, 0.0)
+        step = _solve3(hess, rhs)
         trial = pose + step
         trial[2] = (trial[2] + math.pi) % (2.0 * math.pi) - math.pi
         t_cost, t_value, t_jtj, t_rhs = evaluate(trial)
@@ -115,7 +119,7 @@ def refine(
             gain = cost - t_cost
             pose, cost, value, jtj, rhs = trial, t_cost, t_value, t_jtj, t_rhs
             damping *= 0.25
-            if gain <= 1e-3 * cost or (
+            if gain <= 1e-4 * cost or (
                 abs(step[0]) < 1e-3 and abs(step[1]) < 1e-3 and abs(step[2]) < 2e-4
             ):
                 break

@@ -32,7 +32,7 @@ import numpy as np
 import numpy.typing as npt
 
 from belvedere.maps import OccupancyMap
-from belvedere.nav.slam._grid import FieldGrid, FreeGrid, gaussian_kernel
+from belvedere.nav.slam._grid import FieldGrid, FreeGrid
 from belvedere.nav.slam._match import Match, refine
 from belvedere.nav.slam._occupancy import OccupancyCounts
 from belvedere.nav.slam._params import GMappingParams
@@ -112,7 +112,7 @@ class Tuning:
     """Submaps nearer than this along the graph (m) are not searched for closures."""
     loop_min_ratio: float = 0.1
     """Closures whose translational information is this lopsided (corridors) are dropped."""
-    loop_max_error: float = 5.0
+    loop_max_error: float = 8.0
     """After optimising, a new closure this far (Mahalanobis) from the graph is dropped."""
     loop_max_contradiction: float = 0.2
     """A closure whose end points fall in the submap's free space more than this share of
@@ -245,7 +245,7 @@ class SubmapSlam:
         self.resolution = params.delta
         sigma = tuning.field_sigma if tuning.field_sigma is not None else params.sigma
         radius = tuning.field_radius if tuning.field_radius is not None else params.kernelSize + 2
-        self._kernel = gaussian_kernel(self.resolution, sigma, radius)
+        self._field = (sigma, radius)
         self.submaps: list[_Submap] = []
         self.keyframes: list[_Keyframe] = []
         self.graph = PoseGraph()
@@ -429,7 +429,7 @@ class SubmapSlam:
         index = len(self.submaps)
         self.submaps.append(
             _Submap(
-                grid=FieldGrid(self.resolution, self._kernel),
+                grid=FieldGrid(self.resolution, *self._field),
                 anchor=anchor,
                 free=FreeGrid(self.resolution * self.tuning.free_cells),
             )
