@@ -83,8 +83,6 @@ class LaunchRuntime:
     """In-process nodes that ended by themselves: full name → exit status."""
     closers: list[Callable[[], None]] = field(default_factory=list)
     """Run by :meth:`close`, last added first (a recorder closes its bag)."""
-    exits: list[tuple[Any, Callable[[], bool]]] = field(default_factory=list)
-    """(node spec, has it finished?) of in-process nodes that end on their own."""
 
     def start(self) -> None:
         params = self.graph.params
@@ -199,10 +197,6 @@ class LaunchRuntime:
     def poll_processes(self) -> LaunchNode | None:
         """A required node that has exited (the launch then ends), if any; nodes with
         ``respawn`` that exited are started again after their ``respawn_delay``."""
-        for spec, finished in self.exits:
-            if spec.required and finished():
-                found: LaunchNode = spec
-                return found
         now = time.monotonic()
         for i, (spec, process) in enumerate(list(self.processes)):
             if process.poll() is None:

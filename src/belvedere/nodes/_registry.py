@@ -20,6 +20,7 @@ __all__ = [
     "StartError",
     "Starter",
     "end_node",
+    "end_when",
     "executables",
     "find",
     "joins_running_graph",
@@ -71,9 +72,6 @@ class Session(Protocol):
     """Nodes that ended by themselves (:func:`end_node`): full name → exit status."""
     closers: list[Callable[[], None]]
     """Run when the session ends (a recorder closes its bag), last added first."""
-    exits: list[tuple[Any, Callable[[], bool]]]
-    """(node spec, has it finished?) of in-process nodes that end on their own (a bag
-    played to its end): a required one ends the session."""
 
 
 Starter = Callable[[Session, NodeSpec, Node], None]
@@ -104,6 +102,20 @@ def end_node(session: Session, node: Node, status: int = 0) -> None:
     Call on the executor thread (or while starting)."""
     session.finished[node.full_name] = status
     node.shutdown()
+
+
+def end_when(
+    session: Session, node: Node, done: Callable[[], bool], *, period: float = 0.1
+) -> None:
+    """End ``node`` (:func:`end_node`) once ``done()`` holds — work that finishes on a thread
+    of its own (a recorder whose ``--duration`` passed, a player at the end of its bag) —
+    looking every ``period`` seconds of graph time."""
+
+    def check() -> None:
+        if done() and not node.closed:
+            end_node(session, node)
+
+    node.timer(period, check)
 
 
 def _module_executables(package: str) -> dict[str, Starter]:

@@ -27,7 +27,7 @@ from belvedere.bags import (
     parse_record_args,
 )
 from belvedere.graph import Node
-from belvedere.nodes._registry import NodeSpec, Session, Starter, StartError
+from belvedere.nodes._registry import NodeSpec, Session, Starter, StartError, end_when
 
 __all__ = ["EXECUTABLES", "PACKAGE"]
 
@@ -51,7 +51,7 @@ def _record(session: Session, spec: NodeSpec, node: Node) -> None:
         session.closers.append(recorder.stop)
 
     session.deferred.append(start)
-    session.exits.append((spec, recorder.finished.is_set))
+    end_when(session, node, recorder.finished.is_set)
 
 
 def _play(session: Session, spec: NodeSpec, node: Node) -> None:
@@ -68,7 +68,7 @@ def _play(session: Session, spec: NodeSpec, node: Node) -> None:
         )
     session.closers.append(player.close)
     session.deferred.append(player.start)
-    session.exits.append((spec, player.done.is_set))
+    end_when(session, node, player.done.is_set)
 
 
 EXECUTABLES: dict[str, Starter] = {"record": _record, "play": _play}
