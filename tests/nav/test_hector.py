@@ -4,11 +4,19 @@ odometry, and its map has the walls where they are."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import numpy.typing as npt
+import pytest
 
+from belvedere.cli import main
+from belvedere.graph import NS
+from belvedere.maps import OCCUPIED, load_map, read_tum
+from belvedere.msgs import message_from_data
 from belvedere.nav.slam import HectorParams, HectorSlam
+from tests.nav import simulated
+from tests.nav.simulated import Recording
 
 Array = npt.NDArray[np.float64]
 
@@ -96,3 +104,58 @@ def test_it_is_deterministic() -> None:
     b, errors_b, _ = _run(seed=3)
     assert errors_a == errors_b
     assert np.array_equal(a.map.cells, b.map.cells)
+
+
+def _bag(path: Path) -> Recording:
+    """The loop's scans as a bag (the laser at the base's centre; the odometry's TF, unused by
+    hector, as the truth)."""
+    path_poses = np.array(_loop(300))
+    stamps = [(1000 + k) * NS // 10 for k in range(len(path_poses))]  # 10 Hz
+    scans = [
+        message_from_data(
+            "sensor_msgs/LaserScan",
+            {
+                "header": {
+                    "stamp": {"sec": ns // NS, "nanosec": ns % NS},
+                    "frame_id": "laser_link",
+                },
+                "angle_min": float(ANGLES[0]),
+                "angle_max": float(ANGLES[-1]),
+                "angle_increment": float(ANGLES[1] - ANGLES[0]),
+                "range_min": 0.15,
+                "range_max": 6.0,
+                "ranges": _scan(tuple(pose)).tolist(),
+            },
+        )
+        for ns, pose in zip(stamps, path_poses, strict=True)
+    ]
+    rec = Recording(stamps, scans, path_poses, path_poses, (0.0, 0.0, 0.0))
+    simulated.write_bag(path, rec)
+    return rec
+
+
+def test_belvedere_slam_with_hector_over_a_bag(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    rec = _bag(tmp_path / "room.bag")
+    monkeypatch.chdir(tmp_path)
+    command = ["slam", "room.bag", "--algorithm", "hector", "--base-frame", "base_footprint"]
+    outputs = ["--trajectory", "run.tum", "-o", "map"]
+    params = ["map_resolution:=0.05", "map_size:=512", "laser_min_dist:=0.15"]
+    assert main([*command, *outputs, *params, "map_update_angle_thresh:=0.06"]) == 0
+    rows = read_tum(tmp_path / "run.tum")
+    assert len(rows) == len(rec.scans)
+    yaw = 2 * np.arctan2(rows[:, 6], rows[:, 7])
+    poses = np.column_stack([rows[:, 1], rows[:, 2], np.unwrap(yaw)])
+    xy, turn = simulated.errors(poses, rec.truth)
+    assert xy < 0.05
+    assert turn < math.radians(1)
+    grid = load_map(tmp_path / "map.yaml")
+    assert grid.resolution == pytest.approx(0.05)
+    # the map frame starts at the first pose (3.5, 0, pi/2): the world's x = 5 wall is at
+    # the map's y = -1.5
+    row = math.floor((-1.5 - grid.origin[1]) / grid.resolution)
+    col = math.floor((0.0 - grid.origin[0]) / grid.resolution)
+    assert (grid.data[row - 1 : row + 2, col] == OCCUPIED).any()
+    assert main([*command, *outputs, "map_size:=big"]) == 1
+    assert main([*command, *outputs, "partcles:=30"]) == 1

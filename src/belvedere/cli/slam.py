@@ -19,15 +19,19 @@ from collections import deque
 from collections.abc import Iterator
 from contextlib import AbstractContextManager, nullcontext
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
+
+import numpy as np
+import numpy.typing as npt
 
 from belvedere.cli._args import mappings_only
 from belvedere.errors import BelvedereError
 from belvedere.fileio import stage_write
 from belvedere.graph import NS
-from belvedere.maps import format_tum_line, save_map
-from belvedere.nav.slam import GMappingParams
-from belvedere.nodes.gmapping import NODE_PARAMETERS, GMappingCore, LaserMountError
+from belvedere.maps import OccupancyMap, format_tum_line, save_map
+from belvedere.nodes._slam import Processed
+from belvedere.nodes.gmapping import GMappingCore, LaserMountError
+from belvedere.nodes.hector_mapping import HectorCore
 from belvedere.tf import TFBuffer, TFError
 
 logger = logging.getLogger("belvedere.cli")
@@ -35,6 +39,25 @@ logger = logging.getLogger("belvedere.cli")
 __all__ = ["add_parser", "run", "tum_text"]
 
 _QUEUE = 5
+
+_NODES = {"gmapping": "slam_gmapping", "hector": "hector_mapping"}
+
+
+class _Core(Protocol):
+    """What GMappingCore and HectorCore offer a run over a bag."""
+
+    base_frame: str
+    odom_frame: str
+    processed: list[Processed]
+
+    @property
+    def throttle_scans(self) -> int: ...
+    def wanted(self) -> bool: ...
+    def ready(self, scan: Any, buffer: TFBuffer) -> bool: ...
+    def process(self, scan: Any, buffer: TFBuffer) -> Processed: ...
+    def occupancy(self) -> OccupancyMap | None: ...
+    def trajectory(self) -> tuple[list[int], npt.NDArray[np.float64]]: ...
+    def summary(self) -> str: ...
 
 
 def add_parser(
@@ -74,12 +97,13 @@ def add_parser(
 
 def _parameters(args: argparse.Namespace) -> dict[str, Any]:
     mappings = mappings_only(list(args.extra))
-    known = set(GMappingParams.names()) | set(NODE_PARAMETERS) | {"tf_delay"}
+    names = GMappingCore.names() if args.algorithm == "gmapping" else HectorCore.names()
+    known = set(names)
     params: dict[str, Any] = {}
     for name, text in mappings.items():
         key = name.removeprefix("_").removeprefix("~")
         if key not in known:
-            message = f"unknown parameter {name!r} for slam_gmapping"
+            message = f"unknown parameter {name!r} for {_NODES[args.algorithm]}"
             raise BelvedereError(message, hint="its parameters: " + ", ".join(sorted(known)))
         params[key] = text
     if args.base_frame is not None:
@@ -158,22 +182,20 @@ def tum_text(stamps_ns: list[int], poses: Any) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.algorithm == "hector":
-        message = "belvedere slam --algorithm hector is not available yet"
-        raise BelvedereError(message, hint="use --algorithm gmapping")
     if not args.trajectory and not args.output:
         message = "nothing to write: give --trajectory OUT.tum and/or -o MAP_PREFIX"
         raise BelvedereError(message)
     params = _parameters(args)
+    core: _Core
     try:
-        core = GMappingCore(params)
+        core = GMappingCore(params) if args.algorithm == "gmapping" else HectorCore(params)
     except ValueError as err:
         raise BelvedereError(str(err)) from None
     reader = _open_bag(args.bag)
     started = time.perf_counter()
     try:
         messages, total = _messages(reader, args.scan_topic)
-        total = -(-total // core.params.throttle_scans)
+        total = -(-total // core.throttle_scans)
         context, bar, task = _progress(total, args.quiet > 0)
         buffer = TFBuffer(cache_time=3600.0)
         pending: deque[Any] = deque()
@@ -190,8 +212,7 @@ def run(args: argparse.Namespace) -> int:
                 while pending and core.ready(pending[0], buffer):
                     _process(core, pending.popleft(), buffer, problems)
                     if bar is not None and len(core.processed) % 25 == 0:
-                        slam = core.slam
-                        status = "" if slam is None else f"{slam.loop_closures} loop closures"
+                        status = core.summary()
                         bar.update(task, completed=len(core.processed), status=status)
             if bar is not None:
                 bar.update(task, completed=len(core.processed))
@@ -199,29 +220,30 @@ def run(args: argparse.Namespace) -> int:
         reader.close()
     for text in sorted(set(problems)):
         logger.warning("warning: %s (%d times)", text, problems.count(text))
-    if core.slam is None or not core.processed:
+    grid = core.occupancy()
+    if not core.processed or grid is None:
         message = f"no scan on {args.scan_topic} could be placed"
-        hint = f"the bag needs TF from {core.odom_frame} to {core.base_frame} at the scans' stamps"
-        raise BelvedereError(message, hint=hint)
-    _, poses = core.slam.trajectory()
+        needs = (
+            f"TF from {core.odom_frame} to {core.base_frame} at the scans' stamps"
+            if args.algorithm == "gmapping"
+            else f"TF from the laser's frame to {core.base_frame}"
+        )
+        raise BelvedereError(message, hint=f"the bag needs {needs}")
     if args.trajectory:
-        text = tum_text([p.stamp_ns for p in core.processed], poses)
-        stage_write(args.trajectory, text, make_dirs=True).commit()
+        stamps, poses = core.trajectory()
+        stage_write(args.trajectory, tum_text(stamps, poses), make_dirs=True).commit()
     if args.output:
-        grid = core.occupancy()
-        assert grid is not None
         save_map(args.output, grid)
     logger.info(
-        "%d scans, %d added to the map, %d loop closures, %.1f s",
+        "%d scans, %s, %.1f s",
         len(core.processed),
-        len(core.slam.keyframes),
-        core.slam.loop_closures,
+        core.summary(),
         time.perf_counter() - started,
     )
     return 0
 
 
-def _process(core: GMappingCore, scan: Any, buffer: TFBuffer, problems: list[str]) -> None:
+def _process(core: _Core, scan: Any, buffer: TFBuffer, problems: list[str]) -> None:
     try:
         core.process(scan, buffer)
     except LaserMountError as err:

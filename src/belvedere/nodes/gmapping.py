@@ -19,7 +19,6 @@ import logging
 import math
 from collections import deque
 from collections.abc import Mapping
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -30,6 +29,7 @@ from belvedere.maps import OccupancyMap, grid_message
 from belvedere.msgs import types
 from belvedere.nav.slam import GMappingParams, LaserGeometry, ScanPose, SubmapSlam, Tuning
 from belvedere.nodes._registry import NodeSpec, Session, Starter, StartError
+from belvedere.nodes._slam import Processed, planar, stamp_ns
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster
 
 __all__ = [
@@ -59,28 +59,6 @@ _QUEUE = 5
 
 class LaserMountError(ValueError):
     """The laser is not mounted level (slam_gmapping refuses such a laser too)."""
-
-
-@dataclass(frozen=True)
-class Processed:
-    """One scan through the mapper: its stamp, the base's pose in the map frame (x, y, yaw),
-    the odometry's, and whether the scan updated the map."""
-
-    stamp_ns: int
-    pose: npt.NDArray[np.float64]
-    odom: npt.NDArray[np.float64]
-    keyframe: bool
-
-
-def _planar(transform: Transform) -> npt.NDArray[np.float64]:
-    x, y, z, w = transform.quat_xyzw
-    yaw = math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
-    return np.array([transform.translation[0], transform.translation[1], yaw])
-
-
-def _stamp_ns(msg: Any) -> int:
-    stamp = msg.header.stamp
-    return int(stamp.sec) * NS + int(stamp.nanosec)
 
 
 def laser_geometry(scan: Any, base_laser: Transform, max_range: float | None) -> LaserGeometry:
@@ -126,6 +104,15 @@ class GMappingCore:
         self.last_map_ns: int | None = None
         self.processed: list[Processed] = []
 
+    @classmethod
+    def names(cls) -> list[str]:
+        """The parameters it reads."""
+        return [*GMappingParams.names(), *NODE_PARAMETERS, "tf_delay"]
+
+    @property
+    def throttle_scans(self) -> int:
+        return self.params.throttle_scans
+
     def wanted(self) -> bool:
         """Count a scan that arrived; whether it is one ``throttle_scans`` lets through."""
         self.scans += 1
@@ -133,7 +120,7 @@ class GMappingCore:
 
     def ready(self, scan: Any, buffer: TFBuffer) -> bool:
         """Whether the odometry at the scan's stamp is known (tf's message filter's test)."""
-        return buffer.can_transform(self.odom_frame, scan.header.frame_id, _stamp_ns(scan))
+        return buffer.can_transform(self.odom_frame, scan.header.frame_id, stamp_ns(scan))
 
     def process(self, scan: Any, buffer: TFBuffer) -> Processed:
         """Map one scan whose transforms are :meth:`ready`.
@@ -143,19 +130,19 @@ class GMappingCore:
             LaserMountError: (first scan) the laser is not level.
             ValueError: the scan's beam count changed.
         """
-        stamp_ns = _stamp_ns(scan)
-        odom = _planar(buffer.lookup_transform(self.odom_frame, self.base_frame, stamp_ns))
+        stamp = stamp_ns(scan)
+        odom = planar(buffer.lookup_transform(self.odom_frame, self.base_frame, stamp))
         if self.slam is None:
             frame = scan.header.frame_id
             try:
-                base_laser = buffer.lookup_transform(self.base_frame, frame, stamp_ns)
+                base_laser = buffer.lookup_transform(self.base_frame, frame, stamp)
             except TFError:
                 base_laser = buffer.lookup_transform(self.base_frame, frame, 0)
             laser = laser_geometry(scan, base_laser, self.params.maxRange)
             self.slam = SubmapSlam(laser, self.params, self.tuning)
             self.laser_frame = frame
-        result: ScanPose = self.slam.add_scan(stamp_ns / NS, np.asarray(scan.ranges), odom)
-        done = Processed(stamp_ns=stamp_ns, pose=result.pose, odom=odom, keyframe=result.keyframe)
+        result: ScanPose = self.slam.add_scan(stamp / NS, np.asarray(scan.ranges), odom)
+        done = Processed(stamp_ns=stamp, pose=result.pose, odom=odom, keyframe=result.keyframe)
         self.processed.append(done)
         return done
 
@@ -175,6 +162,21 @@ class GMappingCore:
 
     def occupancy(self) -> OccupancyMap | None:
         return None if self.slam is None else self.slam.occupancy()
+
+    def trajectory(self) -> tuple[list[int], npt.NDArray[np.float64]]:
+        """The stamps and poses (x, y, yaw) in the map frame of the processed scans, as the
+        pose graph has them now (corrected by the loop closures since)."""
+        if self.slam is None:
+            return [], np.zeros((0, 3))
+        _, poses = self.slam.trajectory()
+        return [p.stamp_ns for p in self.processed], poses
+
+    def summary(self) -> str:
+        if self.slam is None:
+            return ""
+        return (
+            f"{len(self.slam.keyframes)} added to the map, {self.slam.loop_closures} loop closures"
+        )
 
 
 def _quat(yaw: float) -> tuple[float, float, float, float]:

@@ -12,49 +12,173 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from belvedere.graph import NS, Node
-from belvedere.msgs import message_from_data, types
+from belvedere.maps import OccupancyMap, grid_message
+from belvedere.msgs import types
 from belvedere.nav.slam import HectorParams, HectorSlam
-from belvedere.nodes._registry import NodeSpec, Session, Starter
+from belvedere.nodes._registry import NodeSpec, Session, Starter, StartError
+from belvedere.nodes._slam import Processed, planar, stamp_ns
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster, TransformListener
 
-__all__ = ["EXECUTABLES", "PACKAGE"]
+__all__ = ["EXECUTABLES", "PACKAGE", "PARAMETERS", "HectorCore"]
 
 PACKAGE = "hector_mapping"
 
 logger = logging.getLogger("belvedere.nodes.hector_mapping")
 
 
+PARAMETERS: dict[str, Any] = {
+    "base_frame": "base_link",
+    "map_frame": "map_link",
+    "odom_frame": "odom",
+    "pub_map_odom_transform": True,
+    "laser_z_min_value": -1.0,
+    "laser_z_max_value": 1.0,
+    "map_resolution": 0.025,
+    "map_size": 1024,
+    "map_start_x": 0.5,
+    "map_start_y": 0.5,
+    "map_multi_res_levels": 3,
+    "update_factor_free": 0.4,
+    "update_factor_occupied": 0.9,
+    "map_update_distance_thresh": 0.4,
+    "map_update_angle_thresh": 0.9,
+    "laser_min_dist": 0.4,
+    "laser_max_dist": 30.0,
+    "scan_topic": "scan",
+    "advertise_map_service": True,
+    "map_pub_period": 2.0,
+}
+"""hector_mapping's parameters with its defaults."""
+
+
+def _number(params: Mapping[str, Any], name: str, kind: type[float] | type[int]) -> Any:
+    value = params[name]
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        try:
+            value = kind(str(value))
+        except ValueError:
+            message = f"parameter {name} must be a number, got {value!r}"
+            raise ValueError(message) from None
+    return kind(value)
+
+
+class HectorCore:
+    """hector_mapping's scan handling without the topics: the laser's pose from TF, its end
+    points cut to the laser limits, the matcher, the map. ``params`` are the node's
+    parameters (names without ``~``); a bad value raises ``ValueError`` naming it."""
+
+    def __init__(self, params: Mapping[str, Any]) -> None:
+        merged = {**PARAMETERS, **params}
+        self.settings = merged
+        self.base_frame = str(merged["base_frame"]).lstrip("/")
+        self.map_frame = str(merged["map_frame"]).lstrip("/")
+        self.odom_frame = str(merged["odom_frame"]).lstrip("/")
+        self.laser_z = (
+            float(_number(merged, "laser_z_min_value", float)),
+            float(_number(merged, "laser_z_max_value", float)),
+        )
+        self.params = HectorParams(
+            resolution=_number(merged, "map_resolution", float),
+            size=_number(merged, "map_size", int),
+            start_x=_number(merged, "map_start_x", float),
+            start_y=_number(merged, "map_start_y", float),
+            levels=max(1, _number(merged, "map_multi_res_levels", int)),
+            update_free=_number(merged, "update_factor_free", float),
+            update_occupied=_number(merged, "update_factor_occupied", float),
+            distance_thresh=_number(merged, "map_update_distance_thresh", float),
+            angle_thresh=_number(merged, "map_update_angle_thresh", float),
+            laser_min=_number(merged, "laser_min_dist", float),
+            laser_max=_number(merged, "laser_max_dist", float),
+        )
+        if self.params.resolution <= 0 or self.params.size < 2:
+            message = "parameters map_resolution and map_size must be positive"
+            raise ValueError(message)
+        self.slam = HectorSlam(self.params)
+        self.processed: list[Processed] = []
+        self.last_stamp_ns = 0
+
+    @classmethod
+    def names(cls) -> list[str]:
+        return list(PARAMETERS)
+
+    throttle_scans = 1
+
+    def wanted(self) -> bool:
+        """Every scan is matched (hector has no throttle)."""
+        return True
+
+    def ready(self, scan: Any, buffer: TFBuffer) -> bool:
+        """Whether the laser's pose on the base is known."""
+        frame = scan.header.frame_id
+        return buffer.can_transform(self.base_frame, frame, stamp_ns(scan)) or (
+            buffer.can_transform(self.base_frame, frame, 0)
+        )
+
+    def process(self, scan: Any, buffer: TFBuffer) -> Processed:
+        """Match one scan whose laser pose is :meth:`ready` (raises TFError if it is not)."""
+        stamp = stamp_ns(scan)
+        frame = scan.header.frame_id
+        try:
+            laser = buffer.lookup_transform(self.base_frame, frame, stamp)
+        except TFError:
+            laser = buffer.lookup_transform(self.base_frame, frame, 0)
+        points = _scan_points(
+            scan, self.params.laser_min, self.params.laser_max, laser, self.laser_z
+        )
+        before = self.slam.updates
+        pose = self.slam.process(points, (laser.translation[0], laser.translation[1]))
+        self.last_stamp_ns = stamp
+        try:
+            odom = planar(buffer.lookup_transform(self.odom_frame, self.base_frame, stamp))
+        except TFError:
+            odom = np.full(3, np.nan)
+        done = Processed(stamp, pose, odom, self.slam.updates > before)
+        self.processed.append(done)
+        return done
+
+    def trajectory(self) -> tuple[list[int], npt.NDArray[np.float64]]:
+        """The stamps and poses (x, y, yaw) in the map frame of the processed scans."""
+        poses = np.array([p.pose for p in self.processed]).reshape(-1, 3)
+        return [p.stamp_ns for p in self.processed], poses
+
+    def occupancy(self) -> OccupancyMap | None:
+        """The finest level as an occupancy map (hector's trinary cells), None before any."""
+        if self.slam.updates == 0:
+            return None
+        grid = self.slam.map
+        cells = grid.cells
+        data = np.full(cells.shape, -1, dtype=np.int8)
+        data[cells < 0] = 0
+        data[cells > 0] = 100
+        return OccupancyMap(data, grid.resolution, (grid.origin[0], grid.origin[1], 0.0))
+
+    def summary(self) -> str:
+        return f"{self.slam.updates} map updates"
+
+
 class _HectorNode:
     def __init__(self, node: Node) -> None:
         self.node = node
-        get = node.get_param
-        self.base_frame = str(get("~base_frame", "base_link"))
-        self.map_frame = str(get("~map_frame", "map_link"))
-        self.odom_frame = str(get("~odom_frame", "odom"))
-        self.pub_map_odom = bool(get("~pub_map_odom_transform", True))
-        self.laser_z = (
-            float(get("~laser_z_min_value", -1.0)),
-            float(get("~laser_z_max_value", 1.0)),
+        params: dict[str, Any] = {}
+        for name in PARAMETERS:
+            value = node.get_param(f"~{name}", None)
+            if value is not None:
+                params[name] = value
+        self.core = HectorCore(params)
+        core = self.core
+        self.base_frame, self.map_frame, self.odom_frame = (
+            core.base_frame,
+            core.map_frame,
+            core.odom_frame,
         )
-        self.params = HectorParams(
-            resolution=float(get("~map_resolution", 0.025)),
-            size=int(get("~map_size", 1024)),
-            start_x=float(get("~map_start_x", 0.5)),
-            start_y=float(get("~map_start_y", 0.5)),
-            levels=max(1, int(get("~map_multi_res_levels", 3))),
-            update_free=float(get("~update_factor_free", 0.4)),
-            update_occupied=float(get("~update_factor_occupied", 0.9)),
-            distance_thresh=float(get("~map_update_distance_thresh", 0.4)),
-            angle_thresh=float(get("~map_update_angle_thresh", 0.9)),
-            laser_min=float(get("~laser_min_dist", 0.4)),
-            laser_max=float(get("~laser_max_dist", 30.0)),
-        )
-        self.slam = HectorSlam(self.params)
+        self.pub_map_odom = bool(core.settings["pub_map_odom_transform"])
         self.buffer = TFBuffer()
         TransformListener(node, self.buffer)
         self.broadcaster = TransformBroadcaster(node)
@@ -66,12 +190,11 @@ class _HectorNode:
         self.update_pub = node.publisher(
             "poseupdate", "geometry_msgs/PoseWithCovarianceStamped", queue_size=1
         )
-        scan_topic = str(get("~scan_topic", "scan"))
+        scan_topic = str(core.settings["scan_topic"])
         node.subscribe(scan_topic, "sensor_msgs/LaserScan", self._on_scan, queue_size=5)
-        if bool(get("~advertise_map_service", True)):
+        if bool(core.settings["advertise_map_service"]):
             node.service("dynamic_map", "nav_msgs/GetMap", self._on_get_map)
-        node.timer(float(get("~map_pub_period", 2.0)), self._publish_map)
-        self.last_stamp_ns = 0
+        node.timer(float(_number(core.settings, "map_pub_period", float)), self._publish_map)
         self.map_odom: Transform | None = None
         self._warned: set[str] = set()
 
@@ -81,25 +204,16 @@ class _HectorNode:
             logger.warning("%s: %s", self.node.full_name, text)
 
     def _on_scan(self, msg: Any) -> None:
-        stamp_ns = msg.header.stamp.sec * NS + msg.header.stamp.nanosec
-        try:
-            laser = self.buffer.lookup_transform(self.base_frame, msg.header.frame_id, stamp_ns)
-        except TFError:
-            try:
-                laser = self.buffer.lookup_transform(self.base_frame, msg.header.frame_id, 0)
-            except TFError as err:
-                self._warn_once("laser", f"no transform from the laser to the base: {err.message}")
-                return
-        points = _scan_points(
-            msg, self.params.laser_min, self.params.laser_max, laser, self.laser_z
-        )
-        sensor = (laser.translation[0], laser.translation[1])
-        pose = self.slam.process(points, sensor)
-        self.last_stamp_ns = stamp_ns
-        map_base = _planar(pose)
-        self._publish_pose(map_base, stamp_ns)
+        if not self.core.ready(msg, self.buffer):
+            self._warn_once(
+                "laser", f"no transform from the laser ({msg.header.frame_id}) to the base yet"
+            )
+            return
+        done = self.core.process(msg, self.buffer)
+        map_base = _planar(done.pose)
+        self._publish_pose(map_base, done.stamp_ns)
         if self.pub_map_odom:
-            self._publish_map_odom(map_base, stamp_ns)
+            self._publish_map_odom(map_base, done.stamp_ns)
 
     def _publish_pose(self, map_base: Transform, stamp_ns: int) -> None:
         position = dict(zip("xyz", map_base.translation, strict=True))
@@ -108,7 +222,7 @@ class _HectorNode:
         header = {"stamp": _stamp(stamp_ns), "frame_id": self.map_frame}
         self.pose_pub.publish_data({"header": header, "pose": pose})
         cov = np.zeros((6, 6))
-        c = self.slam.covariance
+        c = self.core.slam.covariance
         cov[np.ix_([0, 1, 5], [0, 1, 5])] = c
         self.update_pub.publish_data(
             {"header": header, "pose": {"pose": pose, "covariance": cov.reshape(-1).tolist()}}
@@ -135,31 +249,14 @@ class _HectorNode:
         )
 
     def grid_message(self) -> Any:
-        grid = self.slam.map
-        cells = grid.cells
-        data = np.full(cells.shape, -1, dtype=np.int8)
-        data[cells < 0] = 0
-        data[cells > 0] = 100
-        stamp_ns = self.last_stamp_ns or self.node.now_ns()
-        info = {
-            "map_load_time": _stamp(stamp_ns),
-            "resolution": grid.resolution,
-            "width": grid.size,
-            "height": grid.size,
-            "origin": {
-                "position": {"x": grid.origin[0], "y": grid.origin[1], "z": 0.0},
-                "orientation": {"w": 1.0},
-            },
-        }
-        msg = message_from_data(
-            "nav_msgs/OccupancyGrid",
-            {"header": {"stamp": _stamp(stamp_ns), "frame_id": self.map_frame}, "info": info},
-        )
-        msg.data = data.reshape(-1)
-        return msg
+        grid = self.core.occupancy()
+        if grid is None:
+            grid = OccupancyMap(np.full((1, 1), -1, dtype=np.int8), self.core.params.resolution)
+        stamp = self.core.last_stamp_ns or self.node.now_ns()
+        return grid_message(grid, frame_id=self.map_frame, stamp_ns=stamp, load_time_ns=stamp)
 
     def _publish_map(self) -> None:
-        if self.slam.updates == 0:
+        if self.core.slam.updates == 0:
             return
         msg = self.grid_message()
         self.map_pub.publish(msg)
@@ -173,7 +270,7 @@ def _stamp(ns: int) -> dict[str, int]:
     return {"sec": ns // NS, "nanosec": ns % NS}
 
 
-def _planar(pose: np.ndarray[Any, Any]) -> Transform:
+def _planar(pose: npt.NDArray[np.float64]) -> Transform:
     yaw = float(pose[2])
     return Transform(
         (float(pose[0]), float(pose[1]), 0.0), (0.0, 0.0, math.sin(yaw / 2), math.cos(yaw / 2))
@@ -202,7 +299,12 @@ def _scan_points(
 
 
 def _start(session: Session, spec: NodeSpec, node: Node) -> None:
-    _HectorNode(node)
+    del session
+    try:
+        _HectorNode(node)
+    except ValueError as err:
+        msg = f"{spec.full_name}: {err}"
+        raise StartError(msg, spec.source) from None
 
 
 EXECUTABLES: dict[str, Starter] = {"hector_mapping": _start}
