@@ -41,6 +41,9 @@ logger = logging.getLogger("belvedere.bags")
 FLUSH_PERIOD: Final = 1.0
 """Wall seconds between chunks written to disk (at most this much is lost to a kill -9)."""
 CLOCK: Final = "/clock"
+STRAGGLER_WAIT: Final = 0.5
+"""Wall seconds a recording with ``--duration`` waits, once the clock passed its end, for
+messages stamped before the end."""
 
 
 @dataclass(slots=True)
@@ -120,6 +123,7 @@ class Recorder:
         self._split = 0 if options.split else None
         self._latched: dict[str, Sample] = {}
         self._start_ns: int | None = None
+        self._end_seen: float | None = None
         self._thread: threading.Thread | None = None
         self._active: Path | None = None
         self.written = 0
@@ -246,13 +250,20 @@ class Recorder:
             self._done()
 
     def _check_time(self) -> None:
-        """Stop once ``--duration`` of the graph's time passed, messages or none."""
+        """Stop once ``--duration`` of the graph's time passed, messages or none — after
+        ``STRAGGLER_WAIT`` more wall seconds: ``/clock`` travels apart from the messages, so
+        the clock can pass the end while messages stamped before it are still on their way
+        (a message stamped after the end stops the recording at once, in :meth:`_write`)."""
         options = self.options
         file = self._file
         if options.duration is None or options.split or file is None or file.start_ns is None:
             return
         now = self.source.now_ns()
-        if now is not None and (now - file.start_ns) / 1e9 > options.duration:
+        if now is None or (now - file.start_ns) / 1e9 <= options.duration:
+            return
+        if self._end_seen is None:
+            self._end_seen = time.monotonic()
+        elif time.monotonic() - self._end_seen >= STRAGGLER_WAIT:
             self._done()
 
     def _put(self, file: _File, sample: Sample) -> None:
