@@ -148,4 +148,3 @@ def test_belvedere_slam_explains_bad_input(
     assert "no scan on /scan could be placed" in capsys.readouterr().err
     assert main(["slam", str(bag)]) == 1
     assert "nothing to write" in capsys.readouterr().err
-
