@@ -6,10 +6,8 @@ from __future__ import annotations
 
 import math
 import os
-import pty
 import subprocess
 import sys
-import threading
 from collections.abc import Callable
 from typing import Any
 
@@ -17,6 +15,7 @@ import pytest
 
 from belvedere.graph import Graph, ZenohTransport
 from tests.conftest import EXAMPLES
+from tests.terminal import Terminal
 from tests.waiting import DEADLINE, wait_until
 
 TELEOP = EXAMPLES / "mbot_teleop/scripts/mbot_teleop.py"
@@ -29,38 +28,6 @@ ENGINES = {
     "kinematic": ["--engine", "kinematic", "--config", MBOT_YAML],
     "physics": ["--engine", "physics", "--world", WORLD],
 }
-
-
-class _Terminal:
-    """The user's side of a pseudo-terminal: what the teleop prints is read as it comes (a
-    full terminal would block it), and keys are typed into it."""
-
-    def __init__(self) -> None:
-        self.fd, self.slave = pty.openpty()
-        self.output = b""
-        self._reader = threading.Thread(target=self._read, daemon=True)
-        self._reader.start()
-
-    def _read(self) -> None:
-        while True:
-            try:
-                chunk = os.read(self.fd, 4096)
-            except OSError:
-                return
-            if not chunk:
-                return
-            self.output += chunk
-
-    def wait_for(self, text: str) -> None:
-        wait_until(
-            lambda: text.encode() in self.output,
-            what=f"the teleop to print {text!r}",
-            detail=lambda: self.output[-200:],
-        )
-
-    def close(self) -> None:
-        os.close(self.slave)
-        os.close(self.fd)
 
 
 def _press_until(fd: int, key: str, done: Callable[[], bool], what: str) -> None:
@@ -90,7 +57,7 @@ def test_the_course_teleop_drives_the_simulation(endpoint: str, engine: str) -> 
 
     watcher.create_node("watcher").subscribe("/odom", "nav_msgs/Odometry", on_odom)
     watcher.start(rtf=None)
-    terminal = _Terminal()
+    terminal = Terminal()
     teleop = None
     try:
         wait_until(lambda: poses, what=f"the {engine} simulation's /odom")

@@ -13,17 +13,16 @@ from __future__ import annotations
 import argparse
 import logging
 import math
-import sys
 import time
 from collections import deque
 from collections.abc import Iterator
-from contextlib import AbstractContextManager, nullcontext
 from pathlib import Path
 from typing import Any, Protocol
 
 import numpy as np
 import numpy.typing as npt
 
+from belvedere.bags import ProgressBar, wants_progress
 from belvedere.cli._args import mappings_only
 from belvedere.errors import BelvedereError
 from belvedere.fileio import stage_write
@@ -144,33 +143,6 @@ def _messages(reader: Any, scan_topic: str) -> tuple[Iterator[tuple[str, Any]], 
     return generate(), total
 
 
-def _progress(total: int, quiet: bool) -> tuple[AbstractContextManager[Any], Any, Any]:
-    """A rich progress bar on a terminal (the bar, and its task); nothing when piped or
-    quiet."""
-    if quiet or not sys.stderr.isatty():
-        return nullcontext(), None, None
-    from rich.progress import (
-        BarColumn,
-        MofNCompleteColumn,
-        Progress,
-        TextColumn,
-        TimeElapsedColumn,
-        TimeRemainingColumn,
-    )
-
-    progress = Progress(
-        TextColumn("[bold]slam"),
-        BarColumn(),
-        MofNCompleteColumn(),
-        TextColumn("scans"),
-        TimeElapsedColumn(),
-        TimeRemainingColumn(),
-        TextColumn("{task.fields[status]}"),
-        transient=False,
-    )
-    return progress, progress, progress.add_task("slam", total=total, status="")
-
-
 def tum_text(stamps_ns: list[int], poses: Any) -> str:
     """TUM trajectory text: ``stamp tx ty tz qx qy qz qw`` per pose (x, y, yaw)."""
     return "".join(
@@ -196,11 +168,11 @@ def run(args: argparse.Namespace) -> int:
     try:
         messages, total = _messages(reader, args.scan_topic)
         total = -(-total // core.throttle_scans)
-        context, bar, task = _progress(total, args.quiet > 0)
+        bar = ProgressBar("slam (scans)", total, enabled=wants_progress(args.quiet > 0))
         buffer = TFBuffer(cache_time=3600.0)
         pending: deque[Any] = deque()
         problems: list[str] = []
-        with context:
+        try:
             for topic, msg in messages:
                 if topic == "/tf" or topic == "/tf_static":
                     buffer.set_message(msg, static=topic == "/tf_static")
@@ -211,11 +183,11 @@ def run(args: argparse.Namespace) -> int:
                         problems.append("a scan waited too long for its odometry and was dropped")
                 while pending and core.ready(pending[0], buffer):
                     _process(core, pending.popleft(), buffer, problems)
-                    if bar is not None and len(core.processed) % 25 == 0:
-                        status = core.summary()
-                        bar.update(task, completed=len(core.processed), status=status)
-            if bar is not None:
-                bar.update(task, completed=len(core.processed))
+                    if len(core.processed) % 25 == 0:
+                        bar.update(len(core.processed), core.summary())
+            bar.update(len(core.processed), core.summary())
+        finally:
+            bar.close()
     finally:
         reader.close()
     for text in sorted(set(problems)):
