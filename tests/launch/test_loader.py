@@ -330,3 +330,25 @@ def test_roslaunch_scoping_rules(tmp_path: Path, capsys: pytest.CaptureFixture[s
     assert out.endswith(' ROS_NAMESPACE="/g" BELVEDERE_TEST_E="v w" p/t x y z a:=c __name:=n\n'), (
         out
     )
+
+
+def test_a_rosparam_value_remembers_its_yaml_line(tmp_path: Path) -> None:
+    """A node that refuses a loaded value can name the YAML line it came from."""
+    (tmp_path / "planner.yaml").write_text(
+        "controller_frequency: 3.0\n\nTrajectoryPlannerROS:\n  max_vel_x: 0.5\n  sim_time: 1.0\n"
+    )
+    launch = tmp_path / "nav.launch"
+    launch.write_text(
+        "<launch>\n"
+        '  <node pkg="move_base" type="move_base" name="move_base">\n'
+        f'    <rosparam file="{tmp_path / "planner.yaml"}" command="load"/>\n'
+        '    <rosparam ns="extra">\n      a: 1\n      b: {c: 2}\n    </rosparam>\n'
+        '    <param name="base_local_planner" value="nope"/>\n'
+        "  </node>\n</launch>\n"
+    )
+    params = load_launch(launch).params
+    source = params["/move_base/TrajectoryPlannerROS/sim_time"].source
+    assert str(source) == f"{tmp_path / 'planner.yaml'}:5:13"
+    assert str(params["/move_base/controller_frequency"].source).endswith("planner.yaml:1:23")
+    assert str(params["/move_base/extra/b/c"].source) == f"{launch}:6:14"
+    assert str(params["/move_base/base_local_planner"].source) == f"{launch}:8:5"

@@ -31,7 +31,7 @@ from belvedere.launch._model import LaunchConfig, LaunchError, LaunchNode
 from belvedere.launch._names import canonical, child_namespace, global_ns, is_legal, ns_join
 from belvedere.packages import PackageIndex
 from belvedere.xmldom import Element, parse_file
-from belvedere.yamlfile import load_yaml, load_yaml_file
+from belvedere.yamlfile import YamlDocument, load_yaml, load_yaml_file
 
 __all__ = ["load_launch"]
 
@@ -388,18 +388,26 @@ class _Loader:
         if not isinstance(data, dict) and not param:
             msg = "<rosparam> YAML must be a mapping unless the element has a 'param'"
             raise LaunchError(msg, el.loc)
-        self._unroll(target, data, el.loc)
+        self._unroll(target, data, el.loc, doc, ())
 
-    def _unroll(self, name: str, value: Any, at: SourceLocation | None) -> None:
-        """Set a rosparam value: a mapping sets each of its leaves (an empty one, nothing)."""
+    def _unroll(
+        self,
+        name: str,
+        value: Any,
+        at: SourceLocation | None,
+        doc: YamlDocument,
+        keys: tuple[str, ...],
+    ) -> None:
+        """Set a rosparam value: a mapping sets each of its leaves (an empty one, nothing),
+        each remembering its line in the YAML (a node names it in a bad value's error)."""
         if isinstance(value, dict):
             for key, sub in value.items():
-                self._unroll(ns_join(name, str(key)), sub, at)
+                self._unroll(ns_join(name, str(key)), sub, at, doc, (*keys, str(key)))
             return
         if canonical(name) == "/":
             msg = "only a mapping can be loaded into the root namespace '/'"
             raise LaunchError(msg, at)
-        self.config.set_param(canonical(name), value, at)
+        self.config.set_param(canonical(name), value, doc.location(*keys) if keys else at)
 
     def tag_node(self, el: Element, scope: _Scope, *, test: bool = False) -> None:
         """A ``<node>`` (or ``<test>``): its ``<param>``s, ``<remap>``s and ``<env>``s, and the

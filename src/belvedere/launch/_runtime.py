@@ -21,10 +21,11 @@ from typing import Any
 
 from belvedere import nodes
 from belvedere.description.urdf import RobotModel
-from belvedere.errors import BelvedereError
+from belvedere.errors import BelvedereError, SourceLocation
 from belvedere.fileio import FileWriteError, write_file
 from belvedere.graph import Graph, Node, ZenohTransport
 from belvedere.launch._model import LaunchConfig, LaunchError, LaunchNode
+from belvedere.launch._names import canonical
 from belvedere.packages import BUILTIN_PACKAGES, PackageIndex
 from belvedere.pyscripts import ScriptError, script_command
 from belvedere.tf import JointStatePublisher
@@ -83,6 +84,10 @@ class LaunchRuntime:
     """In-process nodes that ended by themselves: full name → exit status."""
     closers: list[Callable[[], None]] = field(default_factory=list)
     """Run by :meth:`close`, last added first (a recorder closes its bag)."""
+
+    def param_source(self, name: str) -> SourceLocation | None:
+        param = self.config.params.get(canonical(name))
+        return None if param is None else param.source
 
     def start(self) -> None:
         params = self.graph.params

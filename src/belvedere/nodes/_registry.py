@@ -73,6 +73,11 @@ class Session(Protocol):
     closers: list[Callable[[], None]]
     """Run when the session ends (a recorder closes its bag), last added first."""
 
+    def param_source(self, name: str) -> SourceLocation | None:
+        """Where the parameter ``name`` (a full name) was set: its YAML line for one a
+        ``<rosparam>`` loaded, the ``<param>``'s line, None if unknown."""
+        ...
+
 
 Starter = Callable[[Session, NodeSpec, Node], None]
 
