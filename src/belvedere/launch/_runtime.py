@@ -51,6 +51,17 @@ def find_script(root: Path, executable: str) -> Path | None:
     return next((p for p in sorted(root.rglob(executable)) if p.is_file()), None)
 
 
+def _which_wins(a: LaunchNode, b: LaunchNode) -> str:
+    static = [n for n in (a, b) if n.type == "static_transform_publisher"]
+    if len(static) == 1:
+        other = b if static[0] is a else a
+        return (
+            f"tf keeps whichever came last, so {other.full_name}'s updates win over the "
+            f"static one — remove {static[0].full_name}: {other.full_name} publishes it itself"
+        )
+    return "tf keeps whichever came last, so the transform jumps between them — keep one"
+
+
 @dataclass
 class LaunchRuntime:
     """The running launch: its graph, simulation, viewer and subprocesses."""
@@ -104,6 +115,7 @@ class LaunchRuntime:
                 write_file(file, params.dump_yaml(ns) if params.has(ns) or ns == "/" else "")
             except FileWriteError as err:
                 logger.warning("rosparam dump: %s", err.message)
+        self._warn_transform_conflicts()
         for spec in self.config.nodes:
             self._start(spec)
         for action in [*self.deferred, *self.controllers]:
@@ -115,6 +127,32 @@ class LaunchRuntime:
             )
         if self.want_viewer and not self.headless:
             self._open_viewer()
+
+    def _warn_transform_conflicts(self) -> None:
+        """Two nodes that will publish the same frame's transform: say so once, with both
+        launch lines (tf keeps whichever came last, so a localizer's updates win over a
+        static one, and the frame jumps between them whenever the static one is resent)."""
+        params = self.graph.params
+        claimed: dict[str, tuple[str, LaunchNode]] = {}
+        for spec in self.config.nodes:
+
+            def param(name: str, default: Any, spec: LaunchNode = spec) -> Any:
+                return params.get(f"{spec.full_name}/{name}", default)
+
+            for parent, child in nodes.transforms(spec, param):
+                first = claimed.setdefault(child, (parent, spec))
+                if first[1] is spec:
+                    continue
+                logger.warning(
+                    "warning: two nodes publish the transform %s -> %s: %s (%s) and %s (%s); %s",
+                    first[0],
+                    child,
+                    first[1].full_name,
+                    first[1].source,
+                    spec.full_name,
+                    spec.source,
+                    _which_wins(first[1], spec),
+                )
 
     def _start(self, spec: LaunchNode) -> None:
         starter = nodes.find(spec.pkg, spec.type)

@@ -1,10 +1,11 @@
 """The ROS executables belvedere has, one module per ROS package, for ``launch`` and ``run``.
 
 Each module names its package (``PACKAGE``) and its executables by their ROS names
-(``EXECUTABLES``: name → starter, and ``JOINING``: those that join a graph already running
-when ``run`` starts them); a starter gets the running :class:`Session`, the node's
-:class:`NodeSpec` (what ``<node>`` or ``rosrun`` said) and its graph node. Adding a package
-is adding one module to :data:`MODULES`.
+(``EXECUTABLES``: name → starter; ``JOINING``: those that join a graph already running
+when ``run`` starts them; ``TRANSFORMS``: the fixed transforms an executable publishes); a
+starter gets the running :class:`Session`, the node's :class:`NodeSpec` (what ``<node>`` or
+``rosrun`` said) and its graph node. Adding a package is adding one module to
+:data:`MODULES`.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from belvedere.nodes._registry import (
     find,
     joins_running_graph,
     package_names,
+    transforms,
 )
 
 __all__ = [
@@ -35,4 +37,5 @@ __all__ = [
     "find",
     "joins_running_graph",
     "package_names",
+    "transforms",
 ]

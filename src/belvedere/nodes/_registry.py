@@ -6,7 +6,7 @@ import importlib
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, Final, Protocol
 
-from belvedere.errors import ParseError, SourceLocation
+from belvedere.errors import BelvedereError, ParseError, SourceLocation
 from belvedere.graph import Graph, Node
 from belvedere.packages import PackageIndex
 
@@ -16,15 +16,18 @@ if TYPE_CHECKING:
 __all__ = [
     "MODULES",
     "NodeSpec",
+    "ParamLookup",
     "Session",
     "StartError",
     "Starter",
+    "TransformClaim",
     "end_node",
     "end_when",
     "executables",
     "find",
     "joins_running_graph",
     "package_names",
+    "transforms",
 ]
 
 
@@ -80,6 +83,12 @@ class Session(Protocol):
 
 
 Starter = Callable[[Session, NodeSpec, Node], None]
+
+ParamLookup = Callable[[str, Any], Any]
+"""A node's private parameter (name without ``~``) with a default."""
+TransformClaim = Callable[[NodeSpec, ParamLookup], list[tuple[str, str]]]
+"""The transforms (parent, child frame) a node will publish, as its arguments and parameters
+say (a module's ``TRANSFORMS``: executable → claim)."""
 
 MODULES: Final = {
     "arbotix_python": "arbotix_python",
@@ -145,6 +154,24 @@ def joins_running_graph(package: str, executable: str) -> bool:
     module = importlib.import_module(f"belvedere.nodes.{MODULES[package]}")
     joining: frozenset[str] = getattr(module, "JOINING", frozenset())
     return executable in joining
+
+
+def transforms(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
+    """The (parent, child) frames the node of ``spec`` will publish transforms between, for
+    the nodes that publish fixed ones (static publishers, localizers, mappers); frames without
+    a leading ``/``. A node that cannot say (bad arguments) claims none: its start says why."""
+    if spec.pkg not in MODULES:
+        return []
+    module = importlib.import_module(f"belvedere.nodes.{MODULES[spec.pkg]}")
+    claims: dict[str, TransformClaim] = getattr(module, "TRANSFORMS", {})
+    claim = claims.get(spec.type)
+    if claim is None:
+        return []
+    try:
+        pairs = claim(spec, param)
+    except (ValueError, BelvedereError):
+        return []
+    return [(parent.lstrip("/"), child.lstrip("/")) for parent, child in pairs]
 
 
 def executables(package: str) -> list[str]:

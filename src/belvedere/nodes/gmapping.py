@@ -28,7 +28,14 @@ from belvedere.graph import NS, Node, ServiceFailedError
 from belvedere.maps import OccupancyMap, grid_message
 from belvedere.msgs import types
 from belvedere.nav.slam import GMappingParams, LaserGeometry, ScanPose, SubmapSlam, Tuning
-from belvedere.nodes._registry import NodeSpec, Session, Starter, StartError
+from belvedere.nodes._registry import (
+    NodeSpec,
+    ParamLookup,
+    Session,
+    Starter,
+    StartError,
+    TransformClaim,
+)
 from belvedere.nodes._slam import Processed, planar, stamp_ns
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster
 
@@ -36,6 +43,7 @@ __all__ = [
     "EXECUTABLES",
     "NODE_PARAMETERS",
     "PACKAGE",
+    "TRANSFORMS",
     "GMappingCore",
     "LaserMountError",
     "Processed",
@@ -284,4 +292,16 @@ def _start(session: Session, spec: NodeSpec, node: Node) -> None:
         raise StartError(msg, spec.source) from None
 
 
+def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
+    del spec
+    defaults = NODE_PARAMETERS
+    return [
+        (
+            str(param("map_frame", defaults["map_frame"])),
+            str(param("odom_frame", defaults["odom_frame"])),
+        )
+    ]
+
+
 EXECUTABLES: dict[str, Starter] = {"slam_gmapping": _start}
+TRANSFORMS: dict[str, TransformClaim] = {"slam_gmapping": _claim}

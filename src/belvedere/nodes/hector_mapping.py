@@ -22,11 +22,18 @@ from belvedere.graph import NS, Node
 from belvedere.maps import OccupancyMap, grid_message
 from belvedere.msgs import types
 from belvedere.nav.slam import HectorParams, HectorSlam
-from belvedere.nodes._registry import NodeSpec, Session, Starter, StartError
+from belvedere.nodes._registry import (
+    NodeSpec,
+    ParamLookup,
+    Session,
+    Starter,
+    StartError,
+    TransformClaim,
+)
 from belvedere.nodes._slam import Processed, planar, stamp_ns
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster, TransformListener
 
-__all__ = ["EXECUTABLES", "PACKAGE", "PARAMETERS", "HectorCore"]
+__all__ = ["EXECUTABLES", "PACKAGE", "PARAMETERS", "TRANSFORMS", "HectorCore"]
 
 PACKAGE = "hector_mapping"
 
@@ -307,4 +314,15 @@ def _start(session: Session, spec: NodeSpec, node: Node) -> None:
         raise StartError(msg, spec.source) from None
 
 
+def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
+    del spec
+    if not param("pub_map_odom_transform", PARAMETERS["pub_map_odom_transform"]):
+        return []
+    parent = str(param("map_frame", PARAMETERS["map_frame"]))
+    odom = str(param("odom_frame", PARAMETERS["odom_frame"]))
+    base = str(param("base_frame", PARAMETERS["base_frame"]))
+    return [(parent, base if odom == base else odom)]
+
+
 EXECUTABLES: dict[str, Starter] = {"hector_mapping": _start}
+TRANSFORMS: dict[str, TransformClaim] = {"hector_mapping": _claim}

@@ -5,10 +5,10 @@ from __future__ import annotations
 import shlex
 
 from belvedere.graph import Node
-from belvedere.nodes._registry import NodeSpec, Session, Starter
-from belvedere.tf import static_transform_publisher
+from belvedere.nodes._registry import NodeSpec, ParamLookup, Session, Starter, TransformClaim
+from belvedere.tf import parse_static_transform_args, static_transform_publisher
 
-__all__ = ["EXECUTABLES", "PACKAGE", "static_publisher"]
+__all__ = ["EXECUTABLES", "PACKAGE", "TRANSFORMS", "static_claim", "static_publisher"]
 
 PACKAGE = "tf"
 
@@ -18,3 +18,12 @@ def static_publisher(session: Session, spec: NodeSpec, node: Node) -> None:
 
 
 EXECUTABLES: dict[str, Starter] = {"static_transform_publisher": static_publisher}
+
+
+def static_claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
+    del param
+    parent, child, _ = parse_static_transform_args(shlex.split(spec.args))
+    return [(parent, child)]
+
+
+TRANSFORMS: dict[str, TransformClaim] = {"static_transform_publisher": static_claim}
