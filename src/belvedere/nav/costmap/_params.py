@@ -360,8 +360,11 @@ class CostmapParams:
         track_unknown = root.flag("track_unknown_space", False)
         pre_hydro = "plugins" not in values
         specs = _pre_hydro(values) if pre_hydro else _plugins(values)
+        # pre-Hydro parameters sit in the costmap's namespace: errors name them there
         layers = tuple(
-            _layer(name, kind, _Reader(ns, name), track_unknown, [values, *outer])
+            _layer(
+                name, kind, _Reader(ns, "" if pre_hydro else name), track_unknown, [values, *outer]
+            )
             for name, kind, ns in specs
         )
         padding = root.number("footprint_padding", 0.01)
