@@ -78,6 +78,9 @@ _EXTRA_MESSAGES: Final = {
         "move_base_msgs/MoveBaseActionResult action_result\n"
         "move_base_msgs/MoveBaseActionFeedback action_feedback"
     ),
+    "map_msgs/msg/OccupancyGridUpdate": (
+        "std_msgs/Header header\nint32 x\nint32 y\nuint32 width\nuint32 height\nint8[] data"
+    ),
     "move_base_msgs/msg/RecoveryStatus": (
         "geometry_msgs/PoseStamped pose_stamped\nuint16 current_recovery_number\n"
         "uint16 total_number_of_recoveries\nstring recovery_behavior_name"

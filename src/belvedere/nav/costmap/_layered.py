@@ -1,0 +1,185 @@
+"""costmap_2d's ``LayeredCostmap``: the master grid its layers write into, in plugin order."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+
+import numpy as np
+import numpy.typing as npt
+
+from belvedere.nav.costmap._footprint import radii
+from belvedere.nav.costmap._grid import FREE, NO_INFORMATION, CostGrid
+from belvedere.nav.costmap._layers import (
+    InflationLayer,
+    Observation,
+    ObstacleLayer,
+    Pose2D,
+    StaticLayer,
+)
+from belvedere.nav.costmap._params import CostmapParams, InflationParams, ObstacleParams
+
+__all__ = ["Layer", "LayeredCostmap"]
+
+Layer = StaticLayer | ObstacleLayer | InflationLayer
+
+
+def _make(params: CostmapParams) -> list[tuple[str, Layer]]:
+    layers: list[tuple[str, Layer]] = []
+    for spec in params.layers:
+        layer: Layer
+        if isinstance(spec, ObstacleParams):
+            layer = ObstacleLayer(spec)
+        elif isinstance(spec, InflationParams):
+            layer = InflationLayer(spec)
+        else:
+            layer = StaticLayer(spec)
+        layers.append((spec.name, layer))
+    return layers
+
+
+class LayeredCostmap:
+    """The layers of one costmap and the grid they make.
+
+    Not rolling, the grid takes the static map's size, resolution and origin when a map
+    arrives (before that, ``width``/``height``/``resolution``/``origin_*``). Rolling, it keeps
+    its size and is re-centred on the robot at each update, moving by whole cells.
+    """
+
+    def __init__(self, params: CostmapParams) -> None:
+        self.params = params
+        self.default = NO_INFORMATION if params.track_unknown_space else FREE
+        cols = int(params.width / params.resolution)
+        rows = int(params.height / params.resolution)
+        self.master = CostGrid(
+            np.full((rows, cols), self.default, dtype=np.uint8),
+            params.resolution,
+            params.origin_x,
+            params.origin_y,
+        )
+        self.layers = _make(params)
+        self.footprint = params.footprint
+        self.inscribed_radius, self.circumscribed_radius = radii(self.footprint)
+        self.size_locked = False
+        self.updated = False
+        for _, layer in self.layers:
+            if isinstance(layer, ObstacleLayer):
+                layer.match(self.master)
+
+    @property
+    def static_layers(self) -> list[StaticLayer]:
+        return [layer for _, layer in self.layers if isinstance(layer, StaticLayer)]
+
+    @property
+    def obstacle_layers(self) -> list[ObstacleLayer]:
+        return [layer for _, layer in self.layers if isinstance(layer, ObstacleLayer)]
+
+    def set_footprint(self, footprint: npt.NDArray[np.float64]) -> None:
+        self.footprint = footprint
+        self.inscribed_radius, self.circumscribed_radius = radii(footprint)
+
+    def _resize(self, rows: int, cols: int, resolution: float, x: float, y: float) -> None:
+        self.master = CostGrid(
+            np.full((rows, cols), self.default, dtype=np.uint8), resolution, x, y
+        )
+        for layer in self.obstacle_layers:
+            layer.grid = None
+            layer.match(self.master)
+
+    def set_map(
+        self,
+        data: npt.NDArray[np.int8],
+        resolution: float,
+        origin: tuple[float, float],
+        frame: str,
+        *,
+        layer: str | None = None,
+    ) -> None:
+        """A map (H, W) for the static layers (only the one named ``layer`` if given)."""
+        taken = False
+        for name, each in self.layers:
+            if isinstance(each, StaticLayer) and layer in (None, name):
+                taken |= each.set_map(data, resolution, origin, frame)
+        if not taken or self.params.rolling_window:
+            return
+        m = self.master
+        rows, cols = data.shape
+        if (m.height, m.width, m.resolution, m.origin_x, m.origin_y) != (
+            rows,
+            cols,
+            resolution,
+            origin[0],
+            origin[1],
+        ):
+            self._resize(rows, cols, resolution, origin[0], origin[1])
+        self.size_locked = True
+
+    def add_observation(self, source: str, observation: Observation, now_ns: int) -> None:
+        for layer in self.obstacle_layers:
+            if source in layer.buffers:
+                layer.add(source, observation, now_ns)
+
+    def sources(self) -> dict[str, tuple[ObstacleLayer, ...]]:
+        """Each observation source's name and the layers that read it."""
+        found: dict[str, tuple[ObstacleLayer, ...]] = {}
+        for layer in self.obstacle_layers:
+            for name in layer.buffers:
+                found[name] = (*found.get(name, ()), layer)
+        return found
+
+    def current(self, now_ns: int) -> bool:
+        return all(layer.current(now_ns) for layer in self.obstacle_layers)
+
+    def footprint_at(self, pose: Pose2D) -> npt.NDArray[np.float64]:
+        x, y, yaw = pose
+        c, s = math.cos(yaw), math.sin(yaw)
+        fp = self.footprint
+        return np.column_stack([x + c * fp[:, 0] - s * fp[:, 1], y + s * fp[:, 0] + c * fp[:, 1]])
+
+    def _follow(self, pose: Pose2D) -> None:
+        m = self.master
+        new_x = pose[0] - m.width * m.resolution / 2
+        new_y = pose[1] - m.height * m.resolution / 2
+        # costmap_2d moves the window by whole cells, truncating toward zero
+        di = int((new_x - m.origin_x) / m.resolution)
+        dj = int((new_y - m.origin_y) / m.resolution)
+        if di == 0 and dj == 0:
+            return
+        m.origin_x += di * m.resolution
+        m.origin_y += dj * m.resolution
+        for layer in self.obstacle_layers:
+            layer.match(m)
+
+    def update(self, pose: Pose2D, now_ns: int, *, map_to_global: Pose2D | None = None) -> None:
+        """One ``updateMap``: follow the robot (rolling), let the obstacle layers take their
+        observations, then rebuild the grid layer by layer. ``map_to_global`` places the
+        static map in a rolling window (the pose of the map's frame in the global frame)."""
+        if self.params.rolling_window:
+            self._follow(pose)
+        for obstacles in self.obstacle_layers:
+            obstacles.update_bounds(now_ns)
+        self.master.costs[:] = self.default
+        footprint = self.footprint_at(pose)
+        for _, layer in self.layers:
+            if isinstance(layer, StaticLayer):
+                layer.update(self.master, map_to_global, self.params.rolling_window)
+            elif isinstance(layer, ObstacleLayer):
+                layer.update(self.master, footprint)
+            else:
+                layer.update(self.master, self.inscribed_radius)
+        self.updated = True
+
+    def reset(self) -> None:
+        """``resetLayers``: the grid and the obstacle layers back to their defaults."""
+        self.master.costs[:] = self.default
+        for layer in self.obstacle_layers:
+            layer.reset()
+
+    def clear_outside(
+        self, x: float, y: float, size: float, layers: Iterable[str] | None = None
+    ) -> None:
+        """Obstacle layers (those named, or all) reset outside a size x size square at (x, y)."""
+        wanted = None if layers is None else set(layers)
+        for name, layer in self.layers:
+            if isinstance(layer, ObstacleLayer) and (wanted is None or name in wanted):
+                layer.clear_outside(x, y, size)
