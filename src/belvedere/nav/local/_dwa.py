@@ -38,6 +38,7 @@ from belvedere.nav.local._maps import (
     plan_cells,
     plan_in_window,
     prune_plan,
+    used_points_cost,
     wavefront,
 )
 from belvedere.nav.local._params import DWAPlannerParams
@@ -365,9 +366,8 @@ class DWAPlannerROS:
                 fast = vmag > p.scaling_speed
                 ratio = (vmag - p.scaling_speed) / (p.max_vel_trans - p.scaling_speed)
                 scale = np.where(fast, p.max_scaling_factor * ratio + 1.0, 1.0)
-            fp_cost, fp_valid = cycle.model.cost(
-                grid, r.x, r.y, r.yaw, scale=np.broadcast_to(scale[:, None], r.x.shape)
-            )
+            grow = np.broadcast_to(scale[:, None], r.x.shape)
+            fp_cost, fp_valid = used_points_cost(cycle.model, grid, r.x, r.y, r.yaw, r.used, grow)
             centre = grid.costs[jc, ic].astype(np.float64)
             point = np.maximum(fp_cost, centre)
             bad |= (used & (~fp_valid | ~inside)).any(axis=1)

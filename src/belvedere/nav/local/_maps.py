@@ -196,6 +196,24 @@ def filled_footprint_cells(
     return mask
 
 
+def used_points_cost(
+    model: FootprintModel,
+    grid: CostGrid,
+    r_x: Floats,
+    r_y: Floats,
+    r_yaw: Floats,
+    used: Bools,
+    scale: Floats | None = None,
+) -> tuple[Floats, Bools]:
+    """:meth:`FootprintModel.cost` of the used points of padded (S, N) rollouts only; the
+    padding costs 0 and is valid."""
+    cost = np.zeros(r_x.shape)
+    valid = np.ones(r_x.shape, dtype=bool)
+    grow = None if scale is None else scale[used]
+    cost[used], valid[used] = model.cost(grid, r_x[used], r_y[used], r_yaw[used], scale=grow)
+    return cost, valid
+
+
 class FootprintModel:
     """The footprint's cost at many poses at once, as base_local_planner's CostmapModel
     scores it: a polygon (3+ points) is laid down by its outline, which must not touch a
@@ -208,15 +226,16 @@ class FootprintModel:
         self.resolution = resolution
         self.polygon = len(self.footprint) >= 3
         if self.polygon:
-            # the closed outline sampled finer than a cell, so that it meets every cell its
-            # rasterised edges would
-            self.outline = _densify(np.vstack([self.footprint, self.footprint[:1]]), resolution / 2)
+            # the closed outline sampled a cell apart, as densely as its rasterised edges
+            closed = np.vstack([self.footprint, self.footprint[:1]])
+            outline = _densify(closed, resolution)[:-1]
         else:
-            self.outline = np.zeros((1, 2))
-
-    def scaled(self, factor: float) -> Floats:
-        """The outline scaled about the robot's centre (DWA's footprint scaling)."""
-        return self.outline * factor
+            outline = np.zeros((1, 2))
+        self.outline = outline
+        self.radius = float(np.hypot(outline[:, 0], outline[:, 1]).max())
+        # rows (1, x, y) in cells: a pose's row (centre, cos, -sin) times this is the
+        # outline's columns, (centre, sin, cos) times it its rows
+        self._basis = np.vstack([np.ones(len(outline)), outline.T / resolution])
 
     def cost(
         self,
@@ -229,24 +248,32 @@ class FootprintModel:
     ) -> tuple[Floats, Bools]:
         """(cost, valid) of the footprint at poses of any shape; ``scale`` (same shape) grows
         the polygon about its centre."""
-        costs = grid.costs
+        shape = np.shape(x)
+        px = (np.ravel(x) - grid.origin_x) / grid.resolution
+        py = (np.ravel(y) - grid.origin_y) / grid.resolution
+        inside = (px >= 0) & (px < grid.width) & (py >= 0) & (py < grid.height)
         if not self.polygon:
-            i, j, inside = _cells_of(grid, np.stack([x, y], axis=-1))
-            cell = np.full(x.shape, NO_INFORMATION, dtype=np.uint8)
-            cell[inside] = costs[j[inside], i[inside]]
+            i = np.clip(np.floor(px), 0, grid.width - 1).astype(np.intp)
+            j = np.clip(np.floor(py), 0, grid.height - 1).astype(np.intp)
+            cell = grid.costs[j, i]
             valid = inside & (cell < INSCRIBED)
-            return cell.astype(np.float64), valid
-        ox, oy = self.outline[:, 0], self.outline[:, 1]
-        c, s = np.cos(yaw)[..., None], np.sin(yaw)[..., None]
-        if scale is not None:
-            c = c * scale[..., None]
-            s = s * scale[..., None]
-        wx = x[..., None] + c * ox - s * oy
-        wy = y[..., None] + s * ox + c * oy
-        i = np.floor((wx - grid.origin_x) / grid.resolution).astype(np.intp)
-        j = np.floor((wy - grid.origin_y) / grid.resolution).astype(np.intp)
-        inside = (i >= 0) & (i < grid.width) & (j >= 0) & (j < grid.height)
-        cell = costs[np.clip(j, 0, grid.height - 1), np.clip(i, 0, grid.width - 1)]
-        bad = ~inside | (cell == LETHAL) | (cell == NO_INFORMATION)
-        valid = ~bad.any(axis=-1)
-        return cell.max(axis=-1).astype(np.float64), valid
+            return cell.astype(np.float64).reshape(shape), valid.reshape(shape)
+        grow = np.ones(px.shape) if scale is None else np.ravel(scale)
+        # a margin of unknown cells around the grid takes the outline wherever the centre
+        # is in the grid; centres outside are invalid anyway and are moved in to look up
+        margin = math.ceil(self.radius * float(grow.max(initial=1.0)) / grid.resolution) + 2
+        padded = np.pad(grid.costs, margin, constant_values=NO_INFORMATION)
+        stride = padded.shape[1]
+        cx = np.clip(px, 0, grid.width - 1e-6) + margin
+        cy = np.clip(py, 0, grid.height - 1e-6) + margin
+        c = np.cos(np.ravel(yaw)) * grow
+        s = np.sin(np.ravel(yaw)) * grow
+        # einsum, not a BLAS product: threaded BLAS is many times slower on small, loaded
+        # machines for this (n, 3) x (3, k) shape
+        # (truncation is the floor here: the margin keeps every coordinate positive)
+        cols = np.einsum("nk,kp->np", np.column_stack([cx, c, -s]), self._basis)
+        rows = np.einsum("nk,kp->np", np.column_stack([cy, s, c]), self._basis)
+        flat = rows.astype(np.intp) * stride + cols.astype(np.intp)
+        cell = np.take(padded.ravel(), flat)
+        valid = inside & ~(cell >= LETHAL).any(axis=1)
+        return cell.max(axis=1).astype(np.float64).reshape(shape), valid.reshape(shape)

@@ -38,6 +38,7 @@ from belvedere.nav.local._maps import (
     plan_cells,
     plan_in_window,
     prune_plan,
+    used_points_cost,
     wavefront,
 )
 from belvedere.nav.local._params import TrajectoryPlannerParams
@@ -200,7 +201,7 @@ class TrajectoryPlannerROS:
         inside = (i >= 0) & (i < grid.width) & (j >= 0) & (j < grid.height)
         ic = np.clip(i, 0, grid.width - 1)
         jc = np.clip(j, 0, grid.height - 1)
-        fp_cost, fp_valid = cycle.model.cost(grid, r.x, r.y, r.yaw)
+        fp_cost, fp_valid = used_points_cost(cycle.model, grid, r.x, r.y, r.yaw, r.used)
         centre = grid.costs[jc, ic].astype(np.float64)
         collide = ~inside | ~fp_valid
         count = len(r.samples)
