@@ -1,4 +1,4 @@
-"""What the navigation plugin factories share: the error for a name they do not know."""
+"""What move_base's plugin parameters (``base_global_planner``, ``base_local_planner``) may name."""
 
 from __future__ import annotations
 
@@ -8,10 +8,12 @@ __all__ = ["UnknownPluginError"]
 
 
 class UnknownPluginError(ValueError):
-    """A planner plugin name that is not one of those supported (pluginlib's "failed to create")."""
+    """A planner plugin name belvedere does not provide (move_base's pluginlib lookup fails)."""
 
     def __init__(self, kind: str, name: str, supported: Iterable[str]) -> None:
+        self.kind = kind
+        """``"global planner"`` or ``"local planner"``."""
         self.name = name
         self.supported = tuple(supported)
-        text = f"unknown {kind} plugin {name!r} (supported: {', '.join(self.supported)})"
-        super().__init__(text)
+        names = ", ".join(self.supported)
+        super().__init__(f"unknown {kind} plugin {name!r} (supported: {names})")

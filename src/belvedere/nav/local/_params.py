@@ -1,0 +1,345 @@
+"""The local planners' parameters, with ROS's names, old names and defaults.
+
+Each planner reads its ``~<name>/`` namespace as a plain mapping (the caller also puts
+``controller_frequency`` there, which the ROS planners find by an upward search from their
+namespace). Names ROS renamed are read under both: the new one wins when both are set.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+__all__ = ["DWAPlannerParams", "TrajectoryPlannerParams"]
+
+_DEFAULT_Y_VELS = (-0.3, -0.1, 0.1, 0.3)
+
+
+class _Reader:
+    """Typed look-ups over a parameter mapping; a wrong value raises ``ValueError`` naming it."""
+
+    def __init__(self, values: Mapping[str, Any]) -> None:
+        self.values = values
+
+    def _raw(self, names: Sequence[str]) -> tuple[str, Any] | None:
+        for name in names:
+            if name in self.values:
+                return name, self.values[name]
+        return None
+
+    def has(self, *names: str) -> bool:
+        return self._raw(names) is not None
+
+    def number(self, default: float, *names: str) -> float:
+        found = self._raw(names)
+        if found is None:
+            return default
+        name, raw = found
+        if isinstance(raw, bool) or not isinstance(raw, int | float) or not math.isfinite(raw):
+            message = f"parameter {name}: expected a number, got {raw!r}"
+            raise ValueError(message)
+        return float(raw)
+
+    def whole(self, default: int, *names: str) -> int:
+        found = self._raw(names)
+        if found is None:
+            return default
+        name, raw = found
+        if isinstance(raw, bool) or not (
+            isinstance(raw, int) or (isinstance(raw, float) and raw.is_integer())
+        ):
+            message = f"parameter {name}: expected a whole number, got {raw!r}"
+            raise ValueError(message)
+        return int(raw)
+
+    def flag(self, default: bool, *names: str) -> bool:
+        found = self._raw(names)
+        if found is None:
+            return default
+        name, raw = found
+        if not isinstance(raw, bool):
+            message = f"parameter {name}: expected true or false, got {raw!r}"
+            raise ValueError(message)
+        return raw
+
+    def numbers(self, default: tuple[float, ...], name: str) -> tuple[float, ...]:
+        """A list of numbers, as a YAML list or as the string ``"[-0.3, -0.1, 0.1]"``
+        (TrajectoryPlannerROS reads ``y_vels`` as a string and splits it at ``[``, ``]``,
+        commas and spaces)."""
+        found = self._raw((name,))
+        if found is None:
+            return default
+        raw = found[1]
+        items: list[Any]
+        if isinstance(raw, str):
+            items = list(raw.replace("[", " ").replace("]", " ").replace(",", " ").split())
+        elif isinstance(raw, list | tuple):
+            items = list(raw)
+        else:
+            items = [raw]
+        values: list[float] = []
+        for item in items:
+            try:
+                if isinstance(item, bool):
+                    raise ValueError
+                value = float(item)
+            except (TypeError, ValueError):
+                message = f"parameter {name}: expected a list of numbers, got {raw!r}"
+                raise ValueError(message) from None
+            values.append(value)
+        return tuple(values)
+
+
+def _sim_period(read: _Reader) -> float:
+    """The controller period the dynamic window spans: 1/controller_frequency, or 0.05 s
+    when it is unset or not positive (as both ROS planners fall back to 20 Hz)."""
+    frequency = read.number(0.0, "controller_frequency")
+    return 1.0 / frequency if frequency > 0 else 0.05
+
+
+def _at_least(name: str, value: float, low: float) -> None:
+    if value < low:
+        message = f"parameter {name} must be at least {low:g}, got {value:g}"
+        raise ValueError(message)
+
+
+@dataclass(frozen=True)
+class TrajectoryPlannerParams:
+    """``base_local_planner/TrajectoryPlannerROS``'s parameters (ROS defaults)."""
+
+    acc_lim_x: float = 2.5
+    acc_lim_y: float = 2.5
+    acc_lim_theta: float = 3.2
+    """Also read as ``acc_lim_th`` (the older name, which rbx1 uses)."""
+    max_vel_x: float = 0.5
+    min_vel_x: float = 0.1
+    max_vel_theta: float = 1.0
+    min_vel_theta: float = -1.0
+    """A set ``max_rotational_vel`` (the older name) gives both: ``±max_rotational_vel``."""
+    min_in_place_vel_theta: float = 0.4
+    escape_vel: float = -0.1
+    """Also read as ``backup_vel``; ``escape_vel`` wins."""
+    holonomic_robot: bool = True
+    y_vels: tuple[float, ...] = _DEFAULT_Y_VELS
+    xy_goal_tolerance: float = 0.10
+    yaw_goal_tolerance: float = 0.05
+    latch_xy_goal_tolerance: bool = False
+    sim_time: float = 1.0
+    sim_granularity: float = 0.025
+    angular_sim_granularity: float = 0.025
+    """Defaults to ``sim_granularity``."""
+    vx_samples: int = 3
+    vtheta_samples: int = 20
+    controller_frequency: float = 20.0
+    sim_period: float = 0.05
+    """1/controller_frequency: how far the dynamic window reaches (``dwa``)."""
+    meter_scoring: bool = False
+    path_distance_bias: float = 0.6
+    """Also read as ``pdist_scale`` (the older name the course and rbx1 use)."""
+    goal_distance_bias: float = 0.8
+    """Also read as ``gdist_scale``."""
+    occdist_scale: float = 0.01
+    heading_lookahead: float = 0.325
+    heading_scoring: bool = False
+    heading_scoring_timestep: float = 0.8
+    dwa: bool = True
+    simple_attractor: bool = False
+    escape_reset_dist: float = 0.10
+    escape_reset_theta: float = math.pi / 4
+    oscillation_reset_dist: float = 0.05
+    prune_plan: bool = True
+    stop_time_buffer: float = 0.2
+    """Read and kept; TrajectoryPlanner's use of it is commented out in ROS too."""
+
+    @classmethod
+    def from_mapping(cls, values: Mapping[str, Any]) -> TrajectoryPlannerParams:
+        """The parameters from ``name → value``; unknown names are ignored as ROS does."""
+        read = _Reader(values)
+        if read.has("max_rotational_vel"):
+            top = read.number(1.0, "max_rotational_vel")
+            max_th, min_th = top, -top
+        else:
+            max_th = read.number(1.0, "max_vel_theta")
+            min_th = read.number(-1.0, "min_vel_theta")
+        sim_granularity = read.number(0.025, "sim_granularity")
+        frequency = read.number(20.0, "controller_frequency")
+        params = cls(
+            acc_lim_x=read.number(2.5, "acc_lim_x"),
+            acc_lim_y=read.number(2.5, "acc_lim_y"),
+            acc_lim_theta=read.number(3.2, "acc_lim_theta", "acc_lim_th"),
+            max_vel_x=read.number(0.5, "max_vel_x"),
+            min_vel_x=read.number(0.1, "min_vel_x"),
+            max_vel_theta=max_th,
+            min_vel_theta=min_th,
+            min_in_place_vel_theta=read.number(
+                0.4, "min_in_place_vel_theta", "min_in_place_rotational_vel"
+            ),
+            escape_vel=read.number(-0.1, "escape_vel", "backup_vel"),
+            holonomic_robot=read.flag(True, "holonomic_robot"),
+            y_vels=read.numbers(_DEFAULT_Y_VELS, "y_vels"),
+            xy_goal_tolerance=read.number(0.10, "xy_goal_tolerance"),
+            yaw_goal_tolerance=read.number(0.05, "yaw_goal_tolerance"),
+            latch_xy_goal_tolerance=read.flag(False, "latch_xy_goal_tolerance"),
+            sim_time=read.number(1.0, "sim_time"),
+            sim_granularity=sim_granularity,
+            angular_sim_granularity=read.number(sim_granularity, "angular_sim_granularity"),
+            vx_samples=max(1, read.whole(3, "vx_samples")),
+            vtheta_samples=max(1, read.whole(20, "vtheta_samples")),
+            controller_frequency=frequency,
+            sim_period=_sim_period(read),
+            meter_scoring=read.flag(False, "meter_scoring"),
+            path_distance_bias=read.number(0.6, "path_distance_bias", "pdist_scale"),
+            goal_distance_bias=read.number(0.8, "goal_distance_bias", "gdist_scale"),
+            occdist_scale=read.number(0.01, "occdist_scale"),
+            heading_lookahead=read.number(0.325, "heading_lookahead"),
+            heading_scoring=read.flag(False, "heading_scoring"),
+            heading_scoring_timestep=read.number(0.8, "heading_scoring_timestep"),
+            dwa=read.flag(True, "dwa"),
+            simple_attractor=read.flag(False, "simple_attractor"),
+            escape_reset_dist=read.number(0.10, "escape_reset_dist"),
+            escape_reset_theta=read.number(math.pi / 4, "escape_reset_theta"),
+            oscillation_reset_dist=read.number(0.05, "oscillation_reset_dist"),
+            prune_plan=read.flag(True, "prune_plan"),
+            stop_time_buffer=read.number(0.2, "stop_time_buffer"),
+        )
+        params.check()
+        return params
+
+    def check(self) -> None:
+        """Raise ``ValueError`` for values the planner cannot work with."""
+        for name in ("sim_time", "sim_granularity", "angular_sim_granularity"):
+            if getattr(self, name) <= 0:
+                message = f"parameter {name} must be positive, got {getattr(self, name):g}"
+                raise ValueError(message)
+        for name in ("acc_lim_x", "acc_lim_y", "acc_lim_theta", "xy_goal_tolerance"):
+            _at_least(name, getattr(self, name), 0.0)
+        _at_least("yaw_goal_tolerance", self.yaw_goal_tolerance, 0.0)
+        if self.max_vel_x < self.min_vel_x:
+            message = (
+                f"parameters max_vel_x ({self.max_vel_x:g}) and min_vel_x "
+                f"({self.min_vel_x:g}): the maximum is below the minimum"
+            )
+            raise ValueError(message)
+        if self.max_vel_theta < self.min_vel_theta:
+            message = (
+                f"parameters max_vel_theta ({self.max_vel_theta:g}) and min_vel_theta "
+                f"({self.min_vel_theta:g}): the maximum is below the minimum"
+            )
+            raise ValueError(message)
+
+
+@dataclass(frozen=True)
+class DWAPlannerParams:
+    """``dwa_local_planner/DWAPlannerROS``'s parameters (ROS defaults)."""
+
+    max_vel_trans: float = 0.55
+    """Also read as ``max_trans_vel`` (the name before Kinetic)."""
+    min_vel_trans: float = 0.1
+    """Also read as ``min_trans_vel``."""
+    max_vel_x: float = 0.55
+    min_vel_x: float = 0.0
+    max_vel_y: float = 0.1
+    min_vel_y: float = -0.1
+    max_vel_theta: float = 1.0
+    """Also read as ``max_rot_vel``; samples span ``±max_vel_theta``."""
+    min_vel_theta: float = 0.4
+    """Also read as ``min_rot_vel``: the least |rotation| of a sample that does not translate
+    by ``min_vel_trans`` either."""
+    acc_lim_x: float = 2.5
+    acc_lim_y: float = 2.5
+    acc_lim_theta: float = 3.2
+    acc_lim_trans: float = 0.1
+    """Read and kept; the noetic trajectory generator does not use it either."""
+    prune_plan: bool = False
+    xy_goal_tolerance: float = 0.1
+    yaw_goal_tolerance: float = 0.1
+    trans_stopped_vel: float = 0.1
+    theta_stopped_vel: float = 0.1
+    latch_xy_goal_tolerance: bool = False
+    sim_time: float = 1.7
+    sim_granularity: float = 0.025
+    angular_sim_granularity: float = 0.1
+    path_distance_bias: float = 32.0
+    goal_distance_bias: float = 24.0
+    occdist_scale: float = 0.01
+    twirling_scale: float = 0.0
+    stop_time_buffer: float = 0.2
+    oscillation_reset_dist: float = 0.05
+    oscillation_reset_angle: float = 0.2
+    forward_point_distance: float = 0.325
+    scaling_speed: float = 0.25
+    max_scaling_factor: float = 0.2
+    vx_samples: int = 3
+    vy_samples: int = 10
+    vth_samples: int = 20
+    use_dwa: bool = True
+    sum_scores: bool = False
+    controller_frequency: float = 20.0
+    sim_period: float = 0.05
+
+    @classmethod
+    def from_mapping(cls, values: Mapping[str, Any]) -> DWAPlannerParams:
+        """The parameters from ``name → value``; unknown names are ignored as ROS does."""
+        read = _Reader(values)
+        params = cls(
+            max_vel_trans=read.number(0.55, "max_vel_trans", "max_trans_vel"),
+            min_vel_trans=read.number(0.1, "min_vel_trans", "min_trans_vel"),
+            max_vel_x=read.number(0.55, "max_vel_x"),
+            min_vel_x=read.number(0.0, "min_vel_x"),
+            max_vel_y=read.number(0.1, "max_vel_y"),
+            min_vel_y=read.number(-0.1, "min_vel_y"),
+            max_vel_theta=read.number(1.0, "max_vel_theta", "max_rot_vel"),
+            min_vel_theta=read.number(0.4, "min_vel_theta", "min_rot_vel"),
+            acc_lim_x=read.number(2.5, "acc_lim_x"),
+            acc_lim_y=read.number(2.5, "acc_lim_y"),
+            acc_lim_theta=read.number(3.2, "acc_lim_theta", "acc_lim_th"),
+            acc_lim_trans=read.number(0.1, "acc_lim_trans", "acc_limit_trans"),
+            prune_plan=read.flag(False, "prune_plan"),
+            xy_goal_tolerance=read.number(0.1, "xy_goal_tolerance"),
+            yaw_goal_tolerance=read.number(0.1, "yaw_goal_tolerance"),
+            trans_stopped_vel=read.number(0.1, "trans_stopped_vel"),
+            theta_stopped_vel=read.number(0.1, "theta_stopped_vel", "rot_stopped_vel"),
+            latch_xy_goal_tolerance=read.flag(False, "latch_xy_goal_tolerance"),
+            sim_time=read.number(1.7, "sim_time"),
+            sim_granularity=read.number(0.025, "sim_granularity"),
+            angular_sim_granularity=read.number(0.1, "angular_sim_granularity"),
+            path_distance_bias=read.number(32.0, "path_distance_bias"),
+            goal_distance_bias=read.number(24.0, "goal_distance_bias"),
+            occdist_scale=read.number(0.01, "occdist_scale"),
+            twirling_scale=read.number(0.0, "twirling_scale"),
+            stop_time_buffer=read.number(0.2, "stop_time_buffer"),
+            oscillation_reset_dist=read.number(0.05, "oscillation_reset_dist"),
+            oscillation_reset_angle=read.number(0.2, "oscillation_reset_angle"),
+            forward_point_distance=read.number(0.325, "forward_point_distance"),
+            scaling_speed=read.number(0.25, "scaling_speed"),
+            max_scaling_factor=read.number(0.2, "max_scaling_factor"),
+            vx_samples=max(1, read.whole(3, "vx_samples")),
+            vy_samples=max(1, read.whole(10, "vy_samples")),
+            vth_samples=max(1, read.whole(20, "vth_samples")),
+            use_dwa=read.flag(True, "use_dwa"),
+            sum_scores=read.flag(False, "sum_scores"),
+            controller_frequency=read.number(20.0, "controller_frequency"),
+            sim_period=_sim_period(read),
+        )
+        params.check()
+        return params
+
+    def check(self) -> None:
+        """Raise ``ValueError`` for values the planner cannot work with."""
+        for name in ("sim_time", "sim_granularity", "angular_sim_granularity"):
+            if getattr(self, name) <= 0:
+                message = f"parameter {name} must be positive, got {getattr(self, name):g}"
+                raise ValueError(message)
+        for name in ("acc_lim_x", "acc_lim_y", "acc_lim_theta", "xy_goal_tolerance"):
+            _at_least(name, getattr(self, name), 0.0)
+        _at_least("yaw_goal_tolerance", self.yaw_goal_tolerance, 0.0)
+        for axis in ("x", "y"):
+            high, low = getattr(self, f"max_vel_{axis}"), getattr(self, f"min_vel_{axis}")
+            if high < low:
+                message = (
+                    f"parameters max_vel_{axis} ({high:g}) and min_vel_{axis} ({low:g}): "
+                    "the maximum is below the minimum"
+                )
+                raise ValueError(message)
