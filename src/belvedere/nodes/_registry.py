@@ -100,6 +100,7 @@ MODULES: Final = {
     "joint_state_publisher": "joint_state_publisher",
     "joint_state_publisher_gui": "joint_state_publisher_gui",
     "map_server": "map_server",
+    "move_base": "move_base",
     "robot_state_publisher": "robot_state_publisher",
     "rosbag": "rosbag",
     "rviz": "rviz",

@@ -1,0 +1,560 @@
+"""move_base: the ``move_base`` action over two costmaps, a global and a local planner, and
+the recovery behaviours, as ROS 1's move_base runs them.
+
+In: goals on the ``move_base`` action (``move_base_msgs/MoveBaseAction``) and on
+``move_base_simple/goal``; the robot's pose from TF (each costmap's global frame → its
+``robot_base_frame``); its velocity from ``odom``. Out: ``cmd_vel``, ``~current_goal``, the
+global plan (``~<Planner>/plan``), the local planner's ``~<Planner>/local_plan`` and
+``global_plan``, the costmaps (``~global_costmap/…``, ``~local_costmap/…``); services
+``~make_plan`` and ``~clear_costmaps``.
+
+Each control cycle (``controller_frequency``, graph time) follows move_base's states:
+planning (a plan from the robot to the goal; none for ``planner_patience`` → recoveries),
+controlling (the local planner's command, the goal reached within its tolerances → succeeded;
+no command for ``controller_patience`` or no progress of ``oscillation_distance`` in
+``oscillation_timeout`` → recoveries) and clearing (conservative reset, in-place rotation if
+``clearing_rotation_allowed``, aggressive reset, rotation; all tried → aborted). With
+``planner_frequency`` > 0 the plan is remade that often while controlling. The planners run on
+the graph's executor thread: in simulated time nothing moves while they think, so runs are
+deterministic.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from enum import Enum
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from belvedere.graph import NS, ActionServer, GoalHandle, Node
+from belvedere.msgs import build, message_from_data, types
+from belvedere.nav.costmap import LETHAL, CostGrid
+from belvedere.nav.local import Command, LocalPlanner, NoTrajectoryError, make_local_planner
+from belvedere.nav.planners import (
+    GlobalPlanner,
+    NoPathError,
+    UnknownPluginError,
+    make_global_planner,
+)
+from belvedere.nodes._costmap import Costmap2DROS
+from belvedere.nodes._registry import NodeSpec, Session, Starter, StartError
+from belvedere.tf import TFBuffer, TFError, TransformListener
+
+__all__ = ["EXECUTABLES", "PACKAGE", "MoveBaseParams"]
+
+PACKAGE = "move_base"
+
+logger = logging.getLogger("belvedere.nodes.move_base")
+
+Floats = npt.NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class MoveBaseParams:
+    """move_base's own parameters, with its defaults."""
+
+    base_global_planner: str = "navfn/NavfnROS"
+    base_local_planner: str = "base_local_planner/TrajectoryPlannerROS"
+    controller_frequency: float = 20.0
+    planner_frequency: float = 0.0
+    planner_patience: float = 5.0
+    controller_patience: float = 15.0
+    max_planning_retries: int = -1
+    oscillation_timeout: float = 0.0
+    oscillation_distance: float = 0.5
+    recovery_behavior_enabled: bool = True
+    clearing_rotation_allowed: bool = True
+    shutdown_costmaps: bool = False
+    conservative_reset_dist: float = 3.0
+
+    @classmethod
+    def from_mapping(cls, values: Mapping[str, Any]) -> MoveBaseParams:
+        fields: dict[str, Any] = {}
+        for name, default in cls().__dict__.items():
+            if name not in values:
+                continue
+            value = values[name]
+            if isinstance(default, bool):
+                if not isinstance(value, bool):
+                    message = f"parameter {name} must be true or false, got {value!r}"
+                    raise ValueError(message)
+            elif isinstance(default, int | float):
+                if isinstance(value, bool) or not isinstance(value, int | float):
+                    message = f"parameter {name} must be a number, got {value!r}"
+                    raise ValueError(message)
+                value = type(default)(value)
+            else:
+                value = str(value)
+            fields[name] = value
+        params = cls(**fields)
+        if params.controller_frequency <= 0:
+            message = "parameter controller_frequency must be positive"
+            raise ValueError(message)
+        return params
+
+
+class _State(Enum):
+    PLANNING = "planning"
+    CONTROLLING = "controlling"
+    CLEARING = "clearing"
+
+
+def _short(plugin: str) -> str:
+    """A plugin's parameter namespace: ``navfn/NavfnROS`` → ``NavfnROS``."""
+    return plugin.rsplit("/", 1)[-1]
+
+
+def _yaw(q: Any) -> float:
+    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+
+
+def _transform(poses: Floats, transform: tuple[float, float, float]) -> npt.NDArray[np.float64]:
+    """(N, 3) poses moved by a planar transform (x, y, yaw)."""
+    x, y, th = transform
+    c, s = math.cos(th), math.sin(th)
+    out = np.empty_like(poses)
+    out[:, 0] = x + c * poses[:, 0] - s * poses[:, 1]
+    out[:, 1] = y + s * poses[:, 0] + c * poses[:, 1]
+    out[:, 2] = poses[:, 2] + th
+    return out
+
+
+class _MoveBase:
+    def __init__(self, node: Node, session: Session, spec: NodeSpec) -> None:
+        self.node = node
+        private = node.get_param("~", {})
+        self.params = MoveBaseParams.from_mapping(private if isinstance(private, dict) else {})
+        p = self.params
+        self.buffer = TFBuffer()
+        TransformListener(node, self.buffer)
+        self.global_costmap = Costmap2DROS(node, "global_costmap", self.buffer)
+        self.local_costmap = Costmap2DROS(node, "local_costmap", self.buffer)
+        self.global_planner = self._plugin(session, spec, "base_global_planner", private)
+        self.local_planner = self._plugin(session, spec, "base_local_planner", private)
+        global_name, local_name = _short(p.base_global_planner), _short(p.base_local_planner)
+        self.cmd_pub = node.publisher("cmd_vel", "geometry_msgs/Twist", queue_size=1)
+        self.goal_pub = node.publisher("~current_goal", "geometry_msgs/PoseStamped", queue_size=1)
+        self.plan_pub = node.publisher(f"~{global_name}/plan", "nav_msgs/Path", queue_size=1)
+        self.local_plan_pub = node.publisher(
+            f"~{local_name}/local_plan", "nav_msgs/Path", queue_size=1
+        )
+        self.followed_pub = node.publisher(
+            f"~{local_name}/global_plan", "nav_msgs/Path", queue_size=1
+        )
+        self.velocity = np.zeros(3)
+        node.subscribe("odom", "nav_msgs/Odometry", self._on_odom, queue_size=1)
+        self.server = ActionServer(node, "move_base", "move_base_msgs/MoveBase", self._execute)
+        self.goal_client = node.publisher(
+            "move_base/goal", "move_base_msgs/MoveBaseActionGoal", queue_size=1
+        )
+        node.subscribe("move_base_simple/goal", "geometry_msgs/PoseStamped", self._on_simple_goal)
+        node.service("~make_plan", "nav_msgs/GetPlan", self._on_make_plan)
+        node.service("~clear_costmaps", "std_srvs/Empty", self._on_clear_costmaps)
+        self.handle: GoalHandle | None = None
+        self.goal: Floats | None = None
+        self.state = _State.PLANNING
+        self.plan: Floats | None = None
+        self.plan_to_local: tuple[float, float, float] | None = None
+        self.recovery_index = 0
+        self.planning_since = 0
+        self.last_valid_control = 0
+        self.last_plan_at = 0
+        self.retries = 0
+        self.oscillation_pose: Floats | None = None
+        self.oscillation_since = 0
+        self.rotation: dict[str, float] | None = None
+        self._warned: set[str] = set()
+        self.global_costmap.start()
+        self.local_costmap.start()
+        if p.shutdown_costmaps:
+            self.global_costmap.stop()
+            self.local_costmap.stop()
+        node.timer(1.0 / p.controller_frequency, self._cycle)
+
+    def _plugin(self, session: Session, spec: NodeSpec, param: str, private: Any) -> Any:
+        p = self.params
+        name = p.base_global_planner if param == "base_global_planner" else p.base_local_planner
+        values = private.get(_short(name), {}) if isinstance(private, dict) else {}
+        values = values if isinstance(values, dict) else {}
+        try:
+            if param == "base_global_planner":
+                planner: GlobalPlanner | LocalPlanner = make_global_planner(name, values)
+            else:
+                merged = {"controller_frequency": p.controller_frequency, **values}
+                planner = make_local_planner(name, merged)
+        except UnknownPluginError as err:
+            where = session.param_source(f"{spec.full_name}/{param}") or spec.source
+            message = f"{spec.full_name}: parameter {param}: {err}"
+            raise StartError(message, where) from None
+        return planner
+
+    # --- inputs ------------------------------------------------------------------------------
+    def _warn_once(self, key: str, text: str) -> None:
+        if key not in self._warned:
+            self._warned.add(key)
+            logger.warning("%s: %s", self.node.full_name, text)
+
+    def _on_odom(self, msg: Any) -> None:
+        t = msg.twist.twist
+        self.velocity = np.array([t.linear.x, t.linear.y, t.angular.z])
+
+    def _on_simple_goal(self, msg: Any) -> None:
+        # as move_base: a simple goal becomes a goal on its own action
+        now = self.node.now_ns()
+        goal = message_from_data(
+            "move_base_msgs/MoveBaseActionGoal",
+            {
+                "header": {"stamp": {"sec": now // NS, "nanosec": now % NS}},
+                "goal_id": {"id": f"{self.node.full_name}-simple-{now}"},
+            },
+        )
+        goal.goal.target_pose = msg
+        self.goal_client.publish(goal)
+
+    def _execute(self, handle: GoalHandle) -> None:
+        target = handle.goal.target_pose
+        goal = self._in_global_frame(target)
+        if goal is None:
+            handle.abort(text="the goal's frame cannot be transformed to the global frame")
+            return
+        self.handle = handle
+        self.goal = goal
+        self._publish_goal()
+        self._start_planning()
+        self.recovery_index = 0
+
+    def _in_global_frame(self, pose_stamped: Any) -> Floats | None:
+        frame = pose_stamped.header.frame_id.lstrip("/") or self.global_costmap.global_frame
+        p, q = pose_stamped.pose.position, pose_stamped.pose.orientation
+        if not all(math.isfinite(v) for v in (p.x, p.y, q.x, q.y, q.z, q.w)):
+            self._warn_once("nan", "a goal with NaN or infinite values was refused")
+            return None
+        if abs(math.sqrt(q.x**2 + q.y**2 + q.z**2 + q.w**2) - 1.0) > 0.01:
+            self._warn_once("quat", "a goal whose orientation is not a unit quaternion was refused")
+            return None
+        pose: Floats = np.array([[p.x, p.y, _yaw(q)]], dtype=np.float64)
+        if frame == self.global_costmap.global_frame:
+            same: Floats = pose[0].copy()
+            return same
+        moved = self._planar(self.global_costmap.global_frame, frame)
+        if moved is None:
+            return None
+        placed: Floats = _transform(pose, moved)[0]
+        return placed
+
+    def _planar(self, target: str, source: str) -> tuple[float, float, float] | None:
+        try:
+            _, t, q = self.buffer.lookup(target, source, 0)
+        except TFError as err:
+            self._warn_once(f"tf {target} {source}", err.message)
+            return None
+        x, y, z, w = q
+        yaw = math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+        return (float(t[0]), float(t[1]), yaw)
+
+    # --- the cycle ---------------------------------------------------------------------------
+    def _start_planning(self) -> None:
+        self.state = _State.PLANNING
+        self.planning_since = self.node.now_ns()
+        self.last_valid_control = self.node.now_ns()
+        self.retries = 0
+        self.oscillation_pose = None
+
+    def _cycle(self) -> None:
+        handle = self.handle
+        if handle is None:
+            return
+        if handle.cancel_requested:
+            self._stop()
+            self._end(lambda: handle.preempted(text="a newer goal or a cancel"))
+            return
+        if self.params.shutdown_costmaps and self.global_costmap.stopped:
+            self.global_costmap.start()
+            self.local_costmap.start()
+        now = self.node.now_ns()
+        pose = self.global_costmap.robot_pose()
+        if pose is not None:
+            position = {"x": float(pose[0]), "y": float(pose[1]), "z": 0.0}
+            header = {"stamp": {"sec": now // NS, "nanosec": now % NS}}
+            header["frame_id"] = self.global_costmap.global_frame  # type: ignore[assignment]
+            quat = {"z": math.sin(pose[2] / 2), "w": math.cos(pose[2] / 2)}
+            base_position = {
+                "header": header,
+                "pose": {"position": position, "orientation": quat},
+            }
+            handle.publish_feedback({"base_position": base_position})
+        if self.state is _State.PLANNING:
+            self._plan_step(now)
+        elif self.state is _State.CONTROLLING:
+            self._control_step(now)
+        else:
+            self._clearing_step(now)
+
+    def _plan_step(self, now: int) -> None:
+        if self._make_plan():
+            self.state = _State.CONTROLLING
+            self.last_valid_control = now
+            return
+        self.retries += 1
+        p = self.params
+        out_of_patience = now - self.planning_since > round(p.planner_patience * NS)
+        out_of_retries = 0 <= p.max_planning_retries < self.retries
+        if out_of_patience or out_of_retries:
+            self._stop()
+            self._recover("failed to find a valid plan")
+
+    def _make_plan(self) -> bool:
+        pose = self.global_costmap.robot_pose()
+        if pose is None or self.goal is None:
+            return False
+        self.global_costmap.update_now()
+        try:
+            plan = self.global_planner.plan(self.global_costmap.grid(), pose, self.goal)
+        except NoPathError as err:
+            self._warn_once("plan", f"no plan: {err}")
+            return False
+        self.plan = plan
+        self.last_plan_at = self.node.now_ns()
+        self.plan_to_local = None
+        self._publish_path(self.plan_pub, plan, self.global_costmap.global_frame)
+        self._hand_plan_to_local()
+        return True
+
+    def _hand_plan_to_local(self) -> bool:
+        """Give the local planner the plan in its costmap's frame (again when that frame
+        moved against the global one by more than a centimetre or a hundredth radian)."""
+        assert self.plan is not None
+        moved = self._planar(self.local_costmap.global_frame, self.global_costmap.global_frame)
+        if moved is None:
+            return False
+        last = self.plan_to_local
+        if last is not None and (
+            math.hypot(moved[0] - last[0], moved[1] - last[1]) < 0.01
+            and abs(math.remainder(moved[2] - last[2], math.tau)) < 0.01
+        ):
+            return True
+        self.plan_to_local = moved
+        local = _transform(self.plan, moved)
+        self.local_planner.set_plan(local)
+        self._publish_path(self.followed_pub, local, self.local_costmap.global_frame)
+        return True
+
+    def _control_step(self, now: int) -> None:
+        p = self.params
+        if p.planner_frequency > 0 and now - self.last_plan_at >= round(NS / p.planner_frequency):
+            self._make_plan()
+        pose = self.local_costmap.robot_pose()
+        if pose is None or not self._hand_plan_to_local():
+            self._stop()
+            return
+        if self._oscillating(pose, now):
+            self._stop()
+            self._recover("the robot is oscillating")
+            return
+        self.local_costmap.update_now()
+        if self.local_planner.goal_reached(pose, self.velocity):
+            self._stop()
+            handle = self.handle
+            assert handle is not None
+            self._end(lambda: handle.succeed(text="Goal reached."))
+            return
+        try:
+            command: Command = self.local_planner.compute(
+                self.local_costmap.grid(), pose, self.velocity, self.local_costmap.footprint()
+            )
+        except NoTrajectoryError as err:
+            self._stop()
+            if now - self.last_valid_control > round(p.controller_patience * NS):
+                self._recover(f"the local planner found no valid command ({err})")
+            else:
+                self._start_planning_keep_patience()
+            return
+        self.last_valid_control = now
+        self._send(command.vx, command.vy, command.vth)
+        self._publish_path(self.local_plan_pub, command.local_plan, self.local_costmap.global_frame)
+        if self.local_planner.goal_reached(pose, self.velocity):
+            self._stop()
+            handle = self.handle
+            assert handle is not None
+            self._end(lambda: handle.succeed(text="Goal reached."))
+
+    def _start_planning_keep_patience(self) -> None:
+        self.state = _State.PLANNING
+        self.planning_since = self.node.now_ns()
+
+    def _oscillating(self, pose: Floats, now: int) -> bool:
+        p = self.params
+        if self.oscillation_pose is None or (
+            math.hypot(*(pose[:2] - self.oscillation_pose[:2])) >= p.oscillation_distance
+        ):
+            self.oscillation_pose = pose.copy()
+            self.oscillation_since = now
+            if self.recovery_index and self.state is _State.CONTROLLING:
+                self.recovery_index = 0  # progress: the recoveries start over
+            return False
+        return p.oscillation_timeout > 0 and now - self.oscillation_since > round(
+            p.oscillation_timeout * NS
+        )
+
+    # --- recoveries ----------------------------------------------------------------------------
+    def _behaviours(self) -> list[str]:
+        if not self.params.recovery_behavior_enabled:
+            return []
+        rotate = ["rotate_recovery"] if self.params.clearing_rotation_allowed else []
+        return ["conservative_reset", *rotate, "aggressive_reset", *rotate]
+
+    def _recover(self, why: str) -> None:
+        behaviours = self._behaviours()
+        if self.recovery_index >= len(behaviours):
+            handle = self.handle
+            assert handle is not None
+            after = " even after executing recovery behaviors" if behaviours else ""
+            self._end(lambda: handle.abort(text=f"Aborting: {why}{after}."))
+            return
+        name = behaviours[self.recovery_index]
+        self.recovery_index += 1
+        logger.info("%s: %s; recovery: %s", self.node.full_name, why, name)
+        if name == "rotate_recovery":
+            self.state = _State.CLEARING
+            self.rotation = None
+            return
+        distance = (
+            self.params.conservative_reset_dist
+            if name == "conservative_reset"
+            else 4.0 * self.global_costmap.circumscribed_radius
+        )
+        for costmap in (self.global_costmap, self.local_costmap):
+            pose = costmap.robot_pose()
+            if pose is not None:
+                costmap.clear_outside(float(pose[0]), float(pose[1]), 2.0 * distance)
+        self._start_planning()
+
+    def _clearing_step(self, now: int) -> None:
+        """rotate_recovery: turn in place one full turn, unless the footprint would hit."""
+        del now
+        pose = self.local_costmap.robot_pose()
+        if pose is None:
+            self._stop()
+            return
+        if self.rotation is None:
+            self.rotation = {"last": float(pose[2]), "turned": 0.0}
+        state = self.rotation
+        state["turned"] += abs(math.remainder(float(pose[2]) - state["last"], math.tau))
+        state["last"] = float(pose[2])
+        speed = 1.0
+        if state["turned"] >= math.tau or self._rotation_blocked(pose, speed):
+            self._stop()
+            self.rotation = None
+            self._start_planning()
+            return
+        self._send(0.0, 0.0, speed)
+
+    def _rotation_blocked(self, pose: Floats, speed: float) -> bool:
+        grid: CostGrid = self.local_costmap.grid()
+        footprint = self.local_costmap.footprint()
+        yaw = float(pose[2]) + speed / self.params.controller_frequency
+        c, s = math.cos(yaw), math.sin(yaw)
+        xs = pose[0] + c * footprint[:, 0] - s * footprint[:, 1]
+        ys = pose[1] + s * footprint[:, 0] + c * footprint[:, 1]
+        for x, y in zip(xs, ys, strict=True):
+            cell = grid.world_to_map(float(x), float(y))
+            if cell is not None and grid.costs[cell[1], cell[0]] == LETHAL:
+                return True
+        return False
+
+    # --- outputs -------------------------------------------------------------------------------
+    def _send(self, vx: float, vy: float, vth: float) -> None:
+        self.cmd_pub.publish_data(
+            {"linear": {"x": vx, "y": vy, "z": 0.0}, "angular": {"x": 0.0, "y": 0.0, "z": vth}}
+        )
+
+    def _stop(self) -> None:
+        self._send(0.0, 0.0, 0.0)
+
+    def _end(self, finish: Any) -> None:
+        self.handle = None
+        self.goal = None
+        self.plan = None
+        if self.params.shutdown_costmaps:
+            self.global_costmap.stop()
+            self.local_costmap.stop()
+        finish()
+
+    def _publish_goal(self) -> None:
+        assert self.goal is not None
+        self._publish_path(None, self.goal[None, :], self.global_costmap.global_frame)
+
+    def _publish_path(self, publisher: Any, poses: Floats, frame: str) -> None:
+        now = self.node.now_ns()
+        header = build.header(now, frame)
+        stamped = []
+        for x, y, yaw in np.asarray(poses, dtype=np.float64).reshape(-1, 3):
+            msg = types().cls("geometry_msgs/PoseStamped")(
+                header,
+                message_from_data(
+                    "geometry_msgs/Pose",
+                    {
+                        "position": {"x": float(x), "y": float(y), "z": 0.0},
+                        "orientation": {"z": math.sin(yaw / 2), "w": math.cos(yaw / 2)},
+                    },
+                ),
+            )
+            stamped.append(msg)
+        if publisher is None:
+            self.goal_pub.publish(stamped[0])
+            return
+        publisher.publish(types().cls("nav_msgs/Path")(header, stamped))
+
+    # --- services ------------------------------------------------------------------------------
+    def _on_make_plan(self, request: Any) -> Any:
+        response = types().cls("nav_msgs/srv/GetPlan_Response")
+        goal = self._in_global_frame(request.goal)
+        start_frame = request.start.header.frame_id
+        start = (
+            self._in_global_frame(request.start)
+            if start_frame
+            else self.global_costmap.robot_pose()
+        )
+        frame = self.global_costmap.global_frame
+        empty = types().cls("nav_msgs/Path")(build.header(self.node.now_ns(), frame), [])
+        if goal is None or start is None:
+            return response(empty)
+        self.global_costmap.update_now()
+        try:
+            plan = self.global_planner.plan(self.global_costmap.grid(), start, goal)
+        except NoPathError:
+            return response(empty)
+        publisher = _Collect()
+        self._publish_path(publisher, plan, frame)
+        return response(publisher.message)
+
+    def _on_clear_costmaps(self, request: Any) -> Any:
+        del request
+        self.global_costmap.reset()
+        self.local_costmap.reset()
+        return types().cls("std_srvs/srv/Empty_Response")()
+
+
+class _Collect:
+    """A stand-in publisher that keeps the message (to answer a service with it)."""
+
+    message: Any = None
+
+    def publish(self, message: Any) -> None:
+        self.message = message
+
+
+def _start(session: Session, spec: NodeSpec, node: Node) -> None:
+    try:
+        _MoveBase(node, session, spec)
+    except ValueError as err:
+        message = f"{spec.full_name}: {err}"
+        raise StartError(message, spec.source) from None
+
+
+EXECUTABLES: dict[str, Starter] = {"move_base": _start}
