@@ -1,0 +1,141 @@
+"""move_base on the fake TurtleBot (rbx1's fake_move_base_blank_map.launch beside the ArbotiX
+fake base): goals on its action and on move_base_simple/goal are reached within the local
+planner's tolerances, make_plan answers, an unreachable goal is aborted after the recoveries,
+and an unknown planner plugin is one error at its YAML line."""
+
+from __future__ import annotations
+
+import itertools
+import math
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from belvedere.graph import ActionClient, GoalStatus, Graph
+from belvedere.launch import LaunchError, load_launch
+from belvedere.launch._runtime import LaunchRuntime
+from belvedere.packages import PackageIndex
+from tests.conftest import EXAMPLES
+
+
+def _launch(tmp_path: Path, extra: str = "") -> Path:
+    launch = tmp_path / "fake_nav.launch"
+    launch.write_text(
+        "<launch>\n"
+        f'  <include file="{EXAMPLES}/rbx1_bringup/launch/fake_turtlebot.launch"/>\n'
+        f'  <include file="{EXAMPLES}/rbx1_nav/launch/fake_move_base_blank_map.launch"/>\n'
+        f"{extra}</launch>\n"
+    )
+    return launch
+
+
+def _start(launch: Path) -> Graph:
+    packages = PackageIndex.from_environment(near=EXAMPLES / "rbx1_nav/package.xml")
+    graph = Graph()
+    LaunchRuntime(load_launch(launch, packages=packages), graph, packages, headless=True).start()
+    return graph
+
+
+def _goal(x: float, y: float, yaw: float) -> dict[str, Any]:
+    orientation = {"z": math.sin(yaw / 2), "w": math.cos(yaw / 2)}
+    pose = {"position": {"x": x, "y": y}, "orientation": orientation}
+    return {"target_pose": {"header": {"frame_id": "map"}, "pose": pose}}
+
+
+def _yaw(q: Any) -> float:
+    return 2 * math.atan2(q.z, q.w)
+
+
+@pytest.fixture
+def fake_nav(tmp_path: Path) -> Any:
+    graph = _start(_launch(tmp_path))
+    probe = graph.create_node("probe")
+    odom: list[Any] = []
+    probe.subscribe("/odom", "nav_msgs/Odometry", lambda m: odom.append(m.pose.pose))
+    yield graph, probe, odom
+    graph.shutdown()
+
+
+def test_goals_on_the_action_are_reached(fake_nav: Any) -> None:
+    graph, probe, odom = fake_nav
+    client = ActionClient(probe, "/move_base", "move_base_msgs/MoveBase")
+    plans: list[Any] = []
+    probe.subscribe("/move_base/NavfnROS/plan", "nav_msgs/Path", plans.append)
+    graph.run(duration=1.0)
+    for x, y, yaw in [(2.0, 1.0, 1.0), (-1.5, 2.0, math.pi), (0.0, -2.0, -1.5)]:
+        goal = client.send_goal(_goal(x, y, yaw))
+        graph.run(duration=60.0, until=lambda goal=goal: client.done(goal))
+        assert client.status[goal] == GoalStatus.SUCCEEDED
+        graph.run(duration=0.5)
+        here = odom[-1]
+        # rbx1's fake tolerances: 5 cm, 0.1 rad (and what the robot coasts after the stop)
+        assert math.hypot(here.position.x - x, here.position.y - y) < 0.07
+        assert abs(math.remainder(_yaw(here.orientation) - yaw, math.tau)) < 0.15
+        assert client.feedback[goal]  # the robot's position on the way
+    assert plans
+    assert plans[-1].header.frame_id == "map"
+
+
+def test_a_simple_goal_is_reached(fake_nav: Any) -> None:
+    graph, probe, odom = fake_nav
+    goals = probe.publisher("/move_base_simple/goal", "geometry_msgs/PoseStamped")
+    current: list[Any] = []
+    probe.subscribe("/move_base/current_goal", "geometry_msgs/PoseStamped", current.append)
+    graph.run(duration=1.0)
+    goals.publish_data(
+        {"header": {"frame_id": "map"}, "pose": _goal(1.5, 0.0, 0.0)["target_pose"]["pose"]}
+    )
+    graph.run(
+        duration=40.0,
+        until=lambda: (
+            bool(odom) and math.hypot(odom[-1].position.x - 1.5, odom[-1].position.y) < 0.05
+        ),
+    )
+    assert current
+    assert current[-1].pose.position.x == pytest.approx(1.5)
+    assert math.hypot(odom[-1].position.x - 1.5, odom[-1].position.y) < 0.05
+
+
+def test_make_plan_and_an_unreachable_goal(fake_nav: Any) -> None:
+    graph, probe, _ = fake_nav
+    graph.run(duration=1.0)
+    request = {
+        "start": {"header": {"frame_id": "map"}, "pose": {"orientation": {"w": 1.0}}},
+        "goal": {
+            "header": {"frame_id": "map"},
+            "pose": {"position": {"x": 3.0, "y": 3.0}, "orientation": {"w": 1.0}},
+        },
+        "tolerance": 0.0,
+    }
+    response = probe.call_service("/move_base/make_plan", "nav_msgs/GetPlan", request)
+    poses = response.plan.poses
+    assert len(poses) > 10
+    first, last = poses[0].pose.position, poses[-1].pose.position
+    assert math.hypot(first.x, first.y) < 0.1
+    assert math.hypot(last.x - 3.0, last.y - 3.0) < 0.1
+    length = sum(
+        math.hypot(b.pose.position.x - a.pose.position.x, b.pose.position.y - a.pose.position.y)
+        for a, b in itertools.pairwise(poses)
+    )
+    assert length < math.hypot(3.0, 3.0) * 1.1  # nearly straight on a blank map
+    probe.call_service("/move_base/clear_costmaps", "std_srvs/Empty")
+    # outside the map (the blank map is 10 m x 10 m about the origin): no plan, ever
+    client = ActionClient(probe, "/move_base", "move_base_msgs/MoveBase")
+    goal = client.send_goal(_goal(20.0, 0.0, 0.0))
+    graph.run(duration=120.0, until=lambda: client.done(goal))
+    assert client.status[goal] == GoalStatus.ABORTED
+
+
+def test_an_unknown_planner_is_one_error_at_its_yaml_line(tmp_path: Path) -> None:
+    params = tmp_path / "planners.yaml"
+    params.write_text(
+        "controller_frequency: 3.0\nbase_local_planner: teb_local_planner/TebLocalPlannerROS\n"
+    )
+    extra = f'  <rosparam ns="move_base" file="{params}" command="load"/>\n'
+    with pytest.raises(LaunchError) as caught:
+        _start(_launch(tmp_path, extra))
+    text = str(caught.value)
+    assert text.startswith(f"{params}:2:21: error: /move_base: parameter base_local_planner: ")
+    assert "unknown local planner plugin 'teb_local_planner/TebLocalPlannerROS'" in text
+    assert "base_local_planner/TrajectoryPlannerROS, dwa_local_planner/DWAPlannerROS" in text
