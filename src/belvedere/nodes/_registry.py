@@ -77,9 +77,11 @@ class Session(Protocol):
 Starter = Callable[[Session, NodeSpec, Node], None]
 
 MODULES: Final = {
+    "amcl": "amcl",
     "arbotix_python": "arbotix_python",
     "controller_manager": "controller_manager",
     "depthimage_to_laserscan": "depthimage_to_laserscan",
+    "fake_localization": "fake_localization",
     "gazebo_ros": "gazebo_ros",
     "gmapping": "gmapping",
     "hector_mapping": "hector_mapping",

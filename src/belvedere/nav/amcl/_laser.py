@@ -147,9 +147,9 @@ class LaserModel:
         lx, ly, lth = laser_pose
         c = np.cos(poses[:, 2]).astype(np.float32)
         s = np.sin(poses[:, 2]).astype(np.float32)
-        # the laser's position in bordered-cell units, +0.5 for amcl's rounding
-        px = ((poses[:, 0] + c * lx - s * ly - m.origin_x) * inv + 1.5).astype(np.float32)
-        py = ((poses[:, 1] + s * lx + c * ly - m.origin_y) * inv + 1.5).astype(np.float32)
+        # the laser's position in the bordered map's cell units
+        px = ((poses[:, 0] + c * lx - s * ly - m.origin_x) * inv + 1.0).astype(np.float32)
+        py = ((poses[:, 1] + s * lx + c * ly - m.origin_y) * inv + 1.0).astype(np.float32)
         rc = (ranges * np.cos(bearings + lth) * inv).astype(np.float32)
         rs = (ranges * np.sin(bearings + lth) * inv).astype(np.float32)
         n, b = len(poses), len(ranges)
@@ -228,8 +228,8 @@ class LaserModel:
         inv = 1.0 / m.resolution
         lx, ly, lth = laser_pose
         c, s = np.cos(poses[:, 2]), np.sin(poses[:, 2])
-        px = (poses[:, 0] + c * lx - s * ly - m.origin_x) * inv + 1.5
-        py = (poses[:, 1] + s * lx + c * ly - m.origin_y) * inv + 1.5
+        px = (poses[:, 0] + c * lx - s * ly - m.origin_x) * inv + 1.0
+        py = (poses[:, 1] + s * lx + c * ly - m.origin_y) * inv + 1.0
         heading = poses[:, 2][:, None] + (bearings + lth)[None, :]
         dx, dy = np.cos(heading).ravel(), np.sin(heading).ravel()
         ox = np.repeat(px, len(bearings))

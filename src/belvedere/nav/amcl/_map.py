@@ -1,10 +1,10 @@
 """The map as amcl reads it: each cell free, occupied or unknown, and the distance fields the
 laser models look up.
 
-amcl places cell ``i`` *centred* at ``origin + i·resolution`` (its ``MAP_WXGX``) and finds the
-cell of a point by rounding (``MAP_GXWX``: ``floor((x - origin)/res + 0.5)``), half a cell off
-map_server's convention of cells starting at the origin. Everything here keeps amcl's rule so
-that weights and random poses are the ones amcl computes.
+Cell ``i`` covers ``[origin + i·res, origin + (i+1)·res)``, as map_server lays the map out.
+amcl itself centres cell ``i`` at ``origin + i·res`` (its ``MAP_WXGX``/``MAP_GXWX`` macros),
+which moves the whole map half a cell towards the origin and its estimates with it (2.5 cm in
+x and y on a 5 cm map); here the cells are where the map says they are.
 """
 
 from __future__ import annotations
@@ -60,9 +60,9 @@ class AmclMap:
     def cell_of(
         self, x: npt.ArrayLike, y: npt.ArrayLike
     ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
-        """(col, row) of points by amcl's rounding rule (may lie outside the map)."""
-        col = np.floor((np.asarray(x) - self.origin_x) / self.resolution + 0.5).astype(np.int64)
-        row = np.floor((np.asarray(y) - self.origin_y) / self.resolution + 0.5).astype(np.int64)
+        """(col, row) of the cells holding points (may lie outside the map)."""
+        col = np.floor((np.asarray(x) - self.origin_x) / self.resolution).astype(np.int64)
+        row = np.floor((np.asarray(y) - self.origin_y) / self.resolution).astype(np.int64)
         return col, row
 
     def occ_dist(self, max_dist: float) -> Float32s:
@@ -104,7 +104,7 @@ class AmclMap:
             raise ValueError(msg)
         pick = cells[rng.integers(0, len(cells), count)]
         out = np.empty((count, 3))
-        out[:, 0] = self.origin_x + pick[:, 0] * self.resolution
-        out[:, 1] = self.origin_y + pick[:, 1] * self.resolution
+        out[:, 0] = self.origin_x + (pick[:, 0] + 0.5) * self.resolution
+        out[:, 1] = self.origin_y + (pick[:, 1] + 0.5) * self.resolution
         out[:, 2] = rng.random(count) * 2.0 * np.pi - np.pi
         return out
