@@ -15,12 +15,15 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
+from xml.etree import ElementTree
 
 import numpy as np
 import numpy.typing as npt
+from scipy import ndimage
 
 from belvedere.description.urdf import Pose, RobotModel
 from belvedere.graph import NS, Graph
+from belvedere.maps import OccupancyMap
 from belvedere.sim.physics import PhysicsSimulation
 from belvedere.tf import TFBuffer, TransformListener
 from belvedere.world import read_world
@@ -194,3 +197,41 @@ def errors(poses: Array, truth: Array) -> tuple[float, float]:
     d = est - true
     turn = np.abs(np.remainder(d[:, 2] + np.pi, 2 * np.pi) - np.pi)
     return float(np.hypot(d[:, 0], d[:, 1]).mean()), float(turn.mean())
+
+
+def world_map(resolution: float = 0.05, grow: float = 0.0) -> OccupancyMap:
+    """The cloister's walls and pillars rasterised as map_server would load a perfect map:
+    a cell is occupied (100) when its centre is in a shape grown by ``grow``, free (0) when
+    the robot's start reaches it, else unknown (-1); the grid spans 16 m x 14 m from (-8, -7)."""
+    width, height = round(16.0 / resolution), round(14.0 / resolution)
+    origin = (-8.0, -7.0)
+    cx = origin[0] + (np.arange(width) + 0.5) * resolution
+    cy = origin[1] + (np.arange(height) + 0.5) * resolution
+    gx, gy = np.meshgrid(cx, cy)
+    occupied = np.zeros((height, width), dtype=bool)
+    root = ElementTree.parse(WORLD).getroot()
+    for link in root.iter("link"):
+        pose_el = link.find("pose")
+        collision = link.find("collision/geometry")
+        if pose_el is None or pose_el.text is None or collision is None:
+            continue
+        x, y, _, _, _, yaw = (float(v) for v in pose_el.text.split())
+        dx, dy = gx - x, gy - y
+        c, s = math.cos(yaw), math.sin(yaw)
+        u, v = c * dx + s * dy, -s * dx + c * dy  # the cell centre in the shape's frame
+        box = collision.find("box/size")
+        cylinder = collision.find("cylinder/radius")
+        if box is not None and box.text is not None:
+            sx, sy, _ = (float(t) for t in box.text.split())
+            occupied |= (np.abs(u) <= sx / 2 + grow) & (np.abs(v) <= sy / 2 + grow)
+        elif cylinder is not None and cylinder.text is not None:
+            occupied |= np.hypot(u, v) <= float(cylinder.text) + grow
+    # free where the robot can go (the corridors), unknown elsewhere, as a mapped map
+    labels, _ = ndimage.label(~occupied)
+    start = labels[
+        int((START[1] - origin[1]) / resolution), int((START[0] - origin[0]) / resolution)
+    ]
+    data = np.full(occupied.shape, -1, dtype=np.int8)
+    data[labels == start] = 0
+    data[occupied] = 100
+    return OccupancyMap(data, resolution, (origin[0], origin[1], 0.0))

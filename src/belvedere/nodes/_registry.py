@@ -91,9 +91,11 @@ TransformClaim = Callable[[NodeSpec, ParamLookup], list[tuple[str, str]]]
 say (a module's ``TRANSFORMS``: executable → claim)."""
 
 MODULES: Final = {
+    "amcl": "amcl",
     "arbotix_python": "arbotix_python",
     "controller_manager": "controller_manager",
     "depthimage_to_laserscan": "depthimage_to_laserscan",
+    "fake_localization": "fake_localization",
     "gazebo_ros": "gazebo_ros",
     "gmapping": "gmapping",
     "hector_mapping": "hector_mapping",

@@ -1,0 +1,141 @@
+"""amcl's laser update, ours against Nav2's amcl core (the PyPI package ``amcl``), same run.
+
+A 20 x 20 m map at 0.05 m (outer walls, inner walls and pillars), a robot driving a circle in
+it, a 360-beam laser of 10 m; both filters use 60 beams of it with the likelihood field model,
+a fixed particle count (min = max) of 500, 2000 and 5000, and update (motion, laser, resampling)
+on every scan. Prints the mean wall-clock milliseconds per update for each and the ratio.
+
+    python benchmarks/amcl.py [--updates 40]
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import math
+import sys
+import time
+from pathlib import Path
+from types import ModuleType
+
+import numpy as np
+import numpy.typing as npt
+
+from belvedere.maps import OccupancyMap
+from belvedere.nav.amcl import AmclMap, AmclParams, LaserModel, LaserParams, Localizer, laser_data
+
+RES = 0.05
+SIZE = 400  # cells: 20 m
+BEAMS = 360
+RANGE_MAX = 10.0
+PARTICLES = (500, 2000, 5000)
+
+
+def world() -> npt.NDArray[np.int8]:
+    """0 free, 100 occupied: a walled room with inner walls and pillars."""
+    grid = np.zeros((SIZE, SIZE), dtype=np.int8)
+    grid[:3, :] = grid[-3:, :] = grid[:, :3] = grid[:, -3:] = 100
+    grid[100:103, 60:240] = 100
+    grid[260:263, 160:340] = 100
+    grid[150:300, 300:303] = 100
+    for cx, cy in ((100, 200), (200, 120), (320, 80), (80, 320), (250, 330)):
+        grid[cy - 6 : cy + 6, cx - 6 : cx + 6] = 100
+    return grid
+
+
+def trajectory(n: int) -> npt.NDArray[np.float64]:
+    """Poses on a circle of 4 m about the map's centre, 0.25 m apart."""
+    step = 0.25 / 4.0
+    angles = np.arange(n) * step
+    x = 10.0 + 4.0 * np.cos(angles)
+    y = 10.0 + 4.0 * np.sin(angles)
+    return np.stack([x, y, angles + math.pi / 2], axis=1)
+
+
+def scans(grid: OccupancyMap, poses: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+    """(S, BEAMS) true ranges from each pose, ray cast on the map."""
+    caster = LaserModel(LaserParams(model="beam", max_beams=BEAMS), AmclMap.from_occupancy(grid))
+    bearings = -math.pi + np.arange(BEAMS, dtype=np.float64) * (2 * math.pi / BEAMS)
+    return caster.expected_ranges(poses, (0.0, 0.0, 0.0), bearings, RANGE_MAX)
+
+
+def ours(
+    grid: OccupancyMap, odom: npt.NDArray[np.float64], ranges: npt.NDArray[np.float64], n: int
+) -> float:
+    params = AmclParams(
+        min_particles=n,
+        max_particles=n,
+        laser_max_beams=60,
+        update_min_d=0.0,
+        update_min_a=0.0,
+        resample_interval=1,
+        initial_pose_x=odom[0, 0],
+        initial_pose_y=odom[0, 1],
+        initial_pose_a=odom[0, 2],
+    )
+    loc = Localizer(params, grid, seed=1)
+    increment = 2 * math.pi / BEAMS
+    data = [laser_data(r, -math.pi, increment, 0.05, RANGE_MAX) for r in ranges]
+    loc.update(odom[0], data[0], (0.0, 0.0, 0.0))
+    start = time.perf_counter()
+    for pose, scan in zip(odom[1:], data[1:], strict=True):
+        step = loc.update(pose, scan, (0.0, 0.0, 0.0))
+        assert step.resampled
+    elapsed = time.perf_counter() - start
+    assert loc.estimate is not None
+    error = float(np.hypot(*(loc.estimate.pose[:2] - odom[-1, :2])))
+    assert error < 0.3, f"ours lost the robot: {error:.2f} m off"
+    return 1000.0 * elapsed / (len(odom) - 1)
+
+
+def nav2(
+    grid: OccupancyMap, odom: npt.NDArray[np.float64], ranges: npt.NDArray[np.float64], n: int
+) -> float:
+    amcl = _reference()
+    motion = amcl.MotionParameters(0.2, 0.2, 0.2, 0.2, 0.2)
+    laser = amcl.LaserParameters(0.95, 0.1, 0.05, 0.05, 0.2, 0.1, 0.05, 60)
+    filt = amcl.AMCL(n, n, 0.001, 0.1, motion, laser, "differential")
+    cells = grid.data.astype(int).tolist()
+    filt.set_map(amcl.create_occupancy_grid_from_list(cells, RES, 0.0, 0.0))
+    filt.set_laser_pose(amcl.Vector3D(0.0, 0.0, 0.0))
+    filt.set_initial_pose(
+        amcl.Vector3D(*odom[0]), amcl.create_diagonal_covariance(0.25, 0.25, 0.07)
+    )
+    bearings = -math.pi + np.arange(BEAMS) * (2 * math.pi / BEAMS)
+    scans_ = [
+        amcl.create_laser_scan_from_list(np.stack([r, bearings], axis=1).tolist(), RANGE_MAX)
+        for r in ranges
+    ]
+    filt.update(scans_[0], amcl.Vector3D(*odom[0]))
+    start = time.perf_counter()
+    for pose, scan in zip(odom[1:], scans_[1:], strict=True):
+        filt.update(scan, amcl.Vector3D(*pose))
+    elapsed = time.perf_counter() - start
+    return 1000.0 * elapsed / (len(odom) - 1)
+
+
+def _reference() -> ModuleType:
+    """The PyPI package ``amcl``, which this script's own name would shadow."""
+    here = Path(__file__).resolve().parent
+    sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != here]
+    sys.modules.pop("amcl", None)
+    return importlib.import_module("amcl")
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--updates", type=int, default=40)
+    args = parser.parse_args()
+    grid = OccupancyMap(world(), RES)
+    truth = trajectory(args.updates + 1)
+    ranges = scans(grid, truth)
+    print(f"{'particles':>9} {'ours ms':>9} {'nav2 ms':>9} {'ratio':>7}")
+    for n in PARTICLES:
+        a = ours(grid, truth, ranges, n)
+        b = nav2(grid, truth, ranges, n)
+        print(f"{n:>9} {a:>9.2f} {b:>9.2f} {b / a:>6.1f}x")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

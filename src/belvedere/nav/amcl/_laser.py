@@ -1,0 +1,277 @@
+"""amcl's laser models, over every particle and beam at once.
+
+Each model turns a scan into one factor per particle that multiplies its weight:
+
+- ``likelihood_field``: ``1 + sum(pz**3)`` over the beams, ``pz = z_hit·exp(-d²/2s²) +
+  z_rand/range_max`` where ``d`` is the distance from the beam's end to the nearest occupied
+  cell (at most ``laser_likelihood_max_dist``; off the map counts as that). Beams at or past
+  the range's end are left out. Since ``pz`` depends only on the end's cell, it is kept per cell
+  (cubed, float32) and a scan costs one lookup per particle and beam.
+- ``likelihood_field_prob``: ``exp(sum(log pz))`` with the same ``pz``; with ``do_beamskip``
+  (once the filter has converged) a beam is only used when more than ``beam_skip_threshold``
+  of the particles put its end within ``beam_skip_distance`` of an obstacle — unless so many
+  beams are skipped (``beam_skip_error_threshold``) that the filter is probably wrong.
+- ``beam``: ``1 + sum(pz**3)`` with the ray cast from the particle to its first non-free cell:
+  a gaussian about it (``z_hit``), an exponential short of it (``z_short``, ``lambda_short``),
+  ``z_max`` at the range's end and ``z_rand`` uniform. Rays are marched together over the
+  distance to the nearest stopping cell, so long free stretches take a few steps.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Final
+
+import numpy as np
+import numpy.typing as npt
+
+from belvedere.nav.amcl._map import AmclMap
+
+__all__ = ["LASER_MODELS", "LaserData", "LaserModel", "LaserParams", "laser_data"]
+
+LASER_MODELS: Final = ("likelihood_field", "beam", "likelihood_field_prob")
+
+Floats = npt.NDArray[np.float64]
+Float32s = npt.NDArray[np.float32]
+
+
+@dataclass(frozen=True)
+class LaserParams:
+    """The laser model's parameters, with amcl's defaults."""
+
+    model: str = "likelihood_field"
+    max_beams: int = 30
+    z_hit: float = 0.95
+    z_short: float = 0.1
+    z_max: float = 0.05
+    z_rand: float = 0.05
+    sigma_hit: float = 0.2
+    lambda_short: float = 0.1
+    likelihood_max_dist: float = 2.0
+    do_beamskip: bool = False
+    beam_skip_distance: float = 0.5
+    beam_skip_threshold: float = 0.3
+    beam_skip_error_threshold: float = 0.9
+
+
+@dataclass(frozen=True)
+class LaserData:
+    """One scan as amcl's models take it: ``ranges`` (m, readings at or under the minimum
+    already moved to ``range_max``) and ``bearings`` (rad, in the base frame)."""
+
+    ranges: Floats
+    bearings: Floats
+    range_max: float
+
+
+def laser_data(
+    ranges: npt.ArrayLike,
+    angle_min: float,
+    angle_increment: float,
+    range_min: float,
+    range_max: float,
+    *,
+    laser_min_range: float = -1.0,
+    laser_max_range: float = -1.0,
+) -> LaserData:
+    """A scan's readings as amcl hands them to its model: the range limits from the scan,
+    narrowed by ``laser_min_range``/``laser_max_range`` when those are positive, and every
+    reading at or under the minimum counted as a maximum-range reading."""
+    values = np.asarray(ranges, dtype=np.float64)
+    top = min(range_max, laser_max_range) if laser_max_range > 0 else range_max
+    bottom = max(range_min, laser_min_range)
+    out = np.where(values <= bottom, top, values)
+    bearings = angle_min + np.arange(len(values), dtype=np.float64) * angle_increment
+    return LaserData(out, bearings, float(top))
+
+
+class LaserModel:
+    """Weighs particles against scans on one map (the model's tables are built once)."""
+
+    def __init__(self, params: LaserParams, amcl_map: AmclMap) -> None:
+        if params.model not in LASER_MODELS:
+            msg = f"unknown laser model {params.model!r} (one of {', '.join(LASER_MODELS)})"
+            raise ValueError(msg)
+        self.params = params
+        self.map = amcl_map
+        self._tables: dict[tuple[float, int], Float32s] = {}
+        self.skipped_beams = 0
+        """Beams beam skipping left out of the last update."""
+
+    # --- which beams -------------------------------------------------------------------------
+    def beams(self, data: LaserData) -> tuple[Floats, Floats]:
+        """The ranges and bearings the model uses: every ``step``-th beam (amcl's integer
+        ``(count - 1) / (max_beams - 1)``), without NaNs and, for the likelihood fields,
+        without readings at or past the range's end."""
+        count = len(data.ranges)
+        step = max((count - 1) // max(self.params.max_beams - 1, 1), 1)
+        ranges = data.ranges[::step]
+        bearings = data.bearings[::step]
+        keep = ~np.isnan(ranges)
+        if self.params.model != "beam":
+            keep &= ranges < data.range_max
+        return ranges[keep], bearings[keep]
+
+    # --- the likelihood field ----------------------------------------------------------------
+    def _pz_table(self, range_max: float, power: int) -> Float32s:
+        """pz**power (power 0: log pz) per cell, over the map with a one-cell border holding the
+        off-map value, flattened."""
+        key = (range_max, power)
+        cached = self._tables.get(key)
+        if cached is not None:
+            return cached
+        p = self.params
+        denom = 2.0 * p.sigma_hit * p.sigma_hit
+        dist = self.map.occ_dist(p.likelihood_max_dist).astype(np.float64)
+        rand = p.z_rand / range_max
+        padded = np.full((self.map.height + 2, self.map.width + 2), p.likelihood_max_dist)
+        padded[1:-1, 1:-1] = dist
+        pz = p.z_hit * np.exp(-(padded * padded) / denom) + rand
+        table: Float32s = (np.log(pz) if power == 0 else pz**power).astype(np.float32).ravel()
+        if len(self._tables) > 8:
+            self._tables.clear()  # a laser whose range keeps changing
+        self._tables[key] = table
+        return table
+
+    def _end_cells(
+        self,
+        poses: Floats,
+        laser_pose: tuple[float, float, float],
+        ranges: Floats,
+        bearings: Floats,
+    ) -> npt.NDArray[np.intp]:
+        """(N, B) flat indices into the bordered map of each beam's end cell."""
+        m = self.map
+        inv = 1.0 / m.resolution
+        lx, ly, lth = laser_pose
+        c = np.cos(poses[:, 2]).astype(np.float32)
+        s = np.sin(poses[:, 2]).astype(np.float32)
+        # the laser's position in the bordered map's cell units
+        px = ((poses[:, 0] + c * lx - s * ly - m.origin_x) * inv + 1.0).astype(np.float32)
+        py = ((poses[:, 1] + s * lx + c * ly - m.origin_y) * inv + 1.0).astype(np.float32)
+        rc = (ranges * np.cos(bearings + lth) * inv).astype(np.float32)
+        rs = (ranges * np.sin(bearings + lth) * inv).astype(np.float32)
+        n, b = len(poses), len(ranges)
+        fx = np.empty((n, b), dtype=np.float32)
+        fy = np.empty((n, b), dtype=np.float32)
+        tmp = np.empty((n, b), dtype=np.float32)
+        np.multiply(c[:, None], rc[None, :], out=fx)
+        np.multiply(s[:, None], rs[None, :], out=tmp)
+        fx -= tmp
+        fx += px[:, None]
+        np.multiply(s[:, None], rc[None, :], out=fy)
+        np.multiply(c[:, None], rs[None, :], out=tmp)
+        fy += tmp
+        fy += py[:, None]
+        # beyond the map: the border cell (truncation is floor once clipped to >= 0)
+        np.clip(fx, 0.0, m.width + 1, out=fx)
+        np.clip(fy, 0.0, m.height + 1, out=fy)
+        ix = fx.astype(np.intp)
+        iy = fy.astype(np.intp)
+        iy *= m.width + 2
+        iy += ix
+        return iy
+
+    def weigh(
+        self,
+        poses: Floats,
+        laser_pose: tuple[float, float, float],
+        data: LaserData,
+        *,
+        converged: bool = False,
+    ) -> Floats:
+        """The factor each particle's weight is multiplied by for this scan."""
+        ranges, bearings = self.beams(data)
+        model = self.params.model
+        if model == "beam":
+            return self._beam(poses, laser_pose, ranges, bearings, data.range_max)
+        if len(ranges) == 0:
+            return np.ones(len(poses))
+        cells = self._end_cells(poses, laser_pose, ranges, bearings)
+        if model == "likelihood_field":
+            table = self._pz_table(data.range_max, 3)
+            cubes = table.take(cells)
+            factors: Floats = 1.0 + cubes.sum(axis=1, dtype=np.float64)
+            return factors
+        return self._prob(poses, cells, data.range_max, converged)
+
+    def _prob(
+        self, poses: Floats, cells: npt.NDArray[np.intp], range_max: float, converged: bool
+    ) -> Floats:
+        p = self.params
+        logs = self._pz_table(range_max, 0).take(cells)
+        self.skipped_beams = 0
+        if p.do_beamskip and converged:
+            dist = np.full((self.map.height + 2, self.map.width + 2), np.inf, dtype=np.float32)
+            dist[1:-1, 1:-1] = self.map.occ_dist(p.likelihood_max_dist)
+            near = (dist.ravel().take(cells) < p.beam_skip_distance).sum(axis=0)
+            use = near / len(poses) > p.beam_skip_threshold
+            skipped = int((~use).sum())
+            if skipped < cells.shape[1] * p.beam_skip_error_threshold:
+                logs = logs[:, use]
+                self.skipped_beams = skipped
+        factors: Floats = np.exp(logs.sum(axis=1, dtype=np.float64))
+        return factors
+
+    # --- the beam model ----------------------------------------------------------------------
+    def expected_ranges(
+        self,
+        poses: Floats,
+        laser_pose: tuple[float, float, float],
+        bearings: Floats,
+        range_max: float,
+    ) -> Floats:
+        """(N, B) metres from each particle's laser to the first cell that is not free (or
+        the map's edge) along each bearing, ``range_max`` if none is that near."""
+        m = self.map
+        inv = 1.0 / m.resolution
+        lx, ly, lth = laser_pose
+        c, s = np.cos(poses[:, 2]), np.sin(poses[:, 2])
+        px = (poses[:, 0] + c * lx - s * ly - m.origin_x) * inv + 1.0
+        py = (poses[:, 1] + s * lx + c * ly - m.origin_y) * inv + 1.0
+        heading = poses[:, 2][:, None] + (bearings + lth)[None, :]
+        dx, dy = np.cos(heading).ravel(), np.sin(heading).ravel()
+        ox = np.repeat(px, len(bearings))
+        oy = np.repeat(py, len(bearings))
+        limit = range_max * inv
+        field = self.map.free_dist()
+        height, width = field.shape
+        flat = field.ravel()
+        t = np.zeros(len(dx))
+        active = np.arange(len(dx))
+        # march: a free cell d cells from the nearest stop lets the ray skip d - sqrt(2)
+        # cells (both ends may sit anywhere in their cells) and never less than half a cell
+        while len(active):
+            at = t[active]
+            x = np.clip(ox[active] + dx[active] * at, 0, width - 1).astype(np.intp)
+            y = np.clip(oy[active] + dy[active] * at, 0, height - 1).astype(np.intp)
+            d = flat.take(y * width + x)
+            hit = d <= 0.0
+            step = np.maximum(d - math.sqrt(2.0), 0.5)
+            t[active] = np.where(hit, at, at + step)
+            going = ~hit & (t[active] < limit)
+            active = active[going]
+        out = np.minimum(t * m.resolution, range_max)
+        return out.reshape(len(poses), len(bearings))
+
+    def _beam(
+        self,
+        poses: Floats,
+        laser_pose: tuple[float, float, float],
+        ranges: Floats,
+        bearings: Floats,
+        range_max: float,
+    ) -> Floats:
+        p = self.params
+        if len(ranges) == 0:
+            return np.ones(len(poses))
+        expected = self.expected_ranges(poses, laser_pose, bearings, range_max)
+        obs = ranges[None, :]
+        z = obs - expected
+        pz = p.z_hit * np.exp(-(z * z) / (2.0 * p.sigma_hit * p.sigma_hit))
+        pz += np.where(z < 0, p.z_short * p.lambda_short * np.exp(-p.lambda_short * obs), 0.0)
+        pz += np.where(obs == range_max, p.z_max, 0.0)
+        pz += np.where(obs < range_max, p.z_rand / range_max, 0.0)
+        factors: Floats = 1.0 + (pz**3).sum(axis=1)
+        return factors
