@@ -17,7 +17,7 @@ from belvedere.launch._runtime import LaunchRuntime
 from belvedere.maps import OccupancyMap, save_map
 from belvedere.msgs import build, types
 from belvedere.nav.costmap import LETHAL, NO_INFORMATION
-from belvedere.nodes._costmap import COST_TRANSLATION, Costmap2DROS
+from belvedere.nodes._costmap import COST_TRANSLATION, Costmap2DROS, cloud_points, scan_points
 from belvedere.packages import PackageIndex
 from belvedere.tf import TFBuffer
 
@@ -173,3 +173,28 @@ def test_a_bad_parameter_is_one_error_naming_it(graph: Graph) -> None:
         _costmap(graph, {**PARAMS, "footprint": [[0.1, 0.1]]})
     with pytest.raises(ValueError, match=r"'map_type' must be 'costmap' or 'voxel', not 'grid'"):
         _costmap(graph, {**PARAMS, "map_type": "grid"}, "move_base_2")
+
+
+def test_scans_and_clouds_become_points() -> None:
+    scan = _scan(0, [1.0, math.inf, 0.05, 5.0, float("nan"), 2.0, 1.0, 1.0, 1.0, 1.0, 1.0])
+    points = scan_points(scan, inf_is_valid=False)
+    assert len(points) == 7  # inf, below range_min, at range_max and nan are dropped
+    np.testing.assert_allclose(points[0], [math.cos(-math.pi / 4), math.sin(-math.pi / 4), 0])
+    with_inf = scan_points(scan, inf_is_valid=True)
+    assert len(with_inf) == 8
+    assert np.hypot(*with_inf[1, :2]) == pytest.approx(5.0 - 1e-4)
+    cls = types().cls
+    field = cls("sensor_msgs/PointField")
+    xyz = np.array([[1.0, 2.0, 3.0], [np.nan, 0.0, 0.0], [4.0, 5.0, 6.0]], dtype="<f4")
+    cloud = cls("sensor_msgs/PointCloud2")(
+        build.header(0, "laser"),
+        1,
+        3,
+        [field("x", 0, 7, 1), field("y", 4, 7, 1), field("z", 8, 7, 1)],
+        False,
+        12,
+        36,
+        np.frombuffer(xyz.tobytes(), dtype=np.uint8),
+        True,
+    )
+    np.testing.assert_allclose(cloud_points(cloud), [[1, 2, 3], [4, 5, 6]])

@@ -30,7 +30,7 @@ from belvedere.nav.costmap import CostGrid, CostmapParams, LayeredCostmap, Obser
 from belvedere.nav.costmap._params import SourceParams
 from belvedere.tf import TFBuffer, TFError, Transform
 
-__all__ = ["COST_TRANSLATION", "Costmap2DROS"]
+__all__ = ["COST_TRANSLATION", "Costmap2DROS", "cloud_points", "scan_points"]
 
 logger = logging.getLogger(__name__)
 
@@ -198,6 +198,10 @@ class Costmap2DROS:
             )
             return None
         return np.array([t[0], t[1], _yaw(q)])
+
+    def is_current(self) -> bool:
+        """Whether every source with an ``expected_update_rate`` sent a reading within it."""
+        return self.costmap.current(self.node.now_ns())
 
     def start(self) -> None:
         """Run updates (and publishing) on graph timers."""
