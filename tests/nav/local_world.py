@@ -7,6 +7,7 @@ each commanded twist exactly over the controller period in simulated time.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass, field
 
@@ -63,7 +64,7 @@ def polyline(*corners: tuple[float, float], goal_yaw: float, spacing: float = 0.
     """A global plan through the corners (as navfn gives one: a pose every cell or so), the
     poses facing along the path and the last facing ``goal_yaw``."""
     points: list[Floats] = []
-    for (x0, y0), (x1, y1) in zip(corners, corners[1:], strict=False):
+    for (x0, y0), (x1, y1) in itertools.pairwise(corners):
         n = max(2, math.ceil(math.hypot(x1 - x0, y1 - y0) / spacing))
         t = np.linspace(0.0, 1.0, n, endpoint=False)
         yaw = math.atan2(y1 - y0, x1 - x0)
