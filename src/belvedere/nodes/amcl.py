@@ -32,13 +32,21 @@ from belvedere.graph import NS, GraphError, Node
 from belvedere.maps import OccupancyMap, map_from_message
 from belvedere.msgs import build, types
 from belvedere.nav.amcl import AmclMap, AmclParams, Localizer, laser_data
-from belvedere.nodes._registry import NodeSpec, Session, Starter, StartError
+from belvedere.nodes._registry import (
+    NodeSpec,
+    ParamLookup,
+    Session,
+    Starter,
+    StartError,
+    TransformClaim,
+)
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster
 
 __all__ = [
     "EXECUTABLES",
     "NODE_PARAMETERS",
     "PACKAGE",
+    "TRANSFORMS",
     "NodeParams",
     "cloud_message",
     "pose_message",
@@ -514,4 +522,13 @@ def _start(session: Session, spec: NodeSpec, node: Node) -> None:
         raise StartError(msg, spec.source) from None
 
 
+def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
+    del spec
+    if not param("tf_broadcast", NODE_PARAMETERS["tf_broadcast"]):
+        return []
+    parent = str(param("global_frame_id", NODE_PARAMETERS["global_frame_id"]))
+    return [(parent, str(param("odom_frame_id", NODE_PARAMETERS["odom_frame_id"])))]
+
+
 EXECUTABLES: dict[str, Starter] = {"amcl": _start}
+TRANSFORMS: dict[str, TransformClaim] = {"amcl": _claim}

@@ -18,10 +18,17 @@ from collections import deque
 from typing import Any
 
 from belvedere.graph import NS, Node
-from belvedere.nodes._registry import NodeSpec, Session, Starter, StartError
+from belvedere.nodes._registry import (
+    NodeSpec,
+    ParamLookup,
+    Session,
+    Starter,
+    StartError,
+    TransformClaim,
+)
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster, quat_xyzw_from_rpy
 
-__all__ = ["EXECUTABLES", "PACKAGE", "PARAMETERS"]
+__all__ = ["EXECUTABLES", "PACKAGE", "PARAMETERS", "TRANSFORMS"]
 
 PACKAGE = "fake_localization"
 
@@ -205,4 +212,11 @@ def _start(session: Session, spec: NodeSpec, node: Node) -> None:
         raise StartError(msg, spec.source) from None
 
 
+def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
+    del spec
+    parent = str(param("global_frame_id", PARAMETERS["global_frame_id"]))
+    return [(parent, str(param("odom_frame_id", PARAMETERS["odom_frame_id"])))]
+
+
 EXECUTABLES: dict[str, Starter] = {"fake_localization": _start}
+TRANSFORMS: dict[str, TransformClaim] = {"fake_localization": _claim}
