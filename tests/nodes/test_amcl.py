@@ -163,15 +163,41 @@ def test_amcl_localizes_the_driving_robot_and_answers_its_services(pkg: Path) ->
     assert len(clouds[count].poses) == 1000
 
 
-def test_amcl_takes_the_map_from_the_topic(pkg: Path) -> None:
-    extra = '<param name="use_map_topic" value="true"/><param name="first_map_only" value="true"/>'
+def test_the_map_topic_initial_poses_and_no_tf(pkg: Path) -> None:
+    extra = (
+        '<param name="use_map_topic" value="true"/><param name="first_map_only" value="true"/>'
+        '<param name="tf_broadcast" value="false"/>'
+    )
     graph = _start(pkg, SIM + AMCL.format(extra=extra), "topic.launch")
     probe = graph.create_node("probe")
     poses: list[Any] = []
+    map_odom: list[Any] = []
+
+    def on_tf(msg: Any) -> None:
+        map_odom.extend(t for t in msg.transforms if t.header.frame_id == "map")
+
     probe.subscribe("/amcl_pose", "geometry_msgs/PoseWithCovarianceStamped", poses.append)
+    probe.subscribe("/tf", "tf2_msgs/TFMessage", on_tf, queue_size=100)
+    initial = probe.publisher("/initialpose", "geometry_msgs/PoseWithCovarianceStamped")
     graph.run(duration=1.0)
-    assert poses
+    assert poses  # the map came on the topic
     assert poses[-1].pose.pose.position.y == pytest.approx(-4.5, abs=0.1)
+    cov = [0.0] * 36
+    cov[0] = cov[7] = 0.0025
+    cov[35] = 0.001
+    # a pose in another frame is ignored; one in the map frame restarts the filter there
+    initial.publish(pose_message("odom", graph.now_ns(), np.array([1.0, -4.0, 0.0]), cov))
+    count = len(poses)
+    probe.call_service("/request_nomotion_update", "std_srvs/Empty")
+    graph.run(duration=0.5)
+    assert poses[-1].pose.pose.position.x < 0.5  # not moved to x = 1
+    initial.publish(pose_message("map", graph.now_ns(), np.array([1.0, -4.0, 0.0]), cov))
+    count = len(poses)
+    graph.run(duration=0.5)
+    assert len(poses) > count  # published on the first scan after a new pose
+    moved = poses[count].pose.pose.position
+    assert (moved.x, moved.y) == pytest.approx((1.0, -4.0), abs=0.15)
+    assert not map_odom  # tf_broadcast false
 
 
 @pytest.mark.parametrize(

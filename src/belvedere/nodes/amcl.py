@@ -280,8 +280,11 @@ class _AmclNode:
             )
         grid: OccupancyMap = map_from_message(msg)
         # a new map starts from the pose last saved to the parameter server
-        params, _ = _read_params(self.node)
-        self.params = params
+        try:
+            self.params, _ = _read_params(self.node)
+        except ValueError as err:
+            logger.error("%s: %s; keeping the parameters it started with", self.node.full_name, err)
+        params = self.params
         seed = self.node.graph.executor.random.getrandbits(63)
         self.localizer = Localizer(params, AmclMap.from_occupancy(grid), seed=seed)
         self.pending.clear()

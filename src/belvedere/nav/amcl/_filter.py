@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
+from scipy import ndimage
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
@@ -30,6 +31,12 @@ BIN_SIZE = (0.5, 0.5, math.radians(10.0))
 
 DIST_THRESHOLD = 0.5
 """Converged: every particle within this of their mean in x and in y (amcl's pf)."""
+
+_DENSE_BINS = 2_000_000
+"""Up to this many bins in the particles' bounding box, bins are counted and clustered on a
+dense array; beyond it, on the sorted bins."""
+
+_NEIGHBOURS = np.ones((3, 3, 3), dtype=bool)
 
 RandomPoses = Callable[[int, np.random.Generator], Floats]
 
@@ -172,10 +179,16 @@ class ParticleFilter:
             n_random = int(injected.sum())
             if n_random:
                 candidates[injected] = self.random_poses(n_random, self.rng)
-        codes, _, _ = _encode(bin_keys(candidates))
-        _, first = np.unique(codes, return_index=True)
-        new_bin = np.zeros(m, dtype=np.int64)
-        new_bin[first] = 1
+        codes, dims, _ = _encode(bin_keys(candidates))
+        order = np.arange(m)
+        if dims[0] * dims[1] * dims[2] <= _DENSE_BINS:
+            first_at = np.full(dims[0] * dims[1] * dims[2], m)
+            np.minimum.at(first_at, codes, order)
+            new_bin = first_at[codes] == order
+        else:
+            _, first = np.unique(codes, return_index=True)
+            new_bin = np.zeros(m, dtype=bool)
+            new_bin[first] = True
         bins = np.cumsum(new_bin)
         limits = resample_limit(bins, self.pop_err, self.pop_z, self.min_samples, m)
         # amcl stops right after the draw that takes the count past the limit
@@ -198,27 +211,13 @@ class ParticleFilter:
         each with its weight, mean and covariance, and the whole set's mean and covariance."""
         poses, weights = self.poses, self.weights
         codes, dims, _ = _encode(bin_keys(poses))
-        unique, inverse = np.unique(codes, return_inverse=True)
-        k = len(unique)
-        rows: list[Ints] = []
-        cols: list[Ints] = []
-        stride = (dims[1] * dims[2], dims[2], 1)
-        for dx in (-1, 0, 1):
-            for dy in (-1, 0, 1):
-                for dth in (-1, 0, 1):
-                    offset = dx * stride[0] + dy * stride[1] + dth * stride[2]
-                    if offset <= 0:
-                        continue  # each pair once
-                    target = unique + offset
-                    at = np.minimum(np.searchsorted(unique, target), k - 1)
-                    found = unique[at] == target
-                    rows.append(np.nonzero(found)[0])
-                    cols.append(at[found])
-        edges_from = np.concatenate(rows) if rows else np.zeros(0, dtype=np.int64)
-        edges_to = np.concatenate(cols) if cols else np.zeros(0, dtype=np.int64)
-        graph = coo_matrix((np.ones(len(edges_from)), (edges_from, edges_to)), shape=(k, k))
-        n_clusters, labels = connected_components(graph, directed=False)
-        label = labels[inverse]
+        if dims[0] * dims[1] * dims[2] <= _DENSE_BINS:
+            filled = np.zeros(dims[0] * dims[1] * dims[2], dtype=bool)
+            filled[codes] = True
+            labels, n_clusters = ndimage.label(filled.reshape(dims), structure=_NEIGHBOURS)
+            label = labels.ravel()[codes] - 1
+        else:
+            label, n_clusters = _sparse_labels(codes, dims)
         stats = _weighted_stats(poses, weights, label, n_clusters)
         self.clusters = stats[:-1]
         whole = stats[-1]
@@ -228,6 +227,33 @@ class ParticleFilter:
         """The heaviest cluster (amcl publishes its mean), None if no cluster has weight."""
         best = max(self.clusters, key=lambda c: c.weight, default=None)
         return best if best is not None and best.weight > 0.0 else None
+
+
+def _sparse_labels(codes: Ints, dims: tuple[int, int, int]) -> tuple[Ints, int]:
+    """Cluster labels of encoded bins too spread for a dense box: neighbours found by
+    searching the sorted bins, components by a sparse graph."""
+    unique, inverse = np.unique(codes, return_inverse=True)
+    k = len(unique)
+    rows: list[Ints] = []
+    cols: list[Ints] = []
+    stride = (dims[1] * dims[2], dims[2], 1)
+    for dx in (-1, 0, 1):
+        for dy in (-1, 0, 1):
+            for dth in (-1, 0, 1):
+                offset = dx * stride[0] + dy * stride[1] + dth * stride[2]
+                if offset <= 0:
+                    continue  # each pair once
+                target = unique + offset
+                at = np.minimum(np.searchsorted(unique, target), k - 1)
+                found = unique[at] == target
+                rows.append(np.nonzero(found)[0])
+                cols.append(at[found])
+    edges_from = np.concatenate(rows)
+    edges_to = np.concatenate(cols)
+    graph = coo_matrix((np.ones(len(edges_from)), (edges_from, edges_to)), shape=(k, k))
+    n_clusters, labels = connected_components(graph, directed=False)
+    label: Ints = labels[inverse]
+    return label, int(n_clusters)
 
 
 def _weighted_stats(poses: Floats, weights: Floats, label: Ints, n: int) -> list[Cluster]:

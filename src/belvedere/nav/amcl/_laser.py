@@ -20,6 +20,7 @@ Each model turns a scan into one factor per particle that multiplies its weight:
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Final
 
@@ -31,6 +32,9 @@ from belvedere.nav.amcl._map import AmclMap
 __all__ = ["LASER_MODELS", "LaserData", "LaserModel", "LaserParams", "laser_data"]
 
 LASER_MODELS: Final = ("likelihood_field", "beam", "likelihood_field_prob")
+
+_CHUNK = 1024
+"""Particles whose beams are placed together (their float32 arrays stay in the cache)."""
 
 Floats = npt.NDArray[np.float64]
 Float32s = npt.NDArray[np.float32]
@@ -140,8 +144,10 @@ class LaserModel:
         laser_pose: tuple[float, float, float],
         ranges: Floats,
         bearings: Floats,
-    ) -> npt.NDArray[np.intp]:
-        """(N, B) flat indices into the bordered map of each beam's end cell."""
+    ) -> Iterator[tuple[slice, npt.NDArray[np.int32]]]:
+        """Flat indices into the bordered map of each beam's end cell, for ``_CHUNK``
+        particles at a time (rows of the particles in ``slice``); the array is reused for the
+        next chunk. Chunks keep the float32 work in the cache."""
         m = self.map
         inv = 1.0 / m.resolution
         lx, ly, lth = laser_pose
@@ -150,28 +156,37 @@ class LaserModel:
         # the laser's position in the bordered map's cell units
         px = ((poses[:, 0] + c * lx - s * ly - m.origin_x) * inv + 1.0).astype(np.float32)
         py = ((poses[:, 1] + s * lx + c * ly - m.origin_y) * inv + 1.0).astype(np.float32)
-        rc = (ranges * np.cos(bearings + lth) * inv).astype(np.float32)
-        rs = (ranges * np.sin(bearings + lth) * inv).astype(np.float32)
+        rc = (ranges * np.cos(bearings + lth) * inv).astype(np.float32)[None, :]
+        rs = (ranges * np.sin(bearings + lth) * inv).astype(np.float32)[None, :]
         n, b = len(poses), len(ranges)
-        fx = np.empty((n, b), dtype=np.float32)
-        fy = np.empty((n, b), dtype=np.float32)
-        tmp = np.empty((n, b), dtype=np.float32)
-        np.multiply(c[:, None], rc[None, :], out=fx)
-        np.multiply(s[:, None], rs[None, :], out=tmp)
-        fx -= tmp
-        fx += px[:, None]
-        np.multiply(s[:, None], rc[None, :], out=fy)
-        np.multiply(c[:, None], rs[None, :], out=tmp)
-        fy += tmp
-        fy += py[:, None]
-        # beyond the map: the border cell (truncation is floor once clipped to >= 0)
-        np.clip(fx, 0.0, m.width + 1, out=fx)
-        np.clip(fy, 0.0, m.height + 1, out=fy)
-        ix = fx.astype(np.intp)
-        iy = fy.astype(np.intp)
-        iy *= m.width + 2
-        iy += ix
-        return iy
+        size = min(n, _CHUNK)
+        fx_buf = np.empty((size, b), dtype=np.float32)
+        fy_buf = np.empty((size, b), dtype=np.float32)
+        tmp_buf = np.empty((size, b), dtype=np.float32)
+        ix_buf = np.empty((size, b), dtype=np.int32)
+        iy_buf = np.empty((size, b), dtype=np.int32)
+        xmax, ymax, stride = m.width + 1, m.height + 1, m.width + 2
+        for lo in range(0, n, size):
+            hi = min(lo + size, n)
+            k = hi - lo
+            fx, fy, tmp, ix, iy = fx_buf[:k], fy_buf[:k], tmp_buf[:k], ix_buf[:k], iy_buf[:k]
+            ck, sk = c[lo:hi, None], s[lo:hi, None]
+            np.multiply(ck, rc, out=fx)
+            np.multiply(sk, rs, out=tmp)
+            fx -= tmp
+            fx += px[lo:hi, None]
+            np.multiply(sk, rc, out=fy)
+            np.multiply(ck, rs, out=tmp)
+            fy += tmp
+            fy += py[lo:hi, None]
+            # beyond the map: the border cell (truncation is floor once clipped to >= 0)
+            np.clip(fx, 0.0, xmax, out=fx)
+            np.clip(fy, 0.0, ymax, out=fy)
+            ix[...] = fx
+            iy[...] = fy
+            iy *= stride
+            iy += ix
+            yield slice(lo, hi), iy
 
     def weigh(
         self,
@@ -188,16 +203,19 @@ class LaserModel:
             return self._beam(poses, laser_pose, ranges, bearings, data.range_max)
         if len(ranges) == 0:
             return np.ones(len(poses))
-        cells = self._end_cells(poses, laser_pose, ranges, bearings)
+        chunks = self._end_cells(poses, laser_pose, ranges, bearings)
         if model == "likelihood_field":
             table = self._pz_table(data.range_max, 3)
-            cubes = table.take(cells)
-            factors: Floats = 1.0 + cubes.sum(axis=1, dtype=np.float64)
+            sums = np.empty(len(poses), dtype=np.float32)
+            for rows, cells in chunks:
+                table.take(cells).sum(axis=1, out=sums[rows])
+            factors: Floats = 1.0 + sums.astype(np.float64)
             return factors
+        cells = np.concatenate([part.copy() for _, part in chunks])
         return self._prob(poses, cells, data.range_max, converged)
 
     def _prob(
-        self, poses: Floats, cells: npt.NDArray[np.intp], range_max: float, converged: bool
+        self, poses: Floats, cells: npt.NDArray[np.int32], range_max: float, converged: bool
     ) -> Floats:
         p = self.params
         logs = self._pz_table(range_max, 0).take(cells)
