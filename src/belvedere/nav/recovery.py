@@ -1,0 +1,152 @@
+"""rotate_recovery's decisions over plain arrays: move_base drives the turn, this says which
+way and how fast, and when the turn is done or blocked.
+
+rotate_recovery/RotateRecovery turns the robot once around in place (to let the sensors clear
+the costmaps): each cycle at ``frequency`` it checks that the rest of the turn (half a turn
+plus the way to the opposite heading, then the way back to the start) is free for the
+footprint on the local costmap every ``sim_granularity`` radians, and commands
+``sqrt(2·acc_lim_th·left)`` within ``[min_in_place_vel_theta, max_vel_theta]``; it ends once
+it passed the opposite heading and came back within ``yaw_goal_tolerance`` of the start, and
+aborts the moment a pose of the rest of the turn would collide.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from enum import Enum
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from belvedere.nav.costmap import CostGrid
+from belvedere.nav.local._maps import FootprintModel
+from belvedere.nav.local._params import _Reader
+
+__all__ = [
+    "RotateOutcome",
+    "RotateRecovery",
+    "RotateRecoveryParams",
+    "RotateStep",
+    "first_collision",
+]
+
+Floats = npt.NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class RotateRecoveryParams:
+    """RotateRecovery's parameters: its own (``~<name>/sim_granularity``, ``frequency``) and
+    those it reads from ``~TrajectoryPlannerROS/`` (old names as well)."""
+
+    sim_granularity: float = 0.017
+    """Radians between the poses checked (a degree)."""
+    frequency: float = 20.0
+    """Hz of the turn's control loop."""
+    acc_lim_th: float = 3.2
+    max_rotational_vel: float = 1.0
+    min_rotational_vel: float = 0.4
+    tolerance: float = 0.10
+
+    @classmethod
+    def from_mapping(
+        cls, own: Mapping[str, Any], local_planner: Mapping[str, Any] | None = None
+    ) -> RotateRecoveryParams:
+        """From the recovery's namespace and the ``TrajectoryPlannerROS`` namespace (as
+        rotate_recovery reads it whatever the local planner is)."""
+        read = _Reader(own)
+        blp = _Reader(local_planner or {})
+        params = cls(
+            sim_granularity=read.number(0.017, "sim_granularity"),
+            frequency=read.number(20.0, "frequency"),
+            acc_lim_th=blp.number(3.2, "acc_lim_theta", "acc_lim_th"),
+            max_rotational_vel=blp.number(1.0, "max_vel_theta", "max_rotational_vel"),
+            min_rotational_vel=blp.number(
+                0.4, "min_in_place_vel_theta", "min_in_place_rotational_vel"
+            ),
+            tolerance=blp.number(0.10, "yaw_goal_tolerance"),
+        )
+        for name in ("sim_granularity", "frequency"):
+            if getattr(params, name) <= 0:
+                message = f"parameter {name} must be positive, got {getattr(params, name):g}"
+                raise ValueError(message)
+        return params
+
+    @property
+    def period(self) -> float:
+        return 1.0 / self.frequency
+
+
+def first_collision(
+    grid: CostGrid,
+    pose: tuple[float, float, float],
+    footprint: Floats,
+    sweep: float,
+    granularity: float,
+) -> float | None:
+    """The first angle (radians turned counter-clockwise from the pose, a multiple of
+    ``granularity`` below ``sweep``) at which the footprint would collide on the grid, or
+    None when the whole sweep is free."""
+    if sweep <= 0:
+        return None
+    angles = np.arange(0.0, sweep, granularity)
+    model = FootprintModel(np.asarray(footprint, dtype=np.float64), grid.resolution)
+    x = np.full(len(angles), pose[0])
+    y = np.full(len(angles), pose[1])
+    _, valid = model.cost(grid, x, y, pose[2] + angles)
+    if valid.all():
+        return None
+    return float(angles[int(np.argmin(valid))])
+
+
+class RotateOutcome(Enum):
+    ROTATING = "rotating"
+    DONE = "done"
+    BLOCKED = "blocked"
+
+
+@dataclass(frozen=True)
+class RotateStep:
+    """One cycle's decision: turn at ``vth`` (rad/s, counter-clockwise) while ROTATING."""
+
+    outcome: RotateOutcome
+    vth: float = 0.0
+    left: float = 0.0
+    """Radians of the turn still to go."""
+    blocked_at: float | None = None
+    """With BLOCKED: how far ahead (radians) the footprint would collide."""
+
+
+class RotateRecovery:
+    """One in-place turn, cycle by cycle: call :meth:`step` with the current pose every
+    ``params.period`` seconds and send its ``vth`` until it says DONE or BLOCKED (then send a
+    stop)."""
+
+    def __init__(self, params: RotateRecoveryParams, start_yaw: float) -> None:
+        self.params = params
+        self.start_yaw = start_yaw
+        self.got_180 = False
+
+    def step(
+        self, grid: CostGrid, pose: tuple[float, float, float], footprint: Floats
+    ) -> RotateStep:
+        p = self.params
+        yaw = pose[2]
+        back = abs(math.remainder(self.start_yaw - yaw, math.tau))
+        if self.got_180 and back <= p.tolerance:
+            return RotateStep(RotateOutcome.DONE)
+        if not self.got_180:
+            to_180 = abs(math.remainder(self.start_yaw + math.pi - yaw, math.tau))
+            left = math.pi + to_180
+            if to_180 < p.tolerance:
+                self.got_180 = True
+        else:
+            left = back
+        hit = first_collision(grid, pose, footprint, left, p.sim_granularity)
+        if hit is not None:
+            return RotateStep(RotateOutcome.BLOCKED, left=left, blocked_at=hit)
+        vth = math.sqrt(2 * p.acc_lim_th * left)
+        vth = min(max(vth, p.min_rotational_vel), p.max_rotational_vel)
+        return RotateStep(RotateOutcome.ROTATING, vth=vth, left=left)
