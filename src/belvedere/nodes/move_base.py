@@ -12,8 +12,9 @@ Each control cycle (``controller_frequency``, graph time) follows move_base's st
 planning (a plan from the robot to the goal; none for ``planner_patience`` → recoveries),
 controlling (the local planner's command, the goal reached within its tolerances → succeeded;
 no command for ``controller_patience`` or no progress of ``oscillation_distance`` in
-``oscillation_timeout`` → recoveries) and clearing (conservative reset, in-place rotation if
-``clearing_rotation_allowed``, aggressive reset, rotation; all tried → aborted). With
+``oscillation_timeout`` → recoveries) and clearing (conservative reset, rotate_recovery's
+turn in place if ``clearing_rotation_allowed``, aggressive reset, the turn again; all tried
+→ aborted). With
 ``planner_frequency`` > 0 the plan is remade that often while controlling. The planners run on
 the graph's executor thread: in simulated time nothing moves while they think, so runs are
 deterministic.
@@ -33,7 +34,6 @@ import numpy.typing as npt
 
 from belvedere.graph import NS, ActionServer, GoalHandle, Node
 from belvedere.msgs import build, message_from_data, types
-from belvedere.nav.costmap import LETHAL, CostGrid
 from belvedere.nav.local import Command, LocalPlanner, NoTrajectoryError, make_local_planner
 from belvedere.nav.planners import (
     GlobalPlanner,
@@ -41,6 +41,7 @@ from belvedere.nav.planners import (
     UnknownPluginError,
     make_global_planner,
 )
+from belvedere.nav.recovery import RotateOutcome, RotateRecovery, RotateRecoveryParams
 from belvedere.nodes._costmap import Costmap2DROS
 from belvedere.nodes._registry import NodeSpec, Session, Starter, StartError
 from belvedere.tf import TFBuffer, TFError, TransformListener
@@ -167,7 +168,12 @@ class _MoveBase:
         self.retries = 0
         self.oscillation_pose: Floats | None = None
         self.oscillation_since = 0
-        self.rotation: dict[str, float] | None = None
+        self.rotation: RotateRecovery | None = None
+        own = private.get("rotate_recovery", {}) if isinstance(private, dict) else {}
+        blp = private.get("TrajectoryPlannerROS", {}) if isinstance(private, dict) else {}
+        self.rotate_params = RotateRecoveryParams.from_mapping(
+            own if isinstance(own, dict) else {}, blp if isinstance(blp, dict) else {}
+        )
         self._warned: set[str] = set()
         self.global_costmap.start()
         self.local_costmap.start()
@@ -435,37 +441,25 @@ class _MoveBase:
         self._start_planning()
 
     def _clearing_step(self, now: int) -> None:
-        """rotate_recovery: turn in place one full turn, unless the footprint would hit."""
+        """rotate_recovery: one turn in place (run at the controller's cycle), ended early
+        when the rest of the turn would put the footprint in an obstacle."""
         del now
         pose = self.local_costmap.robot_pose()
         if pose is None:
             self._stop()
             return
+        here = (float(pose[0]), float(pose[1]), float(pose[2]))
         if self.rotation is None:
-            self.rotation = {"last": float(pose[2]), "turned": 0.0}
-        state = self.rotation
-        state["turned"] += abs(math.remainder(float(pose[2]) - state["last"], math.tau))
-        state["last"] = float(pose[2])
-        speed = 1.0
-        if state["turned"] >= math.tau or self._rotation_blocked(pose, speed):
+            self.rotation = RotateRecovery(self.rotate_params, here[2])
+        step = self.rotation.step(self.local_costmap.grid(), here, self.local_costmap.footprint())
+        if step.outcome is not RotateOutcome.ROTATING:
+            if step.outcome is RotateOutcome.BLOCKED:
+                logger.info("%s: rotate_recovery stopped: the turn is blocked", self.node.full_name)
             self._stop()
             self.rotation = None
             self._start_planning()
             return
-        self._send(0.0, 0.0, speed)
-
-    def _rotation_blocked(self, pose: Floats, speed: float) -> bool:
-        grid: CostGrid = self.local_costmap.grid()
-        footprint = self.local_costmap.footprint()
-        yaw = float(pose[2]) + speed / self.params.controller_frequency
-        c, s = math.cos(yaw), math.sin(yaw)
-        xs = pose[0] + c * footprint[:, 0] - s * footprint[:, 1]
-        ys = pose[1] + s * footprint[:, 0] + c * footprint[:, 1]
-        for x, y in zip(xs, ys, strict=True):
-            cell = grid.world_to_map(float(x), float(y))
-            if cell is not None and grid.costs[cell[1], cell[0]] == LETHAL:
-                return True
-        return False
+        self._send(0.0, 0.0, step.vth)
 
     # --- outputs -------------------------------------------------------------------------------
     def _send(self, vx: float, vy: float, vth: float) -> None:
