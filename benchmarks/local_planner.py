@@ -153,9 +153,10 @@ def main() -> None:
         times, cpu, period = run(plugin, params, args.cycles)
         median = statistics.median(times)
         worst = max(times)
+        cpu_median = statistics.median(cpu)
         print(
-            f"{title}:\n  cycle median {1e3 * median:6.1f} ms (CPU {1e3 * statistics.median(cpu):5.1f}"
-            f" ms), max {1e3 * worst:6.1f} ms; period {1e3 * period:.0f} ms -> "
+            f"{title}:\n  cycle median {1e3 * median:6.1f} ms (CPU {1e3 * cpu_median:5.1f} ms)"
+            f", max {1e3 * worst:6.1f} ms; period {1e3 * period:.0f} ms -> "
             f"{100 * median / period:4.1f}% of the period (max {100 * worst / period:.1f}%)"
         )
     print(f"load average while measuring: {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs")
