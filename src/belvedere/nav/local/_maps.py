@@ -146,15 +146,18 @@ def wavefronts(
         spreads[sources] = True
     neighbour, exists = _neighbours(height, width)
     # a CSR graph built row by row (rows are cells in order): edges from cells the wave
-    # spreads from into free neighbours; one more row, the root, is linked to the targets
+    # spreads from into free neighbours; a last row, the root, is empty
     edge = exists & spreads[:, None] & free[neighbour]
-    cell_indptr = np.concatenate([[0], np.cumsum(edge.sum(axis=1))])
-    cell_indices = neighbour[edge]
+    indptr = np.zeros(size + 2, dtype=np.intp)
+    np.cumsum(np.count_nonzero(edge, axis=1), out=indptr[1:-1])
+    indptr[-1] = indptr[-2]
+    indices = neighbour[edge]
+    cells = csr_matrix((np.ones(len(indices), dtype=np.int8), indices, indptr), (size + 1,) * 2)
     maps = []
     for sources in sets:
         dist = np.full(size, float(size + 1))
         if len(sources):
-            depth = _bfs_depth(cell_indptr, cell_indices, sources, size)
+            depth = _bfs_depth(cells, sources)
             reached = depth >= 0
             dist[reached] = depth[reached]
             # obstacles next to reached cells: MapGrid marks them when the wave looks at them
@@ -169,32 +172,41 @@ def wavefronts(
     return maps
 
 
-def _bfs_depth(indptr: Ints, indices: Ints, sources: Ints, size: int) -> Ints:
-    """(size,) breadth-first distances from the sources (-1 where unreached)."""
-    root = size
-    graph = csr_matrix(
-        (
-            np.ones(len(indices) + len(sources), dtype=np.int8),
-            np.concatenate([indices, sources]),
-            np.append(indptr, indptr[-1] + len(sources)),
-        ),
-        shape=(size + 1, size + 1),
-    )
+def _bfs_depth(cells: csr_matrix, sources: Ints) -> Ints:
+    """Breadth-first distances over the cell graph from the sources (-1 where unreached);
+    several sources hang off the graph's last node, the root."""
+    size = cells.shape[0] - 1
+    if len(sources) == 1:
+        graph, start, skip = cells, int(sources[0]), 0
+    else:
+        indptr = cells.indptr.copy()
+        indptr[-1] += len(sources)
+        graph = csr_matrix(
+            (
+                np.ones(len(cells.indices) + len(sources), dtype=np.int8),
+                np.concatenate([cells.indices, sources]),
+                indptr,
+            ),
+            cells.shape,
+        )
+        start, skip = size, 1
     graph.has_sorted_indices = True
-    order, parent = breadth_first_order(graph, root, directed=True, return_predecessors=True)
-    # the search visits cells level by level and a level's cells in their parents' order,
-    # so each level is the run of cells whose parents lie in the level before
+    order, parent = breadth_first_order(graph, start, directed=True, return_predecessors=True)
+    # the search visits nodes level by level, so each level is the run of nodes after the
+    # one before, as long as the previous level has children
+    count = len(order)
     position = np.empty(size + 1, dtype=np.intp)
-    position[order] = np.arange(len(order))
-    parent_at = position[np.where(parent[order] < 0, root, parent[order])]
-    parent_at[0] = -1
-    bounds = [1]
-    while bounds[-1] < len(order):
-        bounds.append(int(np.searchsorted(parent_at, bounds[-1], side="left")))
+    position[order] = np.arange(count)
+    parent_at = position[parent[order[1:]]]
+    children_before = np.zeros(count + 1, dtype=np.intp)
+    np.cumsum(np.bincount(parent_at, minlength=count), out=children_before[1:])
+    bounds = [0, 1]
+    while bounds[-1] < count:
+        bounds.append(bounds[-1] + int(children_before[bounds[-1]] - children_before[bounds[-2]]))
     levels = np.repeat(np.arange(len(bounds) - 1), np.diff(bounds))
-    depth = np.full(size, -1, dtype=np.intp)
-    depth[order[1:]] = levels
-    return depth
+    depth = np.full(size + 1, -1, dtype=np.intp)
+    depth[order[skip:]] = levels[skip:] - skip
+    return depth[:size]
 
 
 def wavefront(
