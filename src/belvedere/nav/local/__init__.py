@@ -33,6 +33,7 @@ from typing import Any
 from belvedere.nav._plugins import UnknownPluginError
 from belvedere.nav.local._base import Command, LocalPlanner, NoTrajectoryError
 from belvedere.nav.local._dwa import DWAPlannerROS
+from belvedere.nav.local._maps import FootprintModel
 from belvedere.nav.local._params import DWAPlannerParams, TrajectoryPlannerParams
 from belvedere.nav.local._trajectory import TrajectoryPlannerROS
 
@@ -41,6 +42,7 @@ __all__ = [
     "Command",
     "DWAPlannerParams",
     "DWAPlannerROS",
+    "FootprintModel",
     "LocalPlanner",
     "NoTrajectoryError",
     "TrajectoryPlannerParams",
