@@ -64,6 +64,8 @@ CASES = [
     pytest.param(TP, {"controller_frequency": 5.0, "holonomic_robot": True}, id="tp-holonomic"),
     pytest.param(TP, {"controller_frequency": 10.0, "dwa": False}, id="tp-rollout"),
     pytest.param(TP, COURSE_TP, id="tp-course"),
+    pytest.param(TP, {"controller_frequency": 10.0, "heading_scoring": True}, id="tp-heading"),
+    pytest.param(TP, {"controller_frequency": 10.0, "simple_attractor": True}, id="tp-attractor"),
     pytest.param(
         DWA, {"controller_frequency": 10.0, "max_vel_y": 0.0, "min_vel_y": 0.0}, id="dwa-diff"
     ),
@@ -303,3 +305,19 @@ def test_unknown_cells_block_the_footprint() -> None:
     grid.costs[20, 50] = LETHAL
     _, valid = model.cost(grid, np.array([2.3, 2.38]), np.array([1.0, 1.0]), np.zeros(2))
     assert valid.tolist() == [True, False]
+
+
+def test_dwa_bars_reversing_a_rotation_in_place_until_the_robot_turned() -> None:
+    from belvedere.nav.local._dwa import _Oscillation
+
+    flags = _Oscillation()
+    samples = np.array([[0.0, 0.0, 0.5], [0.0, 0.0, -0.5], [0.3, 0.0, 0.5]])
+    flags.update((1.0, 1.0, 0.0), (0.0, 0.0, 0.5), 0.1, 0.05, 0.2)
+    assert not flags.barred(samples).any()
+    flags.update((1.0, 1.0, 0.05), (0.0, 0.0, -0.5), 0.1, 0.05, 0.2)
+    # turning back the other way again is barred, whatever the forward speed
+    assert flags.barred(samples).tolist() == [True, False, True]
+    flags.update((1.0, 1.0, 0.1), (0.0, 0.0, -0.5), 0.1, 0.05, 0.2)
+    assert flags.barred(samples).tolist() == [True, False, True]
+    flags.update((1.0, 1.0, 0.3), (0.0, 0.0, -0.5), 0.1, 0.05, 0.2)
+    assert not flags.barred(samples).any()  # turned 0.25 rad from where it was flagged

@@ -21,9 +21,9 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from belvedere.nav._params import ParamReader
 from belvedere.nav.costmap import CostGrid
-from belvedere.nav.local._maps import FootprintModel
-from belvedere.nav.local._params import _Reader
+from belvedere.nav.local import FootprintModel
 
 __all__ = [
     "RotateOutcome",
@@ -56,8 +56,8 @@ class RotateRecoveryParams:
     ) -> RotateRecoveryParams:
         """From the recovery's namespace and the ``TrajectoryPlannerROS`` namespace (as
         rotate_recovery reads it whatever the local planner is)."""
-        read = _Reader(own)
-        blp = _Reader(local_planner or {})
+        read = ParamReader(own)
+        blp = ParamReader(local_planner or {})
         params = cls(
             sim_granularity=read.number(0.017, "sim_granularity"),
             frequency=read.number(20.0, "frequency"),

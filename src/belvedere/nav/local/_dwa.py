@@ -39,7 +39,7 @@ from belvedere.nav.local._maps import (
     plan_in_window,
     prune_plan,
     used_points_cost,
-    wavefront,
+    wavefronts,
 )
 from belvedere.nav.local._params import DWAPlannerParams
 from belvedere.nav.local._rollout import Rollouts, rollout, velocity_samples
@@ -252,8 +252,6 @@ class DWAPlannerROS:
         ):
             model = self._model = FootprintModel(footprint, grid.resolution)
         columns, rows = plan_cells(grid, local[:, :2])
-        path_map = wavefront(grid, (columns, rows))
-        goal_map = wavefront(grid, (columns[-1:], rows[-1:]))
         # the goal pulls the robot's nose, not its centre: the plan's end moved ahead along
         # the bearing from the robot to the goal
         gx, gy = float(local[-1, 0]), float(local[-1, 1])
@@ -261,10 +259,13 @@ class DWAPlannerROS:
         front = local[:, :2].copy()
         front[-1] += p.forward_point_distance * np.array([math.cos(bearing), math.sin(bearing)])
         fc, fr = plan_cells(grid, front)
-        if len(fc) and len(columns) and fc[-1] == columns[-1] and fr[-1] == rows[-1]:
-            front_map = goal_map
-        else:
-            front_map = wavefront(grid, (fc[-1:], fr[-1:]))
+        targets = [(columns, rows), (columns[-1:], rows[-1:])]
+        same_goal = len(fc) and len(columns) and fc[-1] == columns[-1] and fr[-1] == rows[-1]
+        if not same_goal:
+            targets.append((fc[-1:], fr[-1:]))
+        maps = wavefronts(grid, targets)
+        path_map, goal_map = maps[0], maps[1]
+        front_map = goal_map if same_goal else maps[2]
         far = math.hypot(gx - pose[0], gy - pose[1]) > p.forward_point_distance
         return _Cycle(grid, model, path_map, goal_map, front_map, far, local)
 

@@ -13,7 +13,7 @@ from functools import lru_cache
 import numpy as np
 import numpy.typing as npt
 from scipy.sparse import csr_matrix
-from scipy.sparse.csgraph import dijkstra
+from scipy.sparse.csgraph import breadth_first_order
 
 from belvedere.nav.costmap import INSCRIBED, LETHAL, NO_INFORMATION, CostGrid
 
@@ -24,6 +24,7 @@ __all__ = [
     "plan_in_window",
     "prune_plan",
     "wavefront",
+    "wavefronts",
 ]
 
 Floats = npt.NDArray[np.float64]
@@ -94,7 +95,8 @@ def plan_cells(grid: CostGrid, plan_xy: Floats) -> tuple[Ints, Ints]:
 def _neighbours(height: int, width: int) -> tuple[Ints, Bools]:
     """(size, 4) flat indices of every cell's 4-neighbours and which of them exist."""
     j, i = np.divmod(np.arange(height * width), width)
-    steps = ((1, 0), (-1, 0), (0, 1), (0, -1))
+    # in increasing flat index, as CSR rows keep their columns
+    steps = ((0, -1), (-1, 0), (1, 0), (0, 1))
     ni = np.stack([i + di for di, _ in steps], axis=1)
     nj = np.stack([j + dj for _, dj in steps], axis=1)
     exists = (ni >= 0) & (ni < width) & (nj >= 0) & (nj < height)
@@ -120,40 +122,98 @@ class DistanceMap:
         return float(self.dist.size + 1)
 
 
-def wavefront(
-    grid: CostGrid, targets: tuple[Ints, Ints], *, passable: Bools | None = None
-) -> DistanceMap:
-    """The breadth-first distance map from the target cells (MapGrid's computeTargetDistance):
-    the wave spreads to 4-neighbours that are not lethal, inscribed or unknown, except cells
-    marked ``passable`` (the robot's own footprint)."""
+def wavefronts(
+    grid: CostGrid,
+    target_sets: list[tuple[Ints, Ints]],
+    *,
+    passable: Bools | None = None,
+) -> list[DistanceMap]:
+    """The breadth-first distance maps from each set of target cells (MapGrid's
+    computeTargetDistance): the wave spreads to 4-neighbours that are not lethal, inscribed
+    or unknown, except cells marked ``passable`` (the robot's own footprint).
+
+    The maps share one graph; each is one breadth-first search from a source linked to its
+    targets, and a cell's distance is its depth in that search's tree."""
     height, width = grid.costs.shape
     size = height * width
     blocked = grid.costs >= INSCRIBED
     if passable is not None:
         blocked = blocked & ~passable
-    dist = np.full(size, float(size + 1))
-    columns, rows = targets
-    if len(columns) == 0:
-        return DistanceMap(dist.reshape(height, width))
-    sources = np.unique(rows * width + columns)
     free = ~blocked.ravel()
+    sets = [np.unique(rows * width + columns) for columns, rows in target_sets]
     spreads = free.copy()
-    spreads[sources] = True
+    for sources in sets:
+        spreads[sources] = True
     neighbour, exists = _neighbours(height, width)
     # a CSR graph built row by row (rows are cells in order): edges from cells the wave
-    # spreads from into free neighbours
+    # spreads from into free neighbours; a last row, the root, is empty
     edge = exists & spreads[:, None] & free[neighbour]
-    indptr = np.concatenate([[0], np.cumsum(edge.sum(axis=1))])
+    indptr = np.zeros(size + 2, dtype=np.intp)
+    np.cumsum(np.count_nonzero(edge, axis=1), out=indptr[1:-1])
+    indptr[-1] = indptr[-2]
     indices = neighbour[edge]
-    graph = csr_matrix((np.ones(len(indices)), indices, indptr), shape=(size, size))
-    reached = dijkstra(graph, directed=True, indices=sources, unweighted=True, min_only=True)
-    finite = np.isfinite(reached)
-    dist[finite] = reached[finite]
-    # obstacles next to reached cells: MapGrid marks them when the wave looks at them
-    touched = np.zeros(size, dtype=bool)
-    touched[neighbour[exists & finite[:, None]]] = True
-    dist[touched & ~free & ~finite] = float(size)
-    return DistanceMap(dist.reshape(height, width))
+    cells = csr_matrix((np.ones(len(indices), dtype=np.int8), indices, indptr), (size + 1,) * 2)
+    maps = []
+    for sources in sets:
+        dist = np.full(size, float(size + 1))
+        if len(sources):
+            depth = _bfs_depth(cells, sources)
+            reached = depth >= 0
+            dist[reached] = depth[reached]
+            # obstacles next to reached cells: MapGrid marks them when the wave looks at them
+            grid_reached = reached.reshape(height, width)
+            touched = np.zeros_like(grid_reached)
+            touched[1:, :] |= grid_reached[:-1, :]
+            touched[:-1, :] |= grid_reached[1:, :]
+            touched[:, 1:] |= grid_reached[:, :-1]
+            touched[:, :-1] |= grid_reached[:, 1:]
+            dist[touched.ravel() & ~free & ~reached] = float(size)
+        maps.append(DistanceMap(dist.reshape(height, width)))
+    return maps
+
+
+def _bfs_depth(cells: csr_matrix, sources: Ints) -> Ints:
+    """Breadth-first distances over the cell graph from the sources (-1 where unreached);
+    several sources hang off the graph's last node, the root."""
+    size = cells.shape[0] - 1
+    if len(sources) == 1:
+        graph, start, skip = cells, int(sources[0]), 0
+    else:
+        indptr = cells.indptr.copy()
+        indptr[-1] += len(sources)
+        graph = csr_matrix(
+            (
+                np.ones(len(cells.indices) + len(sources), dtype=np.int8),
+                np.concatenate([cells.indices, sources]),
+                indptr,
+            ),
+            cells.shape,
+        )
+        start, skip = size, 1
+    graph.has_sorted_indices = True
+    order, parent = breadth_first_order(graph, start, directed=True, return_predecessors=True)
+    # the search visits nodes level by level, so each level is the run of nodes after the
+    # one before, as long as the previous level has children
+    count = len(order)
+    position = np.empty(size + 1, dtype=np.intp)
+    position[order] = np.arange(count)
+    parent_at = position[parent[order[1:]]]
+    children_before = np.zeros(count + 1, dtype=np.intp)
+    np.cumsum(np.bincount(parent_at, minlength=count), out=children_before[1:])
+    bounds = [0, 1]
+    while bounds[-1] < count:
+        bounds.append(bounds[-1] + int(children_before[bounds[-1]] - children_before[bounds[-2]]))
+    levels = np.repeat(np.arange(len(bounds) - 1), np.diff(bounds))
+    depth = np.full(size + 1, -1, dtype=np.intp)
+    depth[order[skip:]] = levels[skip:] - skip
+    return depth[:size]
+
+
+def wavefront(
+    grid: CostGrid, targets: tuple[Ints, Ints], *, passable: Bools | None = None
+) -> DistanceMap:
+    """One distance map (see :func:`wavefronts`)."""
+    return wavefronts(grid, [targets], passable=passable)[0]
 
 
 def filled_footprint_cells(
@@ -235,7 +295,9 @@ class FootprintModel:
         self.radius = float(np.hypot(outline[:, 0], outline[:, 1]).max())
         # rows (1, x, y) in cells: a pose's row (centre, cos, -sin) times this is the
         # outline's columns, (centre, sin, cos) times it its rows
-        self._basis = np.vstack([np.ones(len(outline)), outline.T / resolution])
+        self._basis = np.ascontiguousarray(
+            np.vstack([np.ones(len(outline)), outline.T / resolution])
+        )
 
     def cost(
         self,
@@ -273,7 +335,7 @@ class FootprintModel:
         # (truncation is the floor here: the margin keeps every coordinate positive)
         cols = np.einsum("nk,kp->np", np.column_stack([cx, c, -s]), self._basis)
         rows = np.einsum("nk,kp->np", np.column_stack([cy, s, c]), self._basis)
-        flat = rows.astype(np.intp) * stride + cols.astype(np.intp)
+        flat = rows.astype(np.int32) * np.int32(stride) + cols.astype(np.int32)
         cell = np.take(padded.ravel(), flat)
         valid = inside & ~(cell >= LETHAL).any(axis=1)
         return cell.max(axis=1).astype(np.float64).reshape(shape), valid.reshape(shape)

@@ -8,91 +8,18 @@ namespace). Names ROS renamed are read under both: the new one wins when both ar
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
+
+from belvedere.nav._params import ParamReader
 
 __all__ = ["DWAPlannerParams", "TrajectoryPlannerParams"]
 
 _DEFAULT_Y_VELS = (-0.3, -0.1, 0.1, 0.3)
 
 
-class _Reader:
-    """Typed look-ups over a parameter mapping; a wrong value raises ``ValueError`` naming it."""
-
-    def __init__(self, values: Mapping[str, Any]) -> None:
-        self.values = values
-
-    def _raw(self, names: Sequence[str]) -> tuple[str, Any] | None:
-        for name in names:
-            if name in self.values:
-                return name, self.values[name]
-        return None
-
-    def has(self, *names: str) -> bool:
-        return self._raw(names) is not None
-
-    def number(self, default: float, *names: str) -> float:
-        found = self._raw(names)
-        if found is None:
-            return default
-        name, raw = found
-        if isinstance(raw, bool) or not isinstance(raw, int | float) or not math.isfinite(raw):
-            message = f"parameter {name}: expected a number, got {raw!r}"
-            raise ValueError(message)
-        return float(raw)
-
-    def whole(self, default: int, *names: str) -> int:
-        found = self._raw(names)
-        if found is None:
-            return default
-        name, raw = found
-        if isinstance(raw, bool) or not (
-            isinstance(raw, int) or (isinstance(raw, float) and raw.is_integer())
-        ):
-            message = f"parameter {name}: expected a whole number, got {raw!r}"
-            raise ValueError(message)
-        return int(raw)
-
-    def flag(self, default: bool, *names: str) -> bool:
-        found = self._raw(names)
-        if found is None:
-            return default
-        name, raw = found
-        if not isinstance(raw, bool):
-            message = f"parameter {name}: expected true or false, got {raw!r}"
-            raise ValueError(message)
-        return raw
-
-    def numbers(self, default: tuple[float, ...], name: str) -> tuple[float, ...]:
-        """A list of numbers, as a YAML list or as the string ``"[-0.3, -0.1, 0.1]"``
-        (TrajectoryPlannerROS reads ``y_vels`` as a string and splits it at ``[``, ``]``,
-        commas and spaces)."""
-        found = self._raw((name,))
-        if found is None:
-            return default
-        raw = found[1]
-        items: list[Any]
-        if isinstance(raw, str):
-            items = list(raw.replace("[", " ").replace("]", " ").replace(",", " ").split())
-        elif isinstance(raw, list | tuple):
-            items = list(raw)
-        else:
-            items = [raw]
-        values: list[float] = []
-        for item in items:
-            try:
-                if isinstance(item, bool):
-                    raise ValueError
-                value = float(item)
-            except (TypeError, ValueError):
-                message = f"parameter {name}: expected a list of numbers, got {raw!r}"
-                raise ValueError(message) from None
-            values.append(value)
-        return tuple(values)
-
-
-def _sim_period(read: _Reader) -> float:
+def _sim_period(read: ParamReader) -> float:
     """The controller period the dynamic window spans: 1/controller_frequency, or 0.05 s
     when it is unset or not positive (as both ROS planners fall back to 20 Hz)."""
     frequency = read.number(0.0, "controller_frequency")
@@ -156,7 +83,7 @@ class TrajectoryPlannerParams:
     @classmethod
     def from_mapping(cls, values: Mapping[str, Any]) -> TrajectoryPlannerParams:
         """The parameters from ``name → value``; unknown names are ignored as ROS does."""
-        read = _Reader(values)
+        read = ParamReader(values)
         if read.has("max_rotational_vel"):
             top = read.number(1.0, "max_rotational_vel")
             max_th, min_th = top, -top
@@ -282,7 +209,7 @@ class DWAPlannerParams:
     @classmethod
     def from_mapping(cls, values: Mapping[str, Any]) -> DWAPlannerParams:
         """The parameters from ``name → value``; unknown names are ignored as ROS does."""
-        read = _Reader(values)
+        read = ParamReader(values)
         params = cls(
             max_vel_trans=read.number(0.55, "max_vel_trans", "max_trans_vel"),
             min_vel_trans=read.number(0.1, "min_vel_trans", "min_trans_vel"),

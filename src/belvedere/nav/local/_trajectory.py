@@ -40,6 +40,7 @@ from belvedere.nav.local._maps import (
     prune_plan,
     used_points_cost,
     wavefront,
+    wavefronts,
 )
 from belvedere.nav.local._params import TrajectoryPlannerParams
 from belvedere.nav.local._rollout import Rollouts, rollout
@@ -151,9 +152,13 @@ class TrajectoryPlannerROS:
         # the cells under the robot do not stop the path's wave (MapGrid's within_robot)
         under = filled_footprint_cells(grid, *pose, footprint)
         columns, rows = plan_cells(grid, local[:, :2])
-        path_map = wavefront(grid, (columns, rows), passable=under)
         goal_cell = (columns[-1:], rows[-1:])
-        goal_map = wavefront(grid, goal_cell)
+        if np.any(under & (grid.costs >= INSCRIBED)):
+            path_map = wavefront(grid, (columns, rows), passable=under)
+            goal_map = wavefront(grid, goal_cell)
+        else:
+            # nothing under the robot blocks the wave: both maps share one graph
+            path_map, goal_map = wavefronts(grid, [(columns, rows), goal_cell])
         return _Cycle(grid, model, path_map, goal_map, local)
 
     # -- scoring ----------------------------------------------------------------------------
