@@ -36,9 +36,12 @@ SIM = """
           args="-urdf -model mrobot -param robot_description -x 0 -y -4.5"/>
 """
 
-AMCL = """
+MAP_SERVER = """
     <node pkg="map_server" type="map_server" name="map_server"
           args="$(find loc_pkg)/maps/cloister.yaml"/>
+"""
+
+AMCL_NODE = """
     <node pkg="amcl" type="amcl" name="amcl">
         <param name="base_frame_id" value="base_footprint"/>
         <param name="initial_pose_y" value="-4.5"/>
@@ -50,6 +53,8 @@ AMCL = """
         {extra}
     </node>
 """
+
+AMCL = MAP_SERVER + AMCL_NODE
 
 
 @pytest.fixture(scope="module")
@@ -199,6 +204,19 @@ def test_the_map_topic_initial_poses_and_no_tf(pkg: Path) -> None:
     moved = poses[count].pose.pose.position
     assert (moved.x, moved.y) == pytest.approx((1.0, -4.0), abs=0.15)
     assert not map_odom  # tf_broadcast false
+
+
+def test_amcl_started_before_the_map_server_asks_again(
+    pkg: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    body = SIM + AMCL_NODE.format(extra="") + MAP_SERVER  # amcl first
+    graph = _start(pkg, body, "late_map.launch")
+    probe = graph.create_node("probe")
+    poses: list[Any] = []
+    probe.subscribe("/amcl_pose", "geometry_msgs/PoseWithCovarianceStamped", poses.append)
+    graph.run(duration=1.5)
+    assert "Request for map failed; trying again..." in caplog.text
+    assert poses  # the map came on a later request
 
 
 @pytest.mark.parametrize(
