@@ -143,7 +143,7 @@ def test_missing_node_types_are_one_line_and_the_rest_runs(
     launch = tmp_path / "pkg" / "all.launch"
     launch.write_text(
         """<launch>
-          <node pkg="amcl" type="amcl" name="amcl"/>
+          <node pkg="rosbridge_server" type="rosbridge_tcp" name="rosbridge"/>
           <node pkg="mypkg" type="talker.py" name="talker"/>
           <node pkg="tf" type="static_transform_publisher" name="stp"
                 args="1 0 0 0 0 0 map odom 100"/>
@@ -152,7 +152,7 @@ def test_missing_node_types_are_one_line_and_the_rest_runs(
     args = ["launch", str(launch), "--headless", "--rtf", "max", "--duration", "0.5"]
     assert main([*args, "--echo", "/tf_static"]) == 0
     out, err = capsys.readouterr()
-    assert "not started (belvedere has no such node yet): amcl/amcl" in err
+    assert "not started (belvedere has no such node yet): rosbridge_server/rosbridge_tcp" in err
     assert 'child_frame_id: "odom"' in out
 
 

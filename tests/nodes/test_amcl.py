@@ -16,8 +16,9 @@ from belvedere.launch import LaunchError, load_launch
 from belvedere.launch._runtime import LaunchRuntime
 from belvedere.maps import grid_message, save_map
 from belvedere.msgs import types
-from belvedere.nodes.amcl import pose_message
+from belvedere.nodes.amcl import base_bearings, pose_message
 from belvedere.packages import PackageIndex
+from belvedere.tf import Transform, quat_xyzw_from_rpy
 from tests.conftest import EXAMPLES
 from tests.nav import simulated
 
@@ -35,9 +36,12 @@ SIM = """
           args="-urdf -model mrobot -param robot_description -x 0 -y -4.5"/>
 """
 
-AMCL = """
+MAP_SERVER = """
     <node pkg="map_server" type="map_server" name="map_server"
           args="$(find loc_pkg)/maps/cloister.yaml"/>
+"""
+
+AMCL_NODE = """
     <node pkg="amcl" type="amcl" name="amcl">
         <param name="base_frame_id" value="base_footprint"/>
         <param name="initial_pose_y" value="-4.5"/>
@@ -49,6 +53,8 @@ AMCL = """
         {extra}
     </node>
 """
+
+AMCL = MAP_SERVER + AMCL_NODE
 
 
 @pytest.fixture(scope="module")
@@ -200,6 +206,19 @@ def test_the_map_topic_initial_poses_and_no_tf(pkg: Path) -> None:
     assert not map_odom  # tf_broadcast false
 
 
+def test_amcl_started_before_the_map_server_asks_again(
+    pkg: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    body = SIM + AMCL_NODE.format(extra="") + MAP_SERVER  # amcl first
+    graph = _start(pkg, body, "late_map.launch")
+    probe = graph.create_node("probe")
+    poses: list[Any] = []
+    probe.subscribe("/amcl_pose", "geometry_msgs/PoseWithCovarianceStamped", poses.append)
+    graph.run(duration=1.5)
+    assert "Request for map failed; trying again..." in caplog.text
+    assert poses  # the map came on a later request
+
+
 @pytest.mark.parametrize(
     ("param", "value", "expected"),
     [
@@ -232,3 +251,44 @@ def test_a_bad_parameter_stops_the_launch(pkg: Path, param: str, value: str, exp
         _start(pkg, body, "bad.launch")
     launch = pkg / "launch" / "bad.launch"
     assert caught.value.describe() == f"{launch}:2:3: error: /amcl: {expected}"
+
+
+@pytest.mark.parametrize(
+    ("rpy", "first", "increment"),
+    [
+        ((0.0, 0.0, 0.0), -1.0, 0.01),
+        ((0.0, 0.0, 0.5), -0.5, 0.01),  # turned on the base
+        ((math.pi, 0.0, 0.0), 1.0, -0.01),  # upside down: the beams run the other way
+    ],
+)
+def test_the_scans_bearings_in_the_base_frame(
+    rpy: tuple[float, float, float], first: float, increment: float
+) -> None:
+    mount = Transform((0.1, 0.0, 0.2), quat_xyzw_from_rpy(*rpy))
+    got = base_bearings(mount, -1.0, 0.01)
+    assert got == pytest.approx((first, increment))
+
+
+def _amcl_poses(pkg: Path, seed: int) -> list[tuple[float, float, float]]:
+    launch = pkg / "launch" / "seeded.launch"
+    launch.write_text(f"<launch>{SIM}{AMCL.format(extra='')}</launch>\n")
+    packages = PackageIndex.from_environment(
+        package_path=[pkg.parent], near=EXAMPLES / "mbot_navigation/launch/gmapping_demo.launch"
+    )
+    graph = Graph(seed=seed)
+    LaunchRuntime(load_launch(launch, packages=packages), graph, packages, headless=True).start()
+    probe = graph.create_node("probe")
+    poses: list[Any] = []
+    probe.subscribe("/amcl_pose", "geometry_msgs/PoseWithCovarianceStamped", poses.append)
+    probe.publisher("/cmd_vel", "geometry_msgs/Twist", latch=True).publish_data(
+        {"linear": {"x": 0.3}, "angular": {"z": 0.2}}
+    )
+    graph.run(duration=3.0)
+    return [(m.pose.pose.position.x, m.pose.pose.position.y, m.pose.covariance[0]) for m in poses]
+
+
+def test_the_graphs_seed_makes_amcl_repeat_itself(pkg: Path) -> None:
+    a, b, c = _amcl_poses(pkg, 11), _amcl_poses(pkg, 11), _amcl_poses(pkg, 12)
+    assert len(a) > 3
+    assert a == b
+    assert a != c

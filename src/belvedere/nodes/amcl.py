@@ -48,6 +48,7 @@ __all__ = [
     "PACKAGE",
     "TRANSFORMS",
     "NodeParams",
+    "base_bearings",
     "cloud_message",
     "pose_message",
 ]
@@ -180,6 +181,21 @@ def cloud_message(frame: str, stamp_ns: int, poses: Floats) -> Any:
         build.header(stamp_ns, frame),
         [pose(point(x, y, 0.0), quat(0.0, 0.0, s, c)) for x, y, s, c in rows],
     )
+
+
+def base_bearings(mount: Transform, angle_min: float, increment: float) -> tuple[float, float]:
+    """A scan's first angle and increment in the base frame, for a laser mounted at
+    ``mount`` (base → laser): amcl's way, so a laser mounted upside down counts the other
+    way round."""
+    rotation = mount.matrix()[:3, :3]
+
+    def base_yaw(angle: float) -> float:
+        v = rotation @ np.array([math.cos(angle), math.sin(angle), 0.0])
+        return math.atan2(v[1], v[0])
+
+    first = base_yaw(angle_min)
+    second = base_yaw(angle_min + increment)
+    return first, math.fmod(second - first + 5.0 * math.pi, 2.0 * math.pi) - math.pi
 
 
 def _read_params(node: Node) -> tuple[AmclParams, NodeParams]:
@@ -415,20 +431,8 @@ class _AmclNode:
         return pose
 
     def _bearings(self, scan: Any) -> tuple[float, float]:
-        """The scan's first angle and increment in the base frame (a laser mounted upside
-        down counts the other way)."""
-        base = self.config.base_frame_id
-        mount = self.buffer.lookup_transform(base, scan.header.frame_id, 0)
-        rotation = mount.matrix()[:3, :3]
-
-        def base_yaw(angle: float) -> float:
-            v = rotation @ np.array([math.cos(angle), math.sin(angle), 0.0])
-            return math.atan2(v[1], v[0])
-
-        first = base_yaw(float(scan.angle_min))
-        second = base_yaw(float(scan.angle_min) + float(scan.angle_increment))
-        increment = math.fmod(second - first + 5.0 * math.pi, 2.0 * math.pi) - math.pi
-        return first, increment
+        mount = self.buffer.lookup_transform(self.config.base_frame_id, scan.header.frame_id, 0)
+        return base_bearings(mount, float(scan.angle_min), float(scan.angle_increment))
 
     def _process(self, scan: Any) -> None:
         localizer = self.localizer
