@@ -217,7 +217,6 @@ class DWAPlannerROS:
         cycle = self._prepare(grid, (x, y, yaw), footprint, local)
         if self._position_reached(x, y):
             return self._stop_and_rotate(cycle, (x, y, yaw), vel)
-        self._rotating_to_goal = False
         samples = self._window((x, y, yaw), vel, local[-1])
         r = self._simulate((x, y, yaw), vel, samples)
         commanded = self._commanded(r, vel)
