@@ -269,17 +269,35 @@ class TrajectoryPlannerROS:
         here = grid.world_to_map(x, y)
         if here is None:
             return math.inf
-        for px, py, _ in cycle.plan[::-1]:
-            there = grid.world_to_map(float(px), float(py))
-            if there is None:
-                continue
-            n = max(abs(there[0] - here[0]), abs(there[1] - here[1])) + 1
-            ci = np.rint(np.linspace(here[0], there[0], n)).astype(np.intp)
-            cj = np.rint(np.linspace(here[1], there[1], n)).astype(np.intp)
-            if np.all(grid.costs[cj, ci] < INSCRIBED):
-                gx, gy = grid.map_to_world(*there)
+        res = grid.resolution
+        pi = np.floor((cycle.plan[:, 0] - grid.origin_x) / res).astype(np.intp)
+        pj = np.floor((cycle.plan[:, 1] - grid.origin_y) / res).astype(np.intp)
+        inside = (pi >= 0) & (pi < grid.width) & (pj >= 0) & (pj < grid.height)
+        pi, pj = pi[inside], pj[inside]
+        if len(pi) == 0:
+            return math.inf
+        # the lines from here to the plan poses, sampled a cell apart along their longer
+        # axis: the farthest pose's first (usually in sight), then all of them
+        for columns, rows in ((pi[-1:], pj[-1:]), (pi, pj)):
+            sight = self._farthest_in_sight(grid, here, columns, rows)
+            if sight is not None:
+                gx, gy = grid.map_to_world(*sight)
                 return abs(angle_diff(heading, math.atan2(gy - y, gx - x)))
         return math.inf
+
+    @staticmethod
+    def _farthest_in_sight(
+        grid: CostGrid, here: tuple[int, int], pi: npt.NDArray[np.intp], pj: npt.NDArray[np.intp]
+    ) -> tuple[int, int] | None:
+        steps = np.maximum(np.abs(pi - here[0]), np.abs(pj - here[1]))
+        t = np.arange(int(steps.max()) + 1)[None, :] / np.maximum(steps, 1)[:, None]
+        t = np.minimum(t, 1.0)
+        ci = np.rint(here[0] + (pi - here[0])[:, None] * t).astype(np.intp)
+        cj = np.rint(here[1] + (pj - here[1])[:, None] * t).astype(np.intp)
+        clear = np.flatnonzero((grid.costs[cj, ci] < INSCRIBED).all(axis=1))
+        if len(clear) == 0:
+            return None
+        return int(pi[clear[-1]]), int(pj[clear[-1]])
 
     # -- sampling (createTrajectories) ------------------------------------------------------
 
