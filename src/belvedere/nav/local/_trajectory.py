@@ -206,16 +206,14 @@ class TrajectoryPlannerROS:
         inside = (i >= 0) & (i < grid.width) & (j >= 0) & (j < grid.height)
         ic = np.clip(i, 0, grid.width - 1)
         jc = np.clip(j, 0, grid.height - 1)
-        fp_cost, fp_valid = used_points_cost(cycle.model, grid, r.x, r.y, r.yaw, r.used)
         centre = grid.costs[jc, ic].astype(np.float64)
-        collide = ~inside | ~fp_valid
         count = len(r.samples)
         if p.simple_attractor:
             gx, gy = cycle.plan[-1, 0], cycle.plan[-1, 1]
             goal_dist = (r.x - gx) ** 2 + (r.y - gy) ** 2
             path_dist = np.zeros_like(goal_dist)
             update = r.used.copy()
-            lost = np.zeros_like(collide)
+            lost = np.zeros_like(inside)
         else:
             path_dist = cycle.path_map.dist[jc, ic]
             goal_dist = cycle.goal_map.dist[jc, ic]
@@ -230,6 +228,14 @@ class TrajectoryPlannerROS:
                 update = r.used.copy()
             impossible = cycle.path_map.obstacle_cost
             lost = update & ((path_dist >= impossible) | (goal_dist >= impossible))
+        # the footprint matters up to a trajectory's first lost or off-grid point: a collision
+        # there or before decides its failure, and a trajectory with one fails anyway
+        k = np.arange(r.x.shape[1])[None, :]
+        ends = (lost | ~inside) & r.used
+        first_end = np.where(ends.any(axis=1), np.argmax(ends, axis=1), r.x.shape[1])
+        alive = r.used & (k <= first_end[:, None])
+        fp_cost, fp_valid = used_points_cost(cycle.model, grid, r.x, r.y, r.yaw, alive)
+        collide = ~inside | ~fp_valid
         bad_point = (collide | lost) & r.used
         has_bad = bad_point.any(axis=1)
         first_bad = np.where(has_bad, np.argmax(bad_point, axis=1), r.x.shape[1])
@@ -239,7 +245,6 @@ class TrajectoryPlannerROS:
         code[has_bad] = np.where(collide[rows, at_bad], -1.0, -2.0)[has_bad]
         occ = np.where(r.used, np.maximum(fp_cost, centre), 0.0).max(axis=1)
         # the path and goal distances of the last scored point
-        k = np.arange(r.x.shape[1])[None, :]
         last = np.where(update, k, -1).max(axis=1)
         scored = last >= 0
         lk = np.maximum(last, 0)
