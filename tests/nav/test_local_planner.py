@@ -321,3 +321,23 @@ def test_dwa_bars_reversing_a_rotation_in_place_until_the_robot_turned() -> None
     assert flags.barred(samples).tolist() == [True, False, True]
     flags.update((1.0, 1.0, 0.3), (0.0, 0.0, -0.5), 0.1, 0.05, 0.2)
     assert not flags.barred(samples).any()  # turned 0.25 rad from where it was flagged
+
+
+def test_a_cornered_holonomic_robot_strafes_and_a_differential_one_backs_up() -> None:
+    # walls 2 cm beyond the square's front and left edges: driving forward or turning in
+    # place would touch them; the plan leads away to the right
+    lethal = walled(3.0, 3.0)
+    lethal[34, 20:35] = True  # y = 1.70 m
+    lethal[20:35, 34] = True  # x = 1.70 m
+    grid = inflate(lethal)
+    plan = polyline((1.49, 1.52), (1.49, 0.5), goal_yaw=0.0)
+    commands = []
+    for holonomic in (True, False):
+        planner = make_local_planner(
+            TP, {"controller_frequency": 10.0, "holonomic_robot": holonomic}
+        )
+        planner.set_plan(plan)
+        command = planner.compute(grid, (1.49, 1.52, 0.0), (0.0, 0.0, 0.0), SQUARE)
+        commands.append((command.vx, command.vy, command.vth))
+    # the holonomic robot tries y_vels and takes a strafe to the right; the other escapes
+    assert commands == [(0.0, -0.3, 0.0), (-0.1, 0.0, 0.0)]

@@ -217,7 +217,6 @@ class DWAPlannerROS:
         cycle = self._prepare(grid, (x, y, yaw), footprint, local)
         if self._position_reached(x, y):
             return self._stop_and_rotate(cycle, (x, y, yaw), vel)
-        self._rotating_to_goal = False
         samples = self._window((x, y, yaw), vel, local[-1])
         r = self._simulate((x, y, yaw), vel, samples)
         commanded = self._commanded(r, vel)
@@ -360,21 +359,6 @@ class DWAPlannerROS:
             return np.clip(i, 0, grid.width - 1), np.clip(j, 0, grid.height - 1), inside
 
         ic, jc, inside = cells(r.x, r.y)
-        if p.occdist_scale != 0:
-            vmag = np.hypot(velocities[:, 0], velocities[:, 1])
-            scale = np.ones(count)
-            if p.max_vel_trans > p.scaling_speed:
-                fast = vmag > p.scaling_speed
-                ratio = (vmag - p.scaling_speed) / (p.max_vel_trans - p.scaling_speed)
-                scale = np.where(fast, p.max_scaling_factor * ratio + 1.0, 1.0)
-            grow = np.broadcast_to(scale[:, None], r.x.shape)
-            fp_cost, fp_valid = used_points_cost(cycle.model, grid, r.x, r.y, r.yaw, r.used, grow)
-            centre = grid.costs[jc, ic].astype(np.float64)
-            point = np.maximum(fp_cost, centre)
-            bad |= (used & (~fp_valid | ~inside)).any(axis=1)
-            point = np.where(used, point, 0.0)
-            occ = point.sum(axis=1) if p.sum_scores else point.max(axis=1)
-            total += p.occdist_scale * occ
 
         def grid_cost(dmap: DistanceMap, shift: float, stop_on_failure: bool) -> Floats:
             nonlocal bad
@@ -401,6 +385,24 @@ class DWAPlannerROS:
             total += gdist * grid_cost(cycle.goal_map, 0.0, True)
         if p.twirling_scale:
             total += p.twirling_scale * np.abs(velocities[:, 2])
+        if p.occdist_scale != 0:
+            vmag = np.hypot(velocities[:, 0], velocities[:, 1])
+            scale = np.ones(count)
+            if p.max_vel_trans > p.scaling_speed:
+                fast = vmag > p.scaling_speed
+                ratio = (vmag - p.scaling_speed) / (p.max_vel_trans - p.scaling_speed)
+                scale = np.where(fast, p.max_scaling_factor * ratio + 1.0, 1.0)
+            grow = np.broadcast_to(scale[:, None], r.x.shape)
+            # trajectories another critic rejected need no footprint
+            alive = used & ~bad[:, None]
+            fp_cost, fp_valid = used_points_cost(cycle.model, grid, r.x, r.y, r.yaw, alive, grow)
+            centre = grid.costs[jc, ic].astype(np.float64)
+            point = np.maximum(fp_cost, centre)
+            bad |= (used & (~fp_valid | ~inside)).any(axis=1)
+            point = np.where(used, point, 0.0)
+            occ = point.sum(axis=1) if p.sum_scores else point.max(axis=1)
+            total += p.occdist_scale * occ
+
         return np.where(bad, -1.0, total)
 
     # -- at the goal ------------------------------------------------------------------------

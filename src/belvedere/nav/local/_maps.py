@@ -92,15 +92,16 @@ def plan_cells(grid: CostGrid, plan_xy: Floats) -> tuple[Ints, Ints]:
 
 
 @lru_cache(maxsize=8)
-def _neighbours(height: int, width: int) -> tuple[Ints, Bools]:
-    """(size, 4) flat indices of every cell's 4-neighbours and which of them exist."""
+def _neighbours(height: int, width: int) -> Ints:
+    """(size, 4) flat indices of every cell's 4-neighbours, in increasing order (up, left,
+    right, down, as CSR rows keep their columns); 0 where a neighbour is off the grid."""
     j, i = np.divmod(np.arange(height * width), width)
-    # in increasing flat index, as CSR rows keep their columns
     steps = ((0, -1), (-1, 0), (1, 0), (0, 1))
     ni = np.stack([i + di for di, _ in steps], axis=1)
     nj = np.stack([j + dj for _, dj in steps], axis=1)
     exists = (ni >= 0) & (ni < width) & (nj >= 0) & (nj < height)
-    return np.where(exists, nj * width + ni, 0), exists
+    indices: Ints = np.where(exists, nj * width + ni, 0)
+    return indices
 
 
 @dataclass(frozen=True)
@@ -144,10 +145,17 @@ def wavefronts(
     spreads = free.copy()
     for sources in sets:
         spreads[sources] = True
-    neighbour, exists = _neighbours(height, width)
+    neighbour = _neighbours(height, width)
     # a CSR graph built row by row (rows are cells in order): edges from cells the wave
     # spreads from into free neighbours; a last row, the root, is empty
-    edge = exists & spreads[:, None] & free[neighbour]
+    free_2d = free.reshape(height, width)
+    spreads_2d = spreads.reshape(height, width)
+    edges = np.zeros((height, width, 4), dtype=bool)  # towards _neighbours' columns
+    np.logical_and(spreads_2d[1:, :], free_2d[:-1, :], out=edges[1:, :, 0])
+    np.logical_and(spreads_2d[:, 1:], free_2d[:, :-1], out=edges[:, 1:, 1])
+    np.logical_and(spreads_2d[:, :-1], free_2d[:, 1:], out=edges[:, :-1, 2])
+    np.logical_and(spreads_2d[:-1, :], free_2d[1:, :], out=edges[:-1, :, 3])
+    edge = edges.reshape(size, 4)
     indptr = np.zeros(size + 2, dtype=np.intp)
     np.cumsum(np.count_nonzero(edge, axis=1), out=indptr[1:-1])
     indptr[-1] = indptr[-2]

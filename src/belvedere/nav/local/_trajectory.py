@@ -206,16 +206,14 @@ class TrajectoryPlannerROS:
         inside = (i >= 0) & (i < grid.width) & (j >= 0) & (j < grid.height)
         ic = np.clip(i, 0, grid.width - 1)
         jc = np.clip(j, 0, grid.height - 1)
-        fp_cost, fp_valid = used_points_cost(cycle.model, grid, r.x, r.y, r.yaw, r.used)
         centre = grid.costs[jc, ic].astype(np.float64)
-        collide = ~inside | ~fp_valid
         count = len(r.samples)
         if p.simple_attractor:
             gx, gy = cycle.plan[-1, 0], cycle.plan[-1, 1]
             goal_dist = (r.x - gx) ** 2 + (r.y - gy) ** 2
             path_dist = np.zeros_like(goal_dist)
             update = r.used.copy()
-            lost = np.zeros_like(collide)
+            lost = np.zeros_like(inside)
         else:
             path_dist = cycle.path_map.dist[jc, ic]
             goal_dist = cycle.goal_map.dist[jc, ic]
@@ -230,6 +228,14 @@ class TrajectoryPlannerROS:
                 update = r.used.copy()
             impossible = cycle.path_map.obstacle_cost
             lost = update & ((path_dist >= impossible) | (goal_dist >= impossible))
+        # the footprint matters up to a trajectory's first lost or off-grid point: a collision
+        # there or before decides its failure, and a trajectory with one fails anyway
+        k = np.arange(r.x.shape[1])[None, :]
+        ends = (lost | ~inside) & r.used
+        first_end = np.where(ends.any(axis=1), np.argmax(ends, axis=1), r.x.shape[1])
+        alive = r.used & (k <= first_end[:, None])
+        fp_cost, fp_valid = used_points_cost(cycle.model, grid, r.x, r.y, r.yaw, alive)
+        collide = ~inside | ~fp_valid
         bad_point = (collide | lost) & r.used
         has_bad = bad_point.any(axis=1)
         first_bad = np.where(has_bad, np.argmax(bad_point, axis=1), r.x.shape[1])
@@ -239,7 +245,6 @@ class TrajectoryPlannerROS:
         code[has_bad] = np.where(collide[rows, at_bad], -1.0, -2.0)[has_bad]
         occ = np.where(r.used, np.maximum(fp_cost, centre), 0.0).max(axis=1)
         # the path and goal distances of the last scored point
-        k = np.arange(r.x.shape[1])[None, :]
         last = np.where(update, k, -1).max(axis=1)
         scored = last >= 0
         lk = np.maximum(last, 0)
@@ -269,17 +274,35 @@ class TrajectoryPlannerROS:
         here = grid.world_to_map(x, y)
         if here is None:
             return math.inf
-        for px, py, _ in cycle.plan[::-1]:
-            there = grid.world_to_map(float(px), float(py))
-            if there is None:
-                continue
-            n = max(abs(there[0] - here[0]), abs(there[1] - here[1])) + 1
-            ci = np.rint(np.linspace(here[0], there[0], n)).astype(np.intp)
-            cj = np.rint(np.linspace(here[1], there[1], n)).astype(np.intp)
-            if np.all(grid.costs[cj, ci] < INSCRIBED):
-                gx, gy = grid.map_to_world(*there)
+        res = grid.resolution
+        pi = np.floor((cycle.plan[:, 0] - grid.origin_x) / res).astype(np.intp)
+        pj = np.floor((cycle.plan[:, 1] - grid.origin_y) / res).astype(np.intp)
+        inside = (pi >= 0) & (pi < grid.width) & (pj >= 0) & (pj < grid.height)
+        pi, pj = pi[inside], pj[inside]
+        if len(pi) == 0:
+            return math.inf
+        # the lines from here to the plan poses, sampled a cell apart along their longer
+        # axis: the farthest pose's first (usually in sight), then all of them
+        for columns, rows in ((pi[-1:], pj[-1:]), (pi, pj)):
+            sight = self._farthest_in_sight(grid, here, columns, rows)
+            if sight is not None:
+                gx, gy = grid.map_to_world(*sight)
                 return abs(angle_diff(heading, math.atan2(gy - y, gx - x)))
         return math.inf
+
+    @staticmethod
+    def _farthest_in_sight(
+        grid: CostGrid, here: tuple[int, int], pi: npt.NDArray[np.intp], pj: npt.NDArray[np.intp]
+    ) -> tuple[int, int] | None:
+        steps = np.maximum(np.abs(pi - here[0]), np.abs(pj - here[1]))
+        t = np.arange(int(steps.max()) + 1)[None, :] / np.maximum(steps, 1)[:, None]
+        t = np.minimum(t, 1.0)
+        ci = np.rint(here[0] + (pi - here[0])[:, None] * t).astype(np.intp)
+        cj = np.rint(here[1] + (pj - here[1])[:, None] * t).astype(np.intp)
+        clear = np.flatnonzero((grid.costs[cj, ci] < INSCRIBED).all(axis=1))
+        if len(clear) == 0:
+            return None
+        return int(pi[clear[-1]]), int(pj[clear[-1]])
 
     # -- sampling (createTrajectories) ------------------------------------------------------
 
