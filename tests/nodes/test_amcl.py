@@ -206,6 +206,26 @@ def test_the_map_topic_initial_poses_and_no_tf(pkg: Path) -> None:
     assert not map_odom  # tf_broadcast false
 
 
+def test_gui_publish_rate_limits_the_particle_cloud(pkg: Path) -> None:
+    extra = (
+        '<param name="gui_publish_rate" value="1.0"/><param name="resample_interval" value="1"/>'
+    )
+    graph = _start(pkg, SIM + AMCL.format(extra=extra), "gui.launch")
+    probe = graph.create_node("probe")
+    poses: list[Any] = []
+    clouds: list[Any] = []
+    probe.subscribe("/amcl_pose", "geometry_msgs/PoseWithCovarianceStamped", poses.append)
+    probe.subscribe("/particlecloud", "geometry_msgs/PoseArray", clouds.append)
+    probe.publisher("/cmd_vel", "geometry_msgs/Twist", latch=True).publish_data(
+        {"linear": {"x": 0.4}}
+    )
+    graph.run(duration=4.0)
+    assert len(poses) >= 8  # the filter updated every 0.1 m
+    stamps = [m.header.stamp.sec + m.header.stamp.nanosec / NS for m in clouds]
+    assert 2 <= len(stamps) <= 5
+    assert min(np.diff(stamps)) >= 1.0  # at most one a second
+
+
 def test_amcl_started_before_the_map_server_asks_again(
     pkg: Path, caplog: pytest.LogCaptureFixture
 ) -> None:
