@@ -7,6 +7,7 @@ from __future__ import annotations
 import os
 import pty
 import threading
+from collections.abc import Callable
 
 from tests.waiting import wait_until
 
@@ -36,6 +37,18 @@ class Terminal:
             what=f"the terminal to show {text!r}",
             detail=lambda: self.output[-200:],
         )
+
+    def type(self, keys: str) -> None:
+        os.write(self.fd, keys.encode())
+
+    def press_until(self, key: str, done: Callable[[], bool], what: str) -> None:
+        """Press ``key`` every 0.1 s (a teleop stops when no key comes) until ``done()``."""
+
+        def press() -> bool:
+            self.type(key)
+            return done()
+
+        wait_until(press, what=what, interval=0.1)
 
     def close(self) -> None:
         os.close(self.slave)

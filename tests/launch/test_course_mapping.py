@@ -6,10 +6,8 @@ writing the map — whose walls must be where the world's are, within two cells.
 from __future__ import annotations
 
 import math
-import os
 import subprocess
 import sys
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -23,16 +21,6 @@ from tests.waiting import DEADLINE, wait_until
 
 BELVEDERE = [sys.executable, "-m", "belvedere"]
 PACKAGES = ["--package-path", str(EXAMPLES)]
-
-
-def _press_until(fd: int, key: str, done: Callable[[], bool], what: str) -> None:
-    """Press ``key`` every 0.1 s (the teleop stops when no key comes) until ``done()``."""
-
-    def press() -> bool:
-        os.write(fd, key.encode())
-        return done()
-
-    wait_until(press, what=what, interval=0.1)
 
 
 def _walls_found(grid: Any, y: float, xs: np.ndarray[Any, Any]) -> float:
@@ -72,12 +60,12 @@ def test_map_the_south_walk_with_the_teleop_and_save_it(endpoint: str, tmp_path:
         )
         terminal.wait_for("currently:")
         start = xs[-1]
-        _press_until(terminal.fd, "i", lambda: xs[-1] - start > 4.0, "the robot to drive 4 m")
+        terminal.press_until("i", lambda: xs[-1] - start > 4.0, "the robot to drive 4 m")
         # slam_gmapping publishes a map once map_update_interval (5 s) passed and a scan was
         # added (after linearUpdate or angularUpdate of motion): turn on the spot until then
         driven = len(maps)
-        _press_until(terminal.fd, "j", lambda: len(maps) > driven, "a map after the drive")
-        os.write(terminal.fd, b"k")  # stop
+        terminal.press_until("j", lambda: len(maps) > driven, "a map after the drive")
+        terminal.type("k")  # stop
         saver = subprocess.run(
             [*BELVEDERE, "run", *PACKAGES, "map_server", "map_saver", "-f", "cloister"],
             cwd=tmp_path,

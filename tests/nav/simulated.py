@@ -87,12 +87,8 @@ def _drive(graph: Graph, buffer: TFBuffer) -> Any:
     return state
 
 
-def drift(
-    truth: Array, seed: int, *, travel: float = 0.02, turn: float = 0.03, creep: float = 0.4
-) -> Array:
-    """Odometry from the true poses, drifting as wheel odometry does: each step's travel
-    ``travel`` and turn ``turn`` too long, the heading creeping ``creep`` degrees a metre,
-    and a little white noise."""
+def _drift(truth: Array, seed: int) -> Array:
+    """Odometry from the true poses, drifting as wheel odometry does."""
     rng = np.random.default_rng(seed)
     odom = np.zeros_like(truth)
     odom[0] = truth[0]
@@ -103,8 +99,8 @@ def drift(
         fx, fy = c * dx + s * dy, -s * dx + c * dy  # the step in the robot's frame
         dth = math.remainder(b[2] - a[2], 2 * math.pi)
         dist = math.hypot(fx, fy)
-        fx, fy = fx * (1 + travel), fy * (1 + travel)
-        dth = dth * (1 + turn) + math.radians(creep) * dist + rng.normal(0.0, 0.002) * (dist > 1e-4)
+        fx, fy = fx * 1.02, fy * 1.02
+        dth = dth * 1.03 + math.radians(0.4) * dist + rng.normal(0.0, 0.002) * (dist > 1e-4)
         fx += rng.normal(0.0, 0.002) * (dist > 1e-4)
         p = odom[k - 1]
         c, s = math.cos(p[2]), math.sin(p[2])
@@ -139,7 +135,7 @@ def record(seconds: float = 150.0, seed: int = 7) -> Recording:
     laser = _laser_mount(model)
     true = np.array(truth).reshape(-1, 3)
     true[:, 2] = np.unwrap(true[:, 2])
-    return Recording(stamps, scans, true, drift(true, seed), laser)
+    return Recording(stamps, scans, true, _drift(true, seed), laser)
 
 
 def _laser_mount(model: RobotModel) -> tuple[float, float, float]:

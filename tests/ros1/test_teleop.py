@@ -5,10 +5,8 @@ pseudo-terminal, the robot's odometry watched from another process."""
 from __future__ import annotations
 
 import math
-import os
 import subprocess
 import sys
-from collections.abc import Callable
 from typing import Any
 
 import pytest
@@ -28,16 +26,6 @@ ENGINES = {
     "kinematic": ["--engine", "kinematic", "--config", MBOT_YAML],
     "physics": ["--engine", "physics", "--world", WORLD],
 }
-
-
-def _press_until(fd: int, key: str, done: Callable[[], bool], what: str) -> None:
-    """Press ``key`` every 0.1 s (the teleop stops when no key comes) until ``done()``."""
-
-    def press() -> bool:
-        os.write(fd, key.encode())
-        return done()
-
-    wait_until(press, what=what, interval=0.1)
 
 
 @pytest.mark.parametrize("engine", sorted(ENGINES))
@@ -70,15 +58,15 @@ def test_the_course_teleop_drives_the_simulation(endpoint: str, engine: str) -> 
         )
         terminal.wait_for("currently:")
         start = poses[-1]
-        _press_until(terminal.fd, "i", lambda: poses[-1][0] - start[0] > 0.1, "the robot to drive")
+        terminal.press_until("i", lambda: poses[-1][0] - start[0] > 0.1, "the robot to drive")
         turned_from = poses[-1]
-        _press_until(
-            terminal.fd, "j", lambda: abs(poses[-1][2] - turned_from[2]) > 0.3, "the robot to turn"
+        terminal.press_until(
+            "j", lambda: abs(poses[-1][2] - turned_from[2]) > 0.3, "the robot to turn"
         )
         # Ctrl-C as a raw terminal passes it: the script quits. (Typed in the instant the
         # script has its terminal cooked between two keys, the line discipline eats it, as a
         # real terminal would: press again.)
-        _press_until(terminal.fd, "\x03", lambda: teleop.poll() is not None, "the teleop to quit")
+        terminal.press_until("\x03", lambda: teleop.poll() is not None, "the teleop to quit")
         assert teleop.wait(timeout=DEADLINE) == 0
         assert teleop.stderr is not None
         assert "a Python 2 script: running its Python 3 form" in teleop.stderr.read()

@@ -27,6 +27,7 @@ __all__ = [
     "find",
     "joins_running_graph",
     "package_names",
+    "stopping_on_bad_values",
     "transforms",
 ]
 
@@ -83,6 +84,21 @@ class Session(Protocol):
 
 
 Starter = Callable[[Session, NodeSpec, Node], None]
+
+
+def stopping_on_bad_values(start: Callable[[Session, NodeSpec, Node], object]) -> Starter:
+    """A starter that runs ``start`` and turns its ``ValueError`` (a bad parameter, naming
+    it) into the node's one error at its launch line, as every parameter-reading node does."""
+
+    def starter(session: Session, spec: NodeSpec, node: Node) -> None:
+        try:
+            start(session, spec, node)
+        except ValueError as err:
+            message = f"{spec.full_name}: {err}"
+            raise StartError(message, spec.source) from None
+
+    return starter
+
 
 ParamLookup = Callable[[str, Any], Any]
 """A node's private parameter (name without ``~``) with a default."""

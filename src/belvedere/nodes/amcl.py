@@ -35,10 +35,9 @@ from belvedere.nav.amcl import AmclMap, AmclParams, Localizer, laser_data
 from belvedere.nodes._registry import (
     NodeSpec,
     ParamLookup,
-    Session,
     Starter,
-    StartError,
     TransformClaim,
+    stopping_on_bad_values,
 )
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster
 
@@ -520,15 +519,6 @@ class _AmclNode:
         node.set_param("~initial_cov_aa", float(cov[35]))
 
 
-def _start(session: Session, spec: NodeSpec, node: Node) -> None:
-    del session
-    try:
-        _AmclNode(node)
-    except ValueError as err:
-        msg = f"{spec.full_name}: {err}"
-        raise StartError(msg, spec.source) from None
-
-
 def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
     del spec
     if not param("tf_broadcast", NODE_PARAMETERS["tf_broadcast"]):
@@ -537,5 +527,7 @@ def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
     return [(parent, str(param("odom_frame_id", NODE_PARAMETERS["odom_frame_id"])))]
 
 
-EXECUTABLES: dict[str, Starter] = {"amcl": _start}
+EXECUTABLES: dict[str, Starter] = {
+    "amcl": stopping_on_bad_values(lambda session, spec, node: _AmclNode(node))
+}
 TRANSFORMS: dict[str, TransformClaim] = {"amcl": _claim}

@@ -21,10 +21,9 @@ from belvedere.graph import NS, Node
 from belvedere.nodes._registry import (
     NodeSpec,
     ParamLookup,
-    Session,
     Starter,
-    StartError,
     TransformClaim,
+    stopping_on_bad_values,
 )
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster, quat_xyzw_from_rpy
 
@@ -203,20 +202,13 @@ class _FakeLocalization:
         )
 
 
-def _start(session: Session, spec: NodeSpec, node: Node) -> None:
-    del session
-    try:
-        _FakeLocalization(node)
-    except ValueError as err:
-        msg = f"{spec.full_name}: {err}"
-        raise StartError(msg, spec.source) from None
-
-
 def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
     del spec
     parent = str(param("global_frame_id", PARAMETERS["global_frame_id"]))
     return [(parent, str(param("odom_frame_id", PARAMETERS["odom_frame_id"])))]
 
 
-EXECUTABLES: dict[str, Starter] = {"fake_localization": _start}
+EXECUTABLES: dict[str, Starter] = {
+    "fake_localization": stopping_on_bad_values(lambda session, spec, node: _FakeLocalization(node))
+}
 TRANSFORMS: dict[str, TransformClaim] = {"fake_localization": _claim}

@@ -31,10 +31,9 @@ from belvedere.nav.slam import GMappingParams, LaserGeometry, ScanPose, SubmapSl
 from belvedere.nodes._registry import (
     NodeSpec,
     ParamLookup,
-    Session,
     Starter,
-    StartError,
     TransformClaim,
+    stopping_on_bad_values,
 )
 from belvedere.nodes._slam import Processed, planar, stamp_ns
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster
@@ -283,15 +282,6 @@ class _GMappingNode:
         return types().cls("nav_msgs/srv/GetMap_Response")(self.map_msg)
 
 
-def _start(session: Session, spec: NodeSpec, node: Node) -> None:
-    del session
-    try:
-        _GMappingNode(node)
-    except ValueError as err:
-        msg = f"{spec.full_name}: {err}"
-        raise StartError(msg, spec.source) from None
-
-
 def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
     del spec
     defaults = NODE_PARAMETERS
@@ -303,5 +293,7 @@ def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
     ]
 
 
-EXECUTABLES: dict[str, Starter] = {"slam_gmapping": _start}
+EXECUTABLES: dict[str, Starter] = {
+    "slam_gmapping": stopping_on_bad_values(lambda session, spec, node: _GMappingNode(node))
+}
 TRANSFORMS: dict[str, TransformClaim] = {"slam_gmapping": _claim}

@@ -25,10 +25,9 @@ from belvedere.nav.slam import HectorParams, HectorSlam
 from belvedere.nodes._registry import (
     NodeSpec,
     ParamLookup,
-    Session,
     Starter,
-    StartError,
     TransformClaim,
+    stopping_on_bad_values,
 )
 from belvedere.nodes._slam import Processed, planar, stamp_ns
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster, TransformListener
@@ -305,15 +304,6 @@ def _scan_points(
     return np.ascontiguousarray(base[keep, :2])
 
 
-def _start(session: Session, spec: NodeSpec, node: Node) -> None:
-    del session
-    try:
-        _HectorNode(node)
-    except ValueError as err:
-        msg = f"{spec.full_name}: {err}"
-        raise StartError(msg, spec.source) from None
-
-
 def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
     del spec
     if not param("pub_map_odom_transform", PARAMETERS["pub_map_odom_transform"]):
@@ -324,5 +314,7 @@ def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
     return [(parent, base if odom == base else odom)]
 
 
-EXECUTABLES: dict[str, Starter] = {"hector_mapping": _start}
+EXECUTABLES: dict[str, Starter] = {
+    "hector_mapping": stopping_on_bad_values(lambda session, spec, node: _HectorNode(node))
+}
 TRANSFORMS: dict[str, TransformClaim] = {"hector_mapping": _claim}

@@ -43,7 +43,13 @@ from belvedere.nav.planners import (
 )
 from belvedere.nav.recovery import RotateOutcome, RotateRecovery, RotateRecoveryParams
 from belvedere.nodes._costmap import Costmap2DROS
-from belvedere.nodes._registry import NodeSpec, Session, Starter, StartError
+from belvedere.nodes._registry import (
+    NodeSpec,
+    Session,
+    Starter,
+    StartError,
+    stopping_on_bad_values,
+)
 from belvedere.tf import TFBuffer, TFError, TransformListener
 
 __all__ = ["EXECUTABLES", "PACKAGE", "MoveBaseParams"]
@@ -108,6 +114,14 @@ class _State(Enum):
 def _short(plugin: str) -> str:
     """A plugin's parameter namespace: ``navfn/NavfnROS`` → ``NavfnROS``."""
     return plugin.rsplit("/", 1)[-1]
+
+
+def _pose_data(x: float, y: float, yaw: float) -> dict[str, Any]:
+    """A planar pose as ``geometry_msgs/Pose`` data."""
+    return {
+        "position": {"x": float(x), "y": float(y), "z": 0.0},
+        "orientation": {"z": math.sin(yaw / 2), "w": math.cos(yaw / 2)},
+    }
 
 
 def _yaw(q: Any) -> float:
@@ -285,14 +299,11 @@ class _MoveBase:
         now = self.node.now_ns()
         pose = self.global_costmap.robot_pose()
         if pose is not None:
-            position = {"x": float(pose[0]), "y": float(pose[1]), "z": 0.0}
-            header = {"stamp": {"sec": now // NS, "nanosec": now % NS}}
-            header["frame_id"] = self.global_costmap.global_frame  # type: ignore[assignment]
-            quat = {"z": math.sin(pose[2] / 2), "w": math.cos(pose[2] / 2)}
-            base_position = {
-                "header": header,
-                "pose": {"position": position, "orientation": quat},
+            header = {
+                "stamp": {"sec": now // NS, "nanosec": now % NS},
+                "frame_id": self.global_costmap.global_frame,
             }
+            base_position = {"header": header, "pose": _pose_data(*pose)}
             handle.publish_feedback({"base_position": base_position})
         if self.state is _State.PLANNING:
             self._plan_step(now)
@@ -481,28 +492,21 @@ class _MoveBase:
 
     def _publish_goal(self) -> None:
         assert self.goal is not None
-        self._publish_path(None, self.goal[None, :], self.global_costmap.global_frame)
+        path = self._path(self.goal[None, :], self.global_costmap.global_frame)
+        self.goal_pub.publish(path.poses[0])
 
     def _publish_path(self, publisher: Any, poses: Floats, frame: str) -> None:
-        now = self.node.now_ns()
-        header = build.header(now, frame)
-        stamped = []
-        for x, y, yaw in np.asarray(poses, dtype=np.float64).reshape(-1, 3):
-            msg = types().cls("geometry_msgs/PoseStamped")(
-                header,
-                message_from_data(
-                    "geometry_msgs/Pose",
-                    {
-                        "position": {"x": float(x), "y": float(y), "z": 0.0},
-                        "orientation": {"z": math.sin(yaw / 2), "w": math.cos(yaw / 2)},
-                    },
-                ),
-            )
-            stamped.append(msg)
-        if publisher is None:
-            self.goal_pub.publish(stamped[0])
-            return
-        publisher.publish(types().cls("nav_msgs/Path")(header, stamped))
+        publisher.publish(self._path(poses, frame))
+
+    def _path(self, poses: Floats, frame: str) -> Any:
+        """(N, 3) poses as a ``nav_msgs/Path`` stamped now."""
+        header = build.header(self.node.now_ns(), frame)
+        pose_stamped = types().cls("geometry_msgs/PoseStamped")
+        stamped = [
+            pose_stamped(header, message_from_data("geometry_msgs/Pose", _pose_data(x, y, yaw)))
+            for x, y, yaw in np.asarray(poses, dtype=np.float64).reshape(-1, 3)
+        ]
+        return types().cls("nav_msgs/Path")(header, stamped)
 
     # --- services ------------------------------------------------------------------------------
     def _on_make_plan(self, request: Any) -> Any:
@@ -515,7 +519,7 @@ class _MoveBase:
             else self.global_costmap.robot_pose()
         )
         frame = self.global_costmap.global_frame
-        empty = types().cls("nav_msgs/Path")(build.header(self.node.now_ns(), frame), [])
+        empty = self._path(np.zeros((0, 3)), frame)
         if goal is None or start is None:
             return response(empty)
         self.global_costmap.update_now()
@@ -523,9 +527,7 @@ class _MoveBase:
             plan = self.global_planner.plan(self.global_costmap.grid(), start, goal)
         except NoPathError:
             return response(empty)
-        publisher = _Collect()
-        self._publish_path(publisher, plan, frame)
-        return response(publisher.message)
+        return response(self._path(plan, frame))
 
     def _on_clear_costmaps(self, request: Any) -> Any:
         del request
@@ -534,21 +536,6 @@ class _MoveBase:
         return types().cls("std_srvs/srv/Empty_Response")()
 
 
-class _Collect:
-    """A stand-in publisher that keeps the message (to answer a service with it)."""
-
-    message: Any = None
-
-    def publish(self, message: Any) -> None:
-        self.message = message
-
-
-def _start(session: Session, spec: NodeSpec, node: Node) -> None:
-    try:
-        _MoveBase(node, session, spec)
-    except ValueError as err:
-        message = f"{spec.full_name}: {err}"
-        raise StartError(message, spec.source) from None
-
-
-EXECUTABLES: dict[str, Starter] = {"move_base": _start}
+EXECUTABLES: dict[str, Starter] = {
+    "move_base": stopping_on_bad_values(lambda session, spec, node: _MoveBase(node, session, spec))
+}
