@@ -107,7 +107,11 @@ class Tuning:
     loop_points: int = 90
     loop_sigma_xy: float = 0.05
     loop_sigma_theta: float = 0.01
-    loop_huber: float = 0.0
+    loop_huber: float = 3.0
+    """Loop edges cost linearly beyond this Mahalanobis distance when the graph is
+    optimised (a Huber kernel, as Cartographer's): a wrong closure that got this far pulls
+    the graph with a bounded force, too weak to bend it, and is then dropped by
+    ``loop_max_error``."""
     loop_min_travel: float = 15.0
     """Submaps nearer than this along the graph (m) are not searched for closures."""
     loop_min_ratio: float = 0.1
