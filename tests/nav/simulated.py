@@ -3,10 +3,10 @@ driven once around the cloister (examples/mbot_gazebo/worlds/cloister.world) and
 start, so that the run closes a loop.
 
 The diff drive's odometry is the model's true pose (``odometrySource`` world): that is the
-ground truth. The odometry the mapper gets is made from it as a wheeled robot's drifts — each
-step's travel 2 % long, its turn 3 % long, the heading creeping 0.4° a metre, and a little
-white noise (seeded), by default; :func:`record` takes other drifts — and recorded, with the laser's scans and its mount, into a ROS 1 bag
-as a robot would record ``/scan`` and ``/tf``.
+ground truth. The odometry the mapper gets is made from it as a wheeled robot's drifts — by
+default each step's travel 2 % long, its turn 3 % long, the heading creeping 0.4° a metre, and
+a little white noise (seeded); :func:`record` takes other drifts — and recorded, with the
+laser's scans and its mount, into a ROS 1 bag as a robot would record ``/scan`` and ``/tf``.
 """
 
 from __future__ import annotations

@@ -269,7 +269,8 @@ class SubmapSlam:
         self._state = _State()
         self.loop_closures = 0
         self.refused_closures = 0
-        """Closures found and verified but refused by the Mahalanobis gate."""
+        """Closures the scans agreed on that the graph refused: too far from it after
+        optimising (``loop_max_error``) or beyond its Mahalanobis gate (``loop_max_chi2``)."""
         self._last_score = 1.0
         self._covariance_source: tuple[Array, float] | None = None
         self._pending: list[_Closure] = []
@@ -694,6 +695,7 @@ class SubmapSlam:
                 break
             removed = added.pop(worst)
             logger.debug("closure edge %d dropped: %.1f from the graph", removed, errors[worst])
+            self.refused_closures += 1
             self.graph.remove_edge(removed)
             added = [e - 1 if e > removed else e for e in added]
             self._optimize()
