@@ -3,14 +3,16 @@ driven once around the cloister (examples/mbot_gazebo/worlds/cloister.world) and
 start, so that the run closes a loop.
 
 The diff drive's odometry is the model's true pose (``odometrySource`` world): that is the
-ground truth. The odometry the mapper gets is made from it as a wheeled robot's drifts — each
-step's travel 2 % long, its turn 3 % long, the heading creeping 0.4° a metre, and a little
-white noise (seeded) — and recorded, with the laser's scans and its mount, into a ROS 1 bag
-as a robot would record ``/scan`` and ``/tf``.
+ground truth. The odometry the mapper gets is made from it as a wheeled robot's drifts — by
+default each step's travel 2 % long, its turn 3 % long, the heading creeping 0.4° a metre, and
+a little white noise (seeded); :func:`record` takes other drifts — and recorded, with the
+laser's scans and its mount, into a ROS 1 bag as a robot would record ``/scan`` and ``/tf``.
 """
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -87,8 +89,12 @@ def _drive(graph: Graph, buffer: TFBuffer) -> Any:
     return state
 
 
-def _drift(truth: Array, seed: int) -> Array:
-    """Odometry from the true poses, drifting as wheel odometry does."""
+def drift(
+    truth: Array, seed: int, *, travel: float = 0.02, turn: float = 0.03, creep: float = 0.4
+) -> Array:
+    """Odometry from the true poses, drifting as wheel odometry does: each step's travel
+    ``travel`` and its turn ``turn`` too long (fractions), the heading creeping ``creep``
+    degrees a metre, and a little white noise (seeded)."""
     rng = np.random.default_rng(seed)
     odom = np.zeros_like(truth)
     odom[0] = truth[0]
@@ -99,8 +105,8 @@ def _drift(truth: Array, seed: int) -> Array:
         fx, fy = c * dx + s * dy, -s * dx + c * dy  # the step in the robot's frame
         dth = math.remainder(b[2] - a[2], 2 * math.pi)
         dist = math.hypot(fx, fy)
-        fx, fy = fx * 1.02, fy * 1.02
-        dth = dth * 1.03 + math.radians(0.4) * dist + rng.normal(0.0, 0.002) * (dist > 1e-4)
+        fx, fy = fx * (1 + travel), fy * (1 + travel)
+        dth = dth * (1 + turn) + math.radians(creep) * dist + rng.normal(0.0, 0.002) * (dist > 1e-4)
         fx += rng.normal(0.0, 0.002) * (dist > 1e-4)
         p = odom[k - 1]
         c, s = math.cos(p[2]), math.sin(p[2])
@@ -108,8 +114,25 @@ def _drift(truth: Array, seed: int) -> Array:
     return odom
 
 
-def record(seconds: float = 150.0, seed: int = 7) -> Recording:
-    """Drive the loop in the physics simulation (simulated time, as fast as it goes)."""
+def record(
+    seconds: float = 150.0,
+    seed: int = 7,
+    *,
+    travel: float = 0.02,
+    turn: float = 0.03,
+    creep: float = 0.4,
+) -> Recording:
+    """Drive the loop in the physics simulation (simulated time, as fast as it goes), with
+    odometry drifting as :func:`drift` makes it. The drive is simulated once per process
+    for each ``(seconds, seed)``; other drifts reuse it."""
+    rec = _record(seconds, seed)
+    return dataclasses.replace(
+        rec, odom=drift(rec.truth, seed, travel=travel, turn=turn, creep=creep)
+    )
+
+
+@functools.cache
+def _record(seconds: float, seed: int) -> Recording:
     graph = Graph(seed=seed)
     sim = PhysicsSimulation(graph, read_world(WORLD))
     model = RobotModel.from_path(ROBOT)
@@ -135,7 +158,8 @@ def record(seconds: float = 150.0, seed: int = 7) -> Recording:
     laser = _laser_mount(model)
     true = np.array(truth).reshape(-1, 3)
     true[:, 2] = np.unwrap(true[:, 2])
-    return Recording(stamps, scans, true, _drift(true, seed), laser)
+    true.flags.writeable = False  # shared by every drift of this drive
+    return Recording(stamps, scans, true, true, laser)
 
 
 def _laser_mount(model: RobotModel) -> tuple[float, float, float]:

@@ -89,6 +89,13 @@ class PoseGraph:
         squared = np.einsum("ni,nij,nj->n", e, info, e)
         return np.asarray(np.sqrt(np.maximum(squared, 0.0)), dtype=np.float64)
 
+    def cost(self) -> float:
+        """The sum of every edge's squared Mahalanobis distance at the current poses (no
+        robust kernel): the graph's χ²."""
+        if not self._i:
+            return 0.0
+        return float(np.sum(self.errors() ** 2))
+
     def _linearize(self) -> tuple[Array, Array, Array, Array]:
         i = np.asarray(self._i)
         j = np.asarray(self._j)

@@ -107,11 +107,19 @@ class Tuning:
     loop_points: int = 90
     loop_sigma_xy: float = 0.05
     loop_sigma_theta: float = 0.01
-    loop_huber: float = 0.0
+    loop_huber: float = 3.0
+    """Loop edges cost linearly beyond this Mahalanobis distance when the graph is
+    optimised (a Huber kernel, as Cartographer's): a wrong closure that got this far pulls
+    the graph with a bounded force, too weak to bend it, and is then dropped by
+    ``loop_max_error``."""
     loop_min_travel: float = 15.0
     """Submaps nearer than this along the graph (m) are not searched for closures."""
     loop_min_ratio: float = 0.1
     """Closures whose translational information is this lopsided (corridors) are dropped."""
+    loop_max_chi2: float = 100.0
+    """Closures adding more than this to the graph's χ² (after optimising) are refused:
+    their correction lies that far (squared, Mahalanobis) outside the drift the chain
+    edges allow between their ends."""
     loop_max_error: float = 8.0
     """After optimising, a new closure this far (Mahalanobis) from the graph is dropped."""
     loop_max_contradiction: float = 0.2
@@ -260,6 +268,9 @@ class SubmapSlam:
         self._kf_submaps: list[int] = []
         self._state = _State()
         self.loop_closures = 0
+        self.refused_closures = 0
+        """Closures the scans agreed on that the graph refused: too far from it after
+        optimising (``loop_max_error``) or beyond its Mahalanobis gate (``loop_max_chi2``)."""
         self._last_score = 1.0
         self._covariance_source: tuple[Array, float] | None = None
         self._pending: list[_Closure] = []
@@ -656,6 +667,8 @@ class SubmapSlam:
         if not accepted:
             return
         added: list[int] = []
+        chi2_before = self.graph.cost()
+        poses_before = self.graph.poses.copy()
         for closure in accepted:
             added.append(self.graph.edge_count)
             home = self.keyframes[closure.keyframe].home
@@ -682,9 +695,23 @@ class SubmapSlam:
                 break
             removed = added.pop(worst)
             logger.debug("closure edge %d dropped: %.1f from the graph", removed, errors[worst])
+            self.refused_closures += 1
             self.graph.remove_edge(removed)
             added = [e - 1 if e > removed else e for e in added]
             self._optimize()
+        # The Mahalanobis gate: the χ² the closures add to the graph, once it has bent to
+        # them as far as its chain edges (the front end's drift model) allow, is their
+        # correction's squared distance in the uncertainty grown along the path between
+        # their ends. Closures that need the trajectory bent far beyond that are refused.
+        grown = self.graph.cost() - chi2_before
+        if added and grown > t.loop_max_chi2:
+            logger.debug("closures refused: they add %.1f to the graph's chi2", grown)
+            for e in sorted(added, reverse=True):
+                self.graph.remove_edge(e)
+            self.graph.poses = poses_before
+            self._refresh_keyframe_xy()
+            self.refused_closures += len(added)
+            return
         self.loop_closures += len(added)
 
     def _optimize(self) -> None:
