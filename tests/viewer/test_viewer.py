@@ -108,17 +108,22 @@ def test_a_growing_map_is_redrawn_as_it_grows() -> None:
         graph.executor.post(lambda: pub.publish(small))
         wait_until(lambda: width() == 5, what="the 5-cell-wide map drawn")
         handle = display.handles["grid"]
-        assert len(handle.points) == 20
-        assert (handle.colors == 255).all()  # free: white
+        image = getattr(display, "image", None)
+        assert image is not None
+        assert image.shape == (4, 5, 4)
+        assert (image[..., :3] == 255).all()  # free: white
+        assert (image[..., 3] == round(0.7 * 255)).all()  # rviz's Map alpha 0.7
         frames = viewer.frames_rendered
         wait_until(lambda: viewer.frames_rendered > frames + 2, what="more frames")
         assert display.handles["grid"] is handle  # the same map: not rebuilt
         bigger = grid_message(OccupancyMap(np.full((8, 10), 100, np.int8), 0.05))
         graph.executor.post(lambda: pub.publish(bigger))
         wait_until(lambda: width() == 10, what="the grown map drawn")
-        grown = display.handles["grid"]
-        assert len(grown.points) == 80
-        assert (grown.colors == 0).all()  # occupied: black
+        assert display.handles["grid"] is not handle
+        image = getattr(display, "image", None)
+        assert image is not None
+        assert image.shape == (8, 10, 4)
+        assert (image[..., :3] == 0).all()  # occupied: black
     finally:
         viewer.close()
         graph.shutdown()

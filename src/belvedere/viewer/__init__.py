@@ -1,7 +1,8 @@
 """The browser viewer (rviz and joint_state_publisher_gui in any browser), built on viser."""
 
 from belvedere.viewer._access import ViewerAccess, ViewerError, check_origin
-from belvedere.viewer._displays import DISPLAYS, Display
+from belvedere.viewer._catalog import DISPLAYS
+from belvedere.viewer._display import Display
 from belvedere.viewer._robot import MeshAccessError, RobotDrawing, allowed_mesh_path
 from belvedere.viewer._rviz import RvizConfig, RvizDisplay, read_rviz
 from belvedere.viewer._viewer import SimControls, Viewer, floor_point

@@ -1,401 +1,336 @@
-"""Displays: each subscribes to one topic, keeps the latest message (cheap, on the executor)
-and draws it on the render thread, placed by TF in the fixed frame."""
+"""Displays of sensor data and maps: LaserScan, PointCloud2, Map, Image and Camera."""
 
 from __future__ import annotations
 
-import threading
 from collections import deque
-from typing import Any, ClassVar
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
-from belvedere.graph import Node
-from belvedere.tf import TFBuffer, TFError, Transform, wxyz_from_xyzw
+from belvedere.graph import NS
+from belvedere.tf import Transform
+from belvedere.viewer._display import Display, Prop, transform_points
+from belvedere.viewer._status import Level
 
-__all__ = ["DISPLAYS", "Display"]
+__all__ = [
+    "CameraDisplay",
+    "ImageDisplay",
+    "LaserScanDisplay",
+    "MapDisplay",
+    "PointCloud2Display",
+    "msg_pose",
+    "rainbow",
+]
 
-F32 = npt.NDArray[np.float32]
-
-
-def _arrow_segments(
-    origin: npt.NDArray[np.float64], yaw_dir: npt.NDArray[np.float64], length: float
-) -> F32:
-    """Line segments of an arrow from ``origin`` along unit ``yaw_dir``."""
-    tip = origin + yaw_dir * length
-    side = np.array([-yaw_dir[1], yaw_dir[0], 0.0])
-    back = tip - yaw_dir * length * 0.25
-    return np.array(
-        [[origin, tip], [tip, back + side * length * 0.12], [tip, back - side * length * 0.12]],
-        dtype=np.float32,
-    )
+F64 = npt.NDArray[np.float64]
+U8 = npt.NDArray[np.uint8]
 
 
-def _pose(p: Any) -> Transform:
+def msg_pose(p: Any) -> Transform:
     """A geometry_msgs/Pose (an all-zero quaternion, the message default, is identity)."""
     q = p.orientation
     xyzw = (q.x, q.y, q.z, q.w) if (q.x, q.y, q.z, q.w) != (0, 0, 0, 0) else (0.0, 0.0, 0.0, 1.0)
     return Transform((p.position.x, p.position.y, p.position.z), xyzw)
 
 
-def _pose_parts(p: Any) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-    """(position, x-axis direction) of a geometry_msgs/Pose."""
-    m = _pose(p).matrix()
-    return m[:3, 3], m[:3, 0]
+def rainbow(values: F64) -> U8:
+    """rviz's rainbow ramp: 0 magenta → blue → cyan → green → yellow → 1 red."""
+    v = np.clip(values, 0.0, 1.0)
+    h = v * 5.0 + 1.0
+    i = np.floor(h)
+    f = h - i
+    f = np.where(i % 2 == 0, 1.0 - f, f)
+    n = 1.0 - f
+    one, zero = np.ones_like(v), np.zeros_like(v)
+    conditions = [i <= 1, i == 2, i == 3, i == 4]
+    r = np.select(conditions, [n, zero, zero, n], one)
+    g = np.select(conditions, [zero, n, one, one], n)
+    b = np.select(conditions, [one, one, n, zero], zero)
+    out: U8 = (np.stack([r, g, b], axis=1) * 255).round().astype(np.uint8)
+    return out
 
 
-class Display:
-    """One display: ``topic`` of ``msg_type``, drawn under ``/displays/<name>``."""
+POINT_STYLES = ("Points", "Squares", "Flat Squares", "Spheres", "Boxes")
+COLOR_TRANSFORMERS = ("Intensity", "FlatColor", "AxisColor", "RGB8")
 
-    kind: ClassVar[str] = ""
-    msg_type: ClassVar[str] = ""
 
-    def __init__(
-        self, node: Node, scene: Any, gui: Any, name: str, topic: str, buffer: TFBuffer
-    ) -> None:
-        self.name = name
-        self.topic = topic
-        self.scene = scene
-        self.gui = gui
-        self.buffer = buffer
-        self.latest: Any = None
-        self.dirty = False
-        self.lock = threading.Lock()
-        self.handles: dict[str, Any] = {}
-        self.frames: dict[str, Any] = {}
-        self.enabled = True
-        self.error: str | None = None
-        self.subscription = node.subscribe(topic, self.msg_type, self.on_message, queue_size=1)
+class _CloudDisplay(Display):
+    """Points kept in the fixed frame for Decay Time seconds (0: the latest message only)."""
 
-    def on_message(self, msg: Any) -> None:
-        with self.lock:
-            self.latest = msg
-            self.dirty = True
+    props = (
+        Prop("Style", "Flat Squares", "choice", POINT_STYLES),
+        Prop("Size (m)", 0.01, "float", low=0.001, high=0.5, step=0.001),
+        Prop("Size (Pixels)", 3, "int", low=1, high=20, step=1),
+        Prop("Alpha", 1.0, "float"),
+        Prop("Decay Time", 0.0, "float", low=0.0, high=60.0, step=0.1),
+        Prop("Color Transformer", "Intensity", "choice", COLOR_TRANSFORMERS),
+        Prop("Color", (255, 255, 255), "color"),
+        Prop("Use rainbow", True, "bool"),
+        Prop("Invert Rainbow", False, "bool"),
+        Prop("Min Color", (0, 0, 0), "color"),
+        Prop("Max Color", (255, 255, 255), "color"),
+        Prop("Axis", "Z", "choice", ("X", "Y", "Z")),
+    )
 
-    def frame_pose(self, frame_id: str, fixed: str) -> Transform | None:
-        try:
-            return self.buffer.lookup_transform(fixed, frame_id or fixed)
-        except TFError as err:
-            self.error = err.message
-            return None
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        self.clouds: deque[tuple[int, F64, U8]] = deque()
+        self.changed_since_drawn = False
+        super().__init__(*args, **kwargs)
 
-    def render(self, fixed: str) -> None:
-        with self.lock:
-            msg, self.dirty = self.latest, False
-        if msg is not None and self.enabled:
-            self.draw(msg, fixed)
-
-    def draw(self, msg: Any, fixed: str) -> None:
+    def points(self, msg: Any) -> tuple[F64, F64 | None, U8 | None]:
+        """(N, 3) points in the message's frame, their intensities, their own colours."""
         raise NotImplementedError
 
-    def place(self, key: str, handle: Any, pose: Transform) -> None:
-        """Keep ``handle`` (made under ``<base>/<key>/geom``) and put its frame at ``pose``.
+    def colors(self, pts: F64, intensity: F64 | None, own: U8 | None) -> U8:
+        transformer = self.values["Color Transformer"]
+        n = len(pts)
+        if transformer == "RGB8" and own is not None:
+            return own
+        if transformer == "FlatColor" or (transformer == "Intensity" and intensity is None):
+            return np.tile(np.array(self.values["Color"], dtype=np.uint8), (n, 1))
+        if transformer == "AxisColor":
+            values = pts[:, "XYZ".index(self.values["Axis"])]
+        else:
+            assert intensity is not None
+            values = intensity
+        lo, hi = (float(values.min()), float(values.max())) if n else (0.0, 0.0)
+        # rviz: equal values all take the top of the ramp
+        t = (values - lo) / (hi - lo) if hi > lo else np.ones(n)
+        if self.values["Use rainbow"] or transformer == "AxisColor":
+            return rainbow(1.0 - t if self.values["Invert Rainbow"] else t)
+        low = np.array(self.values["Min Color"], dtype=np.float64)
+        high = np.array(self.values["Max Color"], dtype=np.float64)
+        mixed: U8 = (low + (high - low) * t[:, None]).round().astype(np.uint8)
+        return mixed
 
-        The pose goes on a parent frame node, updated like the robot's link frames."""
-        frame = self.frames.get(key)
-        if frame is None:
-            frame = self.frames[key] = self.scene.add_frame(f"{self.base}/{key}", show_axes=False)
-        frame.position = pose.translation
-        frame.wxyz = wxyz_from_xyzw(pose.quat_xyzw)
-        self.handles[key] = handle
+    def draw(self, msg: Any, pose: Transform) -> None:
+        pts, intensity, own = self.points(msg)
+        stamp = int(msg.header.stamp.sec) * NS + int(msg.header.stamp.nanosec)
+        colors = self.colors(pts, intensity, own)
+        self.clouds.append((stamp, transform_points(pose, pts), colors))
+        self.changed_since_drawn = True
 
-    def remove(self) -> None:
-        self.subscription.unregister()
-        for h in (*self.handles.values(), *self.frames.values()):
-            h.remove()
-        self.handles.clear()
-        self.frames.clear()
-
-    @property
-    def base(self) -> str:
-        return f"/displays/{self.name}"
-
-
-class LaserScanDisplay(Display):
-    kind = "LaserScan"
-    msg_type = "sensor_msgs/LaserScan"
-
-    def draw(self, msg: Any, fixed: str) -> None:
-        pose = self.frame_pose(msg.header.frame_id, fixed)
-        if pose is None:
+    def tick(self, fixed: str) -> None:
+        decay = float(self.values["Decay Time"])
+        if decay <= 0:
+            while len(self.clouds) > 1:
+                self.clouds.popleft()
+                self.changed_since_drawn = True
+        else:
+            horizon = self.ctx.now_ns() - round(decay * NS)
+            while len(self.clouds) > 1 and self.clouds[0][0] < horizon:
+                self.clouds.popleft()
+                self.changed_since_drawn = True
+        if not self.changed_since_drawn or not self.clouds:
             return
+        self.changed_since_drawn = False
+        pts = np.concatenate([c[1] for c in self.clouds])
+        colors = np.concatenate([c[2] for c in self.clouds])
+        if len(pts) == 0:
+            pts, colors = np.zeros((1, 3)), np.zeros((1, 3), dtype=np.uint8)
+        style = self.values["Style"]
+        size = (
+            float(self.values["Size (Pixels)"]) * 0.005
+            if style == "Points"
+            else float(self.values["Size (m)"])
+        )
+        handle = self.ctx.scene.add_point_cloud(
+            f"{self.base}/points",
+            pts.astype(np.float32),
+            colors,
+            point_size=size,
+            point_shape="circle" if style in ("Points", "Spheres") else "square",
+            point_shading="gradient" if style == "Spheres" else "flat",
+            precision="float32",
+        )
+        self.keep("points", handle)
+
+    def changed(self, key: str) -> None:
+        if key in ("Style", "Size (m)", "Size (Pixels)"):
+            self.changed_since_drawn = True
+
+    def reset(self) -> None:
+        self.clouds.clear()
+        super().reset()
+
+
+class LaserScanDisplay(_CloudDisplay):
+    cls = "rviz/LaserScan"
+    type_name = "LaserScan"
+    msg_type = "sensor_msgs/LaserScan"
+    default_topic = "/scan"
+
+    def points(self, msg: Any) -> tuple[F64, F64 | None, U8 | None]:
         ranges = np.asarray(msg.ranges, dtype=np.float64)
         angles = msg.angle_min + np.arange(len(ranges)) * msg.angle_increment
         ok = np.isfinite(ranges) & (ranges >= msg.range_min) & (ranges <= msg.range_max)
-        pts = np.stack(
-            [ranges * np.cos(angles), ranges * np.sin(angles), np.zeros_like(ranges)], axis=1
-        )[ok]
-        if len(pts) == 0:
-            pts = np.zeros((1, 3))
-        h = self.scene.add_point_cloud(
-            f"{self.base}/points/geom",
-            pts.astype(np.float32),
-            (255, 40, 40),
-            point_size=0.03,
-        )
-        self.place("points", h, pose)
+        r, a = ranges[ok], angles[ok]
+        pts = np.stack([r * np.cos(a), r * np.sin(a), np.zeros_like(r)], axis=1)
+        intensities = np.asarray(msg.intensities, dtype=np.float64)
+        intensity = intensities[ok] if len(intensities) == len(ranges) else np.zeros(len(r))
+        return pts, intensity, None
 
 
-class PointCloud2Display(Display):
-    kind = "PointCloud2"
+class PointCloud2Display(_CloudDisplay):
+    cls = "rviz/PointCloud2"
+    type_name = "PointCloud2"
     msg_type = "sensor_msgs/PointCloud2"
+    default_topic = "/points"
 
-    def draw(self, msg: Any, fixed: str) -> None:
-        pose = self.frame_pose(msg.header.frame_id, fixed)
+    def points(self, msg: Any) -> tuple[F64, F64 | None, U8 | None]:
         offsets = {f.name: f.offset for f in msg.fields}
-        if pose is None or not {"x", "y", "z"} <= set(offsets):
-            return
+        if not {"x", "y", "z"} <= set(offsets):
+            self.status.set("Points", Level.ERROR, "the cloud has no x, y, z fields")
+            return np.zeros((0, 3)), None, None
+        self.status.clear("Points")
         data = np.frombuffer(bytes(msg.data), dtype=np.uint8).reshape(-1, msg.point_step)
-        dtype = ">f4" if msg.is_bigendian else "<f4"
-        pts = np.stack(
-            [data[:, offsets[a] : offsets[a] + 4].copy().view(dtype)[:, 0] for a in "xyz"], axis=1
-        )
-        pts = pts[np.isfinite(pts).all(axis=1)]
-        if len(pts) == 0:
-            pts = np.zeros((1, 3), dtype=np.float32)
-        h = self.scene.add_point_cloud(
-            f"{self.base}/points/geom",
-            pts.astype(np.float32),
-            (40, 200, 255),
-            point_size=0.02,
-        )
-        self.place("points", h, pose)
+        order = ">" if msg.is_bigendian else "<"
+
+        def column(name: str) -> F64:
+            at = offsets[name]
+            return data[:, at : at + 4].copy().view(f"{order}f4")[:, 0].astype(np.float64)
+
+        pts = np.stack([column(a) for a in "xyz"], axis=1)
+        ok = np.isfinite(pts).all(axis=1)
+        intensity = column("intensity")[ok] if "intensity" in offsets else None
+        own = None
+        if "rgb" in offsets:
+            at = offsets["rgb"]
+            raw = data[ok, at : at + 4]
+            # packed as float bytes b, g, r, (pad) in little-endian order
+            own = np.ascontiguousarray(raw[:, [2, 1, 0]] if order == "<" else raw[:, [1, 2, 3]])
+        return pts[ok], intensity, own
 
 
-class OccupancyGridDisplay(Display):
-    """A map (or costmap): redrawn when a new grid comes (a SLAM map grows), moved with its
-    frame in between."""
+def _palette(scheme: str) -> U8:
+    """RGBA for each cell byte 0..255 (-1 is 255) in rviz's map, costmap and raw schemes."""
+    table = np.zeros((256, 4), dtype=np.uint8)
+    v = np.arange(256)
+    if scheme == "costmap":
+        ramp = v[1:99]
+        table[1:99, 0] = ramp * 255 // 100
+        table[1:99, 2] = 255 - ramp * 255 // 100
+        table[1:99, 3] = 255
+        table[99] = (0, 255, 255, 255)  # inscribed
+        table[100] = (255, 0, 255, 255)  # lethal
+        table[101:255] = (0, 255, 0, 255)  # not a cost
+        table[255] = (112, 137, 134, 255)  # unknown
+    elif scheme == "raw":
+        table[:, :3] = v[:, None]
+        table[:, 3] = 255
+    else:
+        gray = 255 - v[:101] * 255 // 100
+        table[:101, :3] = gray[:, None]
+        table[:, 3] = 255
+        table[101:128] = (0, 255, 0, 255)
+        t = (v[128:255] - 128) / 126
+        table[128:255, 0] = 255
+        table[128:255, 1] = (t * 255).astype(np.uint8)
+        table[255] = (112, 137, 134, 255)  # unknown: rviz's grey-green
+    return table
 
-    kind = "OccupancyGrid"
+
+class MapDisplay(Display):
+    """An OccupancyGrid as one textured plane, redrawn when a new grid comes (a SLAM map grows),
+    moved with its frame's latest transform in between (as rviz does)."""
+
+    cls = "rviz/Map"
+    type_name = "Map"
     msg_type = "nav_msgs/OccupancyGrid"
-    scheme = "map"
+    default_topic = "/map"
+    stamped = False
+    props = (
+        Prop("Alpha", 0.7, "float"),
+        Prop("Color Scheme", "map", "choice", ("map", "costmap", "raw")),
+        Prop("Draw Behind", False, "bool"),
+    )
     drawn: Any = None
     """The message the scene shows."""
+    image: U8 | None = None
+    """(height, width, 4) RGBA of its cells, row 0 at the map's origin."""
 
-    def draw(self, msg: Any, fixed: str) -> None:
-        pose = self.frame_pose(msg.header.frame_id, fixed)
+    def update(self, msg: Any, fixed: str) -> None:
+        if msg is None:
+            return
         info = msg.info
-        if pose is None or info.width == 0 or info.height == 0:
+        if info.width == 0 or info.height == 0:
+            self.status.set("Map", Level.WARN, "Map is zero-sized")
             return
-        if msg is self.drawn and "grid" in self.handles:
-            self.place("grid", self.handles["grid"], pose @ _pose(info.origin))
-            return
-        grid = np.asarray(msg.data, dtype=np.int16).reshape(info.height, info.width)
-        # Cells as square points (positions are exact; large maps are thinned to ~250k cells).
-        stride = max(1, int(np.ceil(np.sqrt(grid.size / 250_000))))
-        cells = grid[::stride, ::stride]
-        colors = np.empty((*cells.shape, 3), dtype=np.uint8)
-        if self.scheme == "costmap":
-            t = np.clip(cells, 0, 100) / 100.0
-            colors[..., 0] = (255 * t).astype(np.uint8)
-            colors[..., 1] = (255 * (1 - t) * 0.6).astype(np.uint8)
-            colors[..., 2] = (255 * (1 - t)).astype(np.uint8)
-        else:
-            colors[...] = (255 - np.clip(cells, 0, 100) * 255 // 100).astype(np.uint8)[..., None]
-        colors[cells < 0] = (128, 128, 128)
-        res = info.resolution * stride
-        rows, cols = np.mgrid[0 : cells.shape[0], 0 : cells.shape[1]]
-        pts = np.stack(
-            [(cols + 0.5) * res, (rows + 0.5) * res, np.full(rows.shape, -0.002)], axis=-1
-        )
-        handle = self.scene.add_point_cloud(
-            f"{self.base}/grid/geom",
-            pts.reshape(-1, 3).astype(np.float32),
-            colors.reshape(-1, 3),
-            point_size=res,
-            point_shape="square",
-            point_shading="flat",
-        )
-        self.place("grid", handle, pose @ _pose(info.origin))
-        self.drawn = msg
-
-
-class CostmapDisplay(OccupancyGridDisplay):
-    kind = "Costmap"
-    scheme = "costmap"
-
-
-class PoseStampedDisplay(Display):
-    kind = "PoseStamped"
-    msg_type = "geometry_msgs/PoseStamped"
-
-    def draw(self, msg: Any, fixed: str) -> None:
-        pose = self.frame_pose(msg.header.frame_id, fixed)
+        pose = self.latest_pose(msg.header.frame_id, fixed)
         if pose is None:
             return
-        p, x = _pose_parts(msg.pose)
-        h = self.scene.add_line_segments(
-            f"{self.base}/arrow/geom",
-            _arrow_segments(p, x, 0.5),
-            (255, 0, 0),
-            thickness=0.02,
-        )
-        self.place("arrow", h, pose)
-
-
-class PoseArrayDisplay(Display):
-    kind = "PoseArray"
-    msg_type = "geometry_msgs/PoseArray"
-
-    def draw(self, msg: Any, fixed: str) -> None:
-        pose = self.frame_pose(msg.header.frame_id, fixed)
-        if pose is None or not msg.poses:
-            return
-        segs = np.concatenate([_arrow_segments(*_pose_parts(p), 0.25) for p in msg.poses])
-        h = self.scene.add_line_segments(
-            f"{self.base}/arrows/geom", segs, (255, 80, 80), thickness=0.01
-        )
-        self.place("arrows", h, pose)
-
-
-class PathDisplay(Display):
-    kind = "Path"
-    msg_type = "nav_msgs/Path"
-
-    def draw(self, msg: Any, fixed: str) -> None:
-        pose = self.frame_pose(msg.header.frame_id, fixed)
-        if pose is None or len(msg.poses) < 2:
-            return
-        pts = np.array(
-            [[p.pose.position.x, p.pose.position.y, p.pose.position.z] for p in msg.poses]
-        )
-        segs = np.stack([pts[:-1], pts[1:]], axis=1).astype(np.float32)
-        h = self.scene.add_line_segments(
-            f"{self.base}/path/geom", segs, (0, 200, 0), thickness=0.02
-        )
-        self.place("path", h, pose)
-
-
-class OdometryDisplay(Display):
-    kind = "Odometry"
-    msg_type = "nav_msgs/Odometry"
-
-    def __init__(self, *args: Any, **kwargs: Any) -> None:
-        super().__init__(*args, **kwargs)
-        self.trail: deque[F32] = deque(maxlen=100)
-
-    def draw(self, msg: Any, fixed: str) -> None:
-        pose = self.frame_pose(msg.header.frame_id, fixed)
-        if pose is None:
-            return
-        p, x = _pose_parts(msg.pose.pose)
-        if not self.trail or np.linalg.norm(self.trail[-1][0] - p) > 0.1:
-            self.trail.append(_arrow_segments(p, x, 0.3))
-        segs = np.concatenate(list(self.trail)).astype(np.float32)
-        h = self.scene.add_line_segments(
-            f"{self.base}/arrows/geom", segs, (255, 30, 30), thickness=0.01
-        )
-        self.place("arrows", h, pose)
-
-
-class MarkerDisplay(Display):
-    kind = "Marker"
-    msg_type = "visualization_msgs/Marker"
-
-    def draw(self, msg: Any, fixed: str) -> None:
-        self.draw_marker(msg, fixed)
-
-    def draw_marker(self, m: Any, fixed: str) -> None:
-        key = f"{m.ns}_{m.id}"
-        if m.action in (2, 3):  # DELETE, DELETEALL
-            for k in [k for k in self.handles if m.action == 3 or k == key]:
-                self.handles.pop(k).remove()
-                self.frames.pop(k).remove()
-            return
-        pose = self.frame_pose(m.header.frame_id, fixed)
-        if pose is None:
-            return
-        local = _pose(m.pose)
-        where = pose @ local
-        color = (round(m.color.r * 255), round(m.color.g * 255), round(m.color.b * 255))
-        opacity = m.color.a if m.color.a < 1 else None
-        name = f"{self.base}/{key}/geom"
-        s = (m.scale.x, m.scale.y, m.scale.z)
-        if m.type == 1:
-            h = self.scene.add_box(name, color=color, dimensions=s, opacity=opacity)
-        elif m.type == 2:
-            h = self.scene.add_icosphere(name, radius=max(s) / 2, color=color, opacity=opacity)
-        elif m.type == 3:
-            h = self.scene.add_cylinder(
-                name, radius=s[0] / 2, height=s[2], color=color, opacity=opacity
+        origin = msg_pose(info.origin)
+        w, h = info.width * info.resolution, info.height * info.resolution
+        center = origin @ Transform((w / 2, h / 2, -0.003 if self.values["Draw Behind"] else 0.0))
+        if msg is not self.drawn or "grid" not in self.handles:
+            cells = np.asarray(msg.data, dtype=np.int16).reshape(info.height, info.width)
+            rgba = _palette(self.values["Color Scheme"])[cells.astype(np.uint8)]
+            rgba[..., 3] = (rgba[..., 3] * float(self.values["Alpha"])).astype(np.uint8)
+            self.image = rgba
+            # Cells stay crisp when each is several texels (the browser filters linearly).
+            k = max(1, min(8, 2048 // max(info.width, info.height)))
+            texels = np.repeat(np.repeat(rgba, k, axis=0), k, axis=1) if k > 1 else rgba
+            handle = self.ctx.scene.add_image(
+                f"{self.base}/grid",
+                np.ascontiguousarray(texels),  # viser puts row 0 at the plane's lowest y
+                render_width=w,
+                render_height=h,
+                format="png",
+                cast_shadow=False,
+                receive_shadow=False,
             )
-        elif m.type in (4, 5, 8) and m.points:
-            pts = np.array([[p.x, p.y, p.z] for p in m.points], dtype=np.float32)
-            if m.type == 8:
-                h = self.scene.add_point_cloud(name, pts, color, point_size=max(s[0], 0.01))
-            else:
-                segs = (
-                    np.stack([pts[:-1], pts[1:]], axis=1)
-                    if m.type == 4
-                    else pts[: len(pts) // 2 * 2].reshape(-1, 2, 3)
-                )
-                h = self.scene.add_line_segments(name, segs, color, thickness=max(s[0], 0.005))
-        elif m.type == 9:
-            h = self.scene.add_label(name, m.text)
-        elif m.type == 0:
-            h = self.scene.add_line_segments(
-                name,
-                _arrow_segments(np.zeros(3), np.array([1.0, 0, 0]), max(s[0], 0.1)),
-                color,
-                thickness=max(s[1], 0.01),
+            self.keep("grid", handle)
+            self.drawn = msg
+            self.status.set(
+                "Map", Level.OK, f"{info.width} x {info.height} cells at {info.resolution:g} m"
             )
-        else:
-            return
-        self.place(key, h, where)
+        self.keep("grid", self.handles["grid"], pose @ center)
 
-
-class MarkerArrayDisplay(MarkerDisplay):
-    kind = "MarkerArray"
-    msg_type = "visualization_msgs/MarkerArray"
-
-    def draw(self, msg: Any, fixed: str) -> None:
-        for m in msg.markers:
-            self.draw_marker(m, fixed)
+    def changed(self, key: str) -> None:
+        self.drawn = None  # redraw with the new colours
 
 
 class ImageDisplay(Display):
-    kind = "Image"
-    msg_type = "sensor_msgs/Image"
+    """An image in the side panel (rviz's Image panel)."""
 
-    def draw(self, msg: Any, fixed: str) -> None:
+    cls = "rviz/Image"
+    type_name = "Image"
+    msg_type = "sensor_msgs/Image"
+    default_topic = "/camera/image_raw"
+    stamped = False
+    drawn: Any = None
+
+    def update(self, msg: Any, fixed: str) -> None:
+        if msg is None or msg is self.drawn:
+            return
+        self.drawn = msg
         data = np.frombuffer(bytes(msg.data), dtype=np.uint8)
         enc = msg.encoding.lower()
         if enc in ("rgb8", "bgr8"):
-            image = data.reshape(msg.height, msg.step)[:, : msg.width * 3].reshape(
-                msg.height, msg.width, 3
-            )
+            rows = data.reshape(msg.height, msg.step)[:, : msg.width * 3]
+            image = rows.reshape(msg.height, msg.width, 3)
             if enc == "bgr8":
                 image = image[..., ::-1]
         elif enc in ("mono8", "8uc1"):
             image = np.repeat(data.reshape(msg.height, msg.step)[:, : msg.width, None], 3, axis=2)
         else:
-            self.error = f"image encoding {msg.encoding!r} is not shown (rgb8, bgr8, mono8 are)"
+            self.status.set(
+                "Image",
+                Level.ERROR,
+                f"encoding {msg.encoding!r} is not shown (rgb8, bgr8, mono8 are)",
+            )
             return
-        handle = self.handles.get("panel")
-        if handle is None:
-            self.handles["panel"] = self.gui.add_image(np.ascontiguousarray(image), label=self.name)
+        self.status.set("Image", Level.OK, f"{msg.width} x {msg.height} {msg.encoding}")
+        panel = self.handles.get("panel")
+        if panel is None:
+            self.handles["panel"] = self.ctx.gui.add_image(
+                np.ascontiguousarray(image), label=self.name
+            )
         else:
-            handle.image = np.ascontiguousarray(image)
+            panel.image = np.ascontiguousarray(image)
 
 
 class CameraDisplay(ImageDisplay):
-    kind = "Camera"
-
-
-DISPLAYS: dict[str, type[Display]] = {
-    d.kind: d
-    for d in (
-        LaserScanDisplay,
-        PointCloud2Display,
-        OccupancyGridDisplay,
-        CostmapDisplay,
-        OdometryDisplay,
-        PathDisplay,
-        PoseStampedDisplay,
-        PoseArrayDisplay,
-        MarkerDisplay,
-        MarkerArrayDisplay,
-        ImageDisplay,
-        CameraDisplay,
-    )
-}
+    cls = "rviz/Camera"
+    type_name = "Camera"

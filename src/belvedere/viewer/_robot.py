@@ -186,12 +186,26 @@ class RobotDrawing:
             **pose,
         )
 
-    def show_collisions(self, show: bool) -> None:
+    def show(self, *, visual: bool, collision: bool) -> None:
+        """rviz's Visual Enabled and Collision Enabled."""
         for d in self.links.values():
             for h in d.collisions:
-                h.visible = show
+                h.visible = collision
             for h in d.visuals:
-                h.visible = not show
+                h.visible = visual
+
+    def set_alpha(self, alpha: float) -> None:
+        """The visuals' opacity (rviz's Alpha; collisions stay half transparent)."""
+        for d in self.links.values():
+            for h in d.visuals:
+                h.opacity = None if alpha >= 1.0 else max(0.0, alpha)
+
+    def remove(self) -> None:
+        for d in self.links.values():
+            for h in (*d.visuals, *d.collisions):
+                h.remove()
+            d.frame.remove()
+        self.links.clear()
 
     def set_link_pose(
         self,

@@ -37,6 +37,16 @@ class RvizDisplay:
     name: str
     topic: str | None
     options: dict[str, Any] = field(default_factory=dict)
+    cls: str = ""
+    enabled: bool = True
+    properties: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass
+class RvizView:
+    cls: str = "rviz/Orbit"
+    name: str = "Current View"
+    properties: dict[str, Any] = field(default_factory=dict)
 
 
 @dataclass
@@ -45,6 +55,9 @@ class RvizConfig:
     displays: list[RvizDisplay] = field(default_factory=list)
     unknown: list[str] = field(default_factory=list)
     """Display classes we do not draw (listed once, not fatal)."""
+    background: tuple[int, int, int] | None = None
+    frame_rate: int = 30
+    view: RvizView | None = None
 
 
 def read_rviz(path: str | Path) -> RvizConfig:
@@ -59,6 +72,10 @@ def read_rviz(path: str | Path) -> RvizConfig:
         raise BelvedereError(msg) from None
     manager = (data or {}).get("Visualization Manager", {}) if isinstance(data, dict) else {}
     config = RvizConfig()
+    current = ((manager.get("Views") or {}).get("Current")) or {}
+    if isinstance(current, dict) and current.get("Class"):
+        props = {k: v for k, v in current.items() if k not in ("Class", "Name")}
+        config.view = RvizView(str(current["Class"]), str(current.get("Name", "")), props)
     frame = (manager.get("Global Options") or {}).get("Fixed Frame")
     if frame:
         config.fixed_frame = str(frame)
@@ -74,5 +91,8 @@ def read_rviz(path: str | Path) -> RvizConfig:
         topic = item.get("Topic")
         if isinstance(topic, dict):  # ROS 2 rviz: {Value: /scan, …}
             topic = topic.get("Value")
-        config.displays.append(RvizDisplay(kind, str(item.get("Name", kind)), topic, item))
+        props = {k: v for k, v in item.items() if k not in ("Class", "Name", "Enabled")}
+        config.displays.append(
+            RvizDisplay(kind, str(item.get("Name", kind)), topic, item, cls, True, props)
+        )
     return config

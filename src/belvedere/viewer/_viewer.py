@@ -1,7 +1,9 @@
 """The viewer: rviz in the browser, a node on the graph, built on viser.
 
-Rendering runs on its own thread at 30 Hz with the latest state; subscription callbacks only
-keep the newest message, so the viewer never slows the graph (it drops frames instead).
+Rendering runs on its own thread at the Frame Rate (30 Hz) with the latest state; subscription
+callbacks only queue messages, so the viewer never slows the graph (it drops frames instead).
+The side panel is rviz's: Global Options, Global Status, the Displays tree, Views (each
+browser tab has its own camera and view), Time, Tools, and — when something listens — teleop.
 """
 
 from __future__ import annotations
@@ -14,25 +16,25 @@ import time
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any, Protocol
 
+import numpy as np
+
 from belvedere.description.urdf import RobotModel
 from belvedere.graph import NS, Graph, Node
+from belvedere.msgs import short
 from belvedere.packages import PackageIndex
-from belvedere.tf import (
-    JointStatePublisher,
-    TFError,
-    Transform,
-    TransformListener,
-    quat_xyzw_from_rpy,
-    wxyz_from_xyzw,
-)
+from belvedere.tf import JointStatePublisher, Transform, TransformListener, quat_xyzw_from_rpy
 from belvedere.viewer._access import ViewerAccess, ViewerError, guard_viser
-from belvedere.viewer._displays import DISPLAYS, Display
-from belvedere.viewer._robot import RobotDrawing
+from belvedere.viewer._catalog import DISPLAYS, UnsupportedDisplay, display_type
+from belvedere.viewer._display import Display, DisplayContext, color_tuple
+from belvedere.viewer._panel import DisplayPanel, global_status_markdown, set_handle
 from belvedere.viewer._rviz import RvizConfig
+from belvedere.viewer._status import Level, Status
+from belvedere.viewer._topics import GraphTopics
+from belvedere.viewer._views import VIEW_TYPES, ViewState
 from belvedere.viewer._world import WorldDrawing
 from belvedere.world import WorldModel
 
-__all__ = ["SimControls", "Viewer"]
+__all__ = ["SimControls", "Viewer", "floor_point"]
 
 
 class SimControls(Protocol):
@@ -47,12 +49,10 @@ class SimControls(Protocol):
 CAMERA_POSITION = (1.2, -1.6, 1.2)
 CAMERA_LOOK_AT = (0.0, 0.0, 0.1)
 CAMERA_FOV = math.radians(50.0)
-"""The initial view: a robot-sized scene seen from the front right, above."""
+"""The initial view without a config: a robot-sized scene seen from the front right, above."""
 
-
-def _set(handle: Any, value: Any) -> None:
-    """Set a GUI handle's value (viser allows it; its type stubs say read-only)."""
-    handle.value = value
+STATUS_PERIOD_S = 0.25
+"""How often the panel's statuses and topic lists are refreshed (not every frame)."""
 
 
 def floor_point(
@@ -68,7 +68,7 @@ def floor_point(
 
 
 class Viewer:
-    """A browser view of the graph: robot, TF, displays, tools, teleop, joint sliders."""
+    """A browser view of the graph: displays, views, tools, teleop, joint sliders."""
 
     def __init__(
         self,
@@ -82,11 +82,12 @@ class Viewer:
         joint_publisher: JointStatePublisher | None = None,
         sim: SimControls | None = None,
         packages: PackageIndex | None = None,
-        rate_hz: float = 30.0,
+        rate_hz: float | None = None,
         world: WorldModel | None = None,
         world_poses: Callable[[], Mapping[str, Transform]] | None = None,
         allow_origins: Sequence[str] = (),
         token: str | None = None,
+        cmd_vel: str = "/cmd_vel",
     ) -> None:
         """``world``: models drawn in the fixed frame (Gazebo's world frame);
         ``world_poses``: where the movable ones are now (called each frame).
@@ -111,31 +112,48 @@ class Viewer:
         self.scene, self.gui = self.server.scene, self.server.gui
         self.node: Node = graph.create_node("belvedere_viewer")
         self.tf = TransformListener(self.node)
+        self.topics = GraphTopics(graph)
         self.model = model
+        self.rviz = rviz
         self.fixed_frame = (
             fixed_frame
             or (rviz.fixed_frame if rviz else None)
             or (model.root_link.name if model else "map")
         )
-        self.robot = RobotDrawing(self.scene, model, packages=packages) if model else None
+        self.ctx = DisplayContext(
+            node=self.node,
+            scene=self.scene,
+            gui=self.gui,
+            buffer=self.tf.buffer,
+            topic_type=self.topics.type_of,
+            model=model,
+            packages=packages,
+        )
         self.world = WorldDrawing(self.scene, world) if world else None
         self.world_poses = world_poses
         self.displays: list[Display] = []
-        self.frames: dict[str, Any] = {}
-        self.rate_hz = rate_hz
+        self.panels: dict[int, DisplayPanel] = {}
+        self.global_status = Status()
+        self.rate_hz = rate_hz or float(rviz.frame_rate if rviz else 30.0)
         self.frames_rendered = 0
         self.last_render_s = 0.0
+        self.render_cpu_s = 0.0
+        """CPU time the render thread has used (for the benchmark's share of a core)."""
         self.tool: str | None = None
         self.goal_pub = self.node.publisher("/move_base_simple/goal", "geometry_msgs/PoseStamped")
         self.pose_pub = self.node.publisher(
             "/initialpose", "geometry_msgs/PoseWithCovarianceStamped"
         )
         self.point_pub = self.node.publisher("/clicked_point", "geometry_msgs/PointStamped")
-        self.cmd_pub = self.node.publisher("/cmd_vel", "geometry_msgs/Twist")
+        self.cmd_pub = self.node.publisher(cmd_vel, "geometry_msgs/Twist")
         self.command = (0.0, 0.0)
         self._last_click: tuple[float, float] | None = None
         self._stop = threading.Event()
-        self.scene.add_grid("/grid", width=20.0, height=20.0, cell_size=0.5, section_size=1.0)
+        self._lock = threading.Lock()
+        self.views: dict[int, tuple[Any, ViewState]] = {}
+        self.started_wall = time.time()
+        self.started_ros_ns = graph.now_ns()
+        self._next_status = 0.0
         camera = self.server.initial_camera
         camera.position, camera.look_at, camera.up = (
             CAMERA_POSITION,
@@ -144,12 +162,11 @@ class Viewer:
         )
         camera.fov = CAMERA_FOV
         self._build_gui(joint_publisher, sim)
-        if rviz:
-            for d in rviz.displays:
-                if d.kind in DISPLAYS and d.topic:
-                    self.add_display(d.kind, d.topic, name=d.name)
-            if rviz.unknown:
-                self.node.logger.warning("rviz displays not shown: %s", ", ".join(rviz.unknown))
+        self._add_initial_displays(rviz)
+        if rviz is not None and rviz.background is not None:
+            self.set_background(rviz.background)
+        self.server.on_client_connect(self._client_connected)
+        self.server.on_client_disconnect(self._client_left)
         self.node.timer(0.1, self._teleop_tick)
         self.scene.on_click()(self._on_click)
         self._thread = threading.Thread(
@@ -167,21 +184,19 @@ class Viewer:
     # --- GUI -----------------------------------------------------------------------------------
     def _build_gui(self, jsp: JointStatePublisher | None, sim: SimControls | None) -> None:
         gui = self.gui
-        with gui.add_folder("Global"):
+        if jsp is not None:  # `display`: the joints are what the user came for
+            self._joint_panel(jsp)
+        with gui.add_folder("Global Options"):
             self.frame_dropdown = gui.add_dropdown(
-                "Fixed frame", [self.fixed_frame], initial_value=self.fixed_frame
+                "Fixed Frame", [self.fixed_frame], initial_value=self.fixed_frame
             )
-            self.frame_dropdown.on_update(
-                lambda _: setattr(self, "fixed_frame", self.frame_dropdown.value)
-            )
-            self.show_frames = gui.add_checkbox("TF frames", False)
-            self.frame_scale = gui.add_slider("TF scale", 0.05, 1.0, 0.05, 0.2)
-            if self.robot:
-                collisions = gui.add_checkbox("Collision geometry", False)
-                collisions.on_update(
-                    lambda _: self.robot.show_collisions(collisions.value) if self.robot else None
-                )
-            self.time_text = gui.add_text("Time", "0.000", disabled=True)
+            self.frame_dropdown.on_update(lambda _: self.set_fixed_frame(self.frame_dropdown.value))
+            self.background = gui.add_rgb("Background Color", (255, 255, 255))
+            self.background.on_update(lambda _: self.set_background(self.background.value))
+            self.rate_box = gui.add_number("Frame Rate", int(self.rate_hz), min=1, max=60, step=1)
+            self.rate_box.on_update(lambda _: setattr(self, "rate_hz", float(self.rate_box.value)))
+        with gui.add_folder("Global Status", expand_by_default=False):
+            self.status_text = gui.add_markdown("**Status: Ok**")
         if sim is not None:
             with gui.add_folder("Simulation"):
                 pause = gui.add_checkbox("Paused", False)
@@ -194,12 +209,27 @@ class Viewer:
                 rtf.on_update(
                     lambda _: sim.set_rtf(None if rtf.value == "max" else float(rtf.value))
                 )
-        with gui.add_folder("Displays"):
+        self.displays_folder = gui.add_folder("Displays")
+        with self.displays_folder, gui.add_folder("Add display", expand_by_default=False):
             kind = gui.add_dropdown("Type", sorted(DISPLAYS), initial_value="LaserScan")
-            topic = gui.add_text("Topic", "/scan")
-            gui.add_button("Add display").on_click(
-                lambda _: self._add_from_gui(kind.value, topic.value)
+            topic = gui.add_dropdown("Topic", ["/scan"], initial_value="/scan")
+            typed = gui.add_text("Or topic name", "")
+            self.add_note = gui.add_markdown("")
+
+            def offer_topics(_: Any) -> None:
+                options = self.topics.of_type(DISPLAYS[kind.value].msg_type) or ["(none)"]
+                topic.options = options
+
+            kind.on_update(offer_topics)
+            gui.add_button("Add").on_click(
+                lambda _: self._add_from_gui(kind.value, typed.value.strip() or topic.value)
             )
+            self._offer_topics = offer_topics
+        with gui.add_folder("Time", expand_by_default=False):
+            self.time_texts = {
+                label: gui.add_text(label, "0.00", disabled=True)
+                for label in ("ROS Time", "ROS Elapsed", "Wall Time", "Wall Elapsed")
+            }
         with gui.add_folder("Tools"):
             for label, tool in (
                 ("2D Pose Estimate", "pose"),
@@ -208,7 +238,9 @@ class Viewer:
             ):
                 gui.add_button(label).on_click(self._tool_setter(tool))
             self.tool_text = gui.add_text("Active tool", "none", disabled=True)
-        with gui.add_folder("Teleop"):
+        self.teleop_folder = gui.add_folder("Teleop", visible=False)
+        with self.teleop_folder:
+            gui.add_markdown(f"Drives `{self.cmd_pub.name}` (something subscribes to it).")
             self.max_linear = gui.add_slider("Max linear (m/s)", 0.0, 2.0, 0.05, 0.2)
             self.max_angular = gui.add_slider("Max angular (rad/s)", 0.0, 3.0, 0.05, 0.5)
             for label, cmd in (
@@ -219,14 +251,48 @@ class Viewer:
                 ("Stop", (0.0, 0.0)),
             ):
                 gui.add_button(label).on_click(self._teleop_setter(cmd))
-        if jsp is not None:
-            self._joint_panel(jsp)
+
+    def _client_connected(self, client: Any) -> None:
+        """Each tab gets its own Views panel and camera."""
+        view = self.rviz.view if self.rviz is not None else None
+        state = ViewState(view.cls, dict(view.properties)) if view is not None else None
+        with client.gui.add_folder("Views", expand_by_default=False, order=-1):
+            types = list(VIEW_TYPES)
+            initial = state.cls if state is not None and state.cls in types else "(initial)"
+            kind = client.gui.add_dropdown("Type", ["(initial)", *types], initial_value=initial)
+            frames = ["<Fixed Frame>", *sorted(self.tf.buffer.frames())]
+            target_value = state.target_frame if state is not None else "<Fixed Frame>"
+            target = client.gui.add_dropdown(
+                "Target Frame", sorted({*frames, target_value}), initial_value=target_value
+            )
+
+            def changed(_: Any) -> None:
+                if kind.value == "(initial)":
+                    self.views.pop(client.client_id, None)
+                    return
+                current = self.views.get(client.client_id)
+                props = dict(current[1].properties) if current is not None else {}
+                props["Target Frame"] = target.value
+                if kind.value == "rviz/TopDownOrtho":
+                    props.setdefault("Scale", 50.0)
+                self.views[client.client_id] = (client, ViewState(kind.value, props))
+
+            kind.on_update(changed)
+            target.on_update(changed)
+            client.gui.add_button("Refresh frames").on_click(
+                lambda _: setattr(target, "options", sorted({*self._frames(), target.value}))
+            )
+        if state is not None:
+            self.views[client.client_id] = (client, state)
+
+    def _client_left(self, client: Any) -> None:
+        self.views.pop(client.client_id, None)
 
     def _tool_setter(self, tool: str) -> Callable[[Any], None]:
         def set_tool(_: Any) -> None:
             self.tool = tool
             self._last_click = None
-            _set(self.tool_text, tool)
+            set_handle(self.tool_text, tool)
 
         return set_tool
 
@@ -247,6 +313,9 @@ class Viewer:
         )
 
     def _teleop_tick(self) -> None:
+        listened = self.cmd_pub.wanted
+        if self.teleop_folder.visible != listened:
+            self.teleop_folder.visible = listened
         if self.command != (0.0, 0.0):
             self._publish_command()
 
@@ -265,12 +334,12 @@ class Viewer:
 
             def randomize(_: Any) -> None:
                 for name, (slider, lo, hi) in sliders.items():
-                    _set(slider, float(self.graph.executor.random.uniform(lo, hi)))
+                    set_handle(slider, float(self.graph.executor.random.uniform(lo, hi)))
                     jsp.set_position(name, slider.value)
 
             def center(_: Any) -> None:
                 for name, (slider, lo, hi) in sliders.items():
-                    _set(slider, (lo + hi) / 2 if not lo <= 0 <= hi else 0.0)
+                    set_handle(slider, (lo + hi) / 2 if not lo <= 0 <= hi else 0.0)
                     jsp.set_position(name, slider.value)
 
             self.gui.add_button("Randomize").on_click(randomize)
@@ -281,23 +350,115 @@ class Viewer:
     def _slider_callback(jsp: JointStatePublisher, name: str, slider: Any) -> Callable[[Any], None]:
         return lambda _: jsp.set_position(name, float(slider.value))
 
-    def _add_from_gui(self, kind: str, topic: str) -> None:
-        self.add_display(kind, topic)
+    def _frames(self) -> list[str]:
+        return sorted(self.tf.buffer.frames() | {self.fixed_frame})
 
-    # --- displays and tools ----------------------------------------------------------------------
-    def add_display(self, kind: str, topic: str, *, name: str | None = None) -> Display:
-        cls = DISPLAYS[kind]
-        display = cls(
-            self.node,
-            self.scene,
-            self.gui,
-            name or f"{kind}_{len(self.displays)}",
-            topic,
-            self.tf.buffer,
+    # --- global options ------------------------------------------------------------------------
+    def set_fixed_frame(self, frame: str) -> None:
+        """rviz resets every display when the fixed frame changes."""
+        if frame == self.fixed_frame:
+            return
+        with self._lock:
+            self.fixed_frame = frame
+            for display in self.displays:
+                display.reset()
+        if self.frame_dropdown.value != frame:
+            if frame not in self.frame_dropdown.options:
+                self.frame_dropdown.options = [*self.frame_dropdown.options, frame]
+            set_handle(self.frame_dropdown, frame)
+
+    def set_background(self, color: Any) -> None:
+        rgb = color_tuple(color)
+        self.scene.set_background_image(np.full((2, 2, 3), rgb, dtype=np.uint8), format="png")
+        if tuple(self.background.value) != rgb:
+            set_handle(self.background, rgb)
+
+    # --- displays ------------------------------------------------------------------------------
+    def _add_initial_displays(self, rviz: RvizConfig | None) -> None:
+        if rviz is None:
+            self.add_display("Grid", values={"Cell Size": 0.5, "Plane Cell Count": 40})
+            if self.model is not None:
+                self.add_display("RobotModel")
+            self.add_display("TF", enabled=False)
+            return
+        for d in rviz.displays:
+            self.add_config_display(d)
+
+    def add_config_display(self, d: Any) -> Display:
+        """A display of an ``.rviz`` config: its class, name, Enabled flag and values; a class
+        we do not draw is listed with an Error status naming it."""
+        found = display_type(d.cls)
+        if found is None:
+            display: Display = UnsupportedDisplay(self.ctx, d.name, rviz_class=d.cls)
+            display.values.update(d.properties)
+            self._register(display)
+            return display
+        cls, implied = found
+        values = {**implied, **{k: v for k, v in d.properties.items() if k != "Topic"}}
+        return self.add_display(
+            cls.type_name, d.topic, name=d.name, values=values, enabled=d.enabled
         )
-        self.displays.append(display)
+
+    def add_display(
+        self,
+        kind: str,
+        topic: str | None = None,
+        *,
+        name: str | None = None,
+        values: Mapping[str, Any] | None = None,
+        enabled: bool = True,
+    ) -> Display:
+        """Add a display of ``kind`` (rviz's type name, e.g. ``LaserScan``, or its class)."""
+        found = display_type(kind)
+        if found is None:
+            msg = f"no display type {kind!r} (types: {', '.join(sorted(DISPLAYS))})"
+            raise ViewerError(msg)
+        cls, implied = found
+        display = cls(
+            self.ctx,
+            name or cls.type_name,
+            topic=topic,
+            values={**implied, **(values or {})},
+            enabled=enabled,
+        )
+        self._register(display)
         return display
 
+    def _register(self, display: Display) -> None:
+        with self._lock:
+            self.displays.append(display)
+        with self.displays_folder:
+            self.panels[id(display)] = DisplayPanel(
+                self.gui,
+                display,
+                topics=self.topics.of_type,
+                frames=self._frames,
+                on_remove=self.remove_display,
+            )
+
+    def remove_display(self, display: Display) -> None:
+        with self._lock:
+            if display in self.displays:
+                self.displays.remove(display)
+        panel = self.panels.pop(id(display), None)
+        if panel is not None:
+            panel.remove()
+        display.remove()
+
+    def _add_from_gui(self, kind: str, topic: str) -> None:
+        cls = DISPLAYS[kind]
+        if cls.msg_type:
+            found = self.topics.type_of(topic)
+            if found is not None and short(found) != short(cls.msg_type):
+                self.add_note.content = (
+                    f"**Refused:** topic `{topic}` is of type `{short(found)}`; "
+                    f"a {kind} display shows `{short(cls.msg_type)}`."
+                )
+                return
+        self.add_display(kind, topic if cls.msg_type else None)
+        self.add_note.content = f"Added {kind}" + (f" on `{topic}`." if cls.msg_type else ".")
+
+    # --- tools ---------------------------------------------------------------------------------
     def _on_click(self, event: Any) -> None:
         if self.tool is None:
             return
@@ -337,59 +498,78 @@ class Viewer:
 
     # --- rendering -------------------------------------------------------------------------------
     def _render_loop(self) -> None:
-        period = 1.0 / self.rate_hz
         next_at = time.monotonic()
         while not self._stop.is_set():
-            start = time.monotonic()
+            start, cpu = time.monotonic(), time.thread_time()
             try:
                 self.render_once()
             except Exception:
                 self.node.logger.exception("viewer frame failed")
             self.last_render_s = time.monotonic() - start
+            self.render_cpu_s += time.thread_time() - cpu
+            period = 1.0 / max(1.0, self.rate_hz)
             next_at = max(next_at + period, time.monotonic())  # drop frames when late
             self._stop.wait(max(0.0, next_at - time.monotonic()))
 
     def render_once(self) -> None:
         fixed = self.fixed_frame
         buffer = self.tf.buffer
-        if self.robot is not None:
-            for link in self.robot.links:
-                try:
-                    t = buffer.lookup_transform(fixed, link)
-                except TFError:
-                    continue
-                self.robot.set_link_pose(link, t.translation, t.quat_xyzw)
-        frames = sorted(buffer.frames() | {fixed})
-        if list(self.frame_dropdown.options) != frames:
-            self.frame_dropdown.options = frames
-        if self.show_frames.value:
-            for frame in frames:
-                try:
-                    t = buffer.lookup_transform(fixed, frame)
-                except TFError:
-                    continue
-                handle = self.frames.get(frame)
-                if handle is None:
-                    handle = self.frames[frame] = self.scene.add_frame(
-                        f"/tf/{frame}", axes_length=0.2, axes_radius=0.005
-                    )
-                    self.scene.add_label(f"/tf/{frame}/label", frame)
-                handle.position = t.translation
-                handle.wxyz = wxyz_from_xyzw(t.quat_xyzw)
-                handle.scale = float(self.frame_scale.value) / 0.2
-                handle.visible = True
-        else:
-            for handle in self.frames.values():
-                handle.visible = False
+        with self._lock:
+            displays = list(self.displays)
+        for display in displays:
+            try:
+                display.render(fixed)
+            except Exception as err:  # a display's bug must not stop the others
+                if display.status.get("Display") is None:
+                    self.node.logger.exception("display %s failed", display.name)
+                display.status.set("Display", Level.ERROR, f"drawing failed: {err!r}")
         if self.world is not None and self.world_poses is not None:
             self.world.update(self.world_poses())
-        for display in self.displays:
-            display.render(fixed)
-        _set(self.time_text, f"{self.graph.now_ns() / NS:.3f}")
+        for client, view in list(self.views.values()):
+            view.follow(client.camera, buffer, fixed)
+        now = time.monotonic()
+        if now >= self._next_status:
+            self._next_status = now + STATUS_PERIOD_S
+            self._refresh_panel(fixed, displays)
         self.frames_rendered += 1
+
+    def _refresh_panel(self, fixed: str, displays: list[Display]) -> None:
+        buffer = self.tf.buffer
+        frames = self._frames()
+        if list(self.frame_dropdown.options) != frames:
+            self.frame_dropdown.options = frames
+        if buffer.frame_exists(fixed) or not buffer.frames():
+            self.global_status.set(
+                "Fixed Frame",
+                Level.OK if buffer.frame_exists(fixed) else Level.WARN,
+                "OK" if buffer.frame_exists(fixed) else "No tf data.  Actual error: no frames",
+            )
+        else:
+            self.global_status.set(
+                "Fixed Frame",
+                Level.ERROR,
+                f"No tf data.  Actual error: Fixed Frame [{fixed}] does not exist",
+            )
+        text = global_status_markdown(self.global_status, displays)
+        if self.status_text.content != text:
+            self.status_text.content = text
+        for display in displays:
+            panel = self.panels.get(id(display))
+            if panel is not None:
+                panel.refresh()
+        ros_ns = self.graph.now_ns()
+        wall = time.time()
+        for label, value in (
+            ("ROS Time", f"{ros_ns / NS:.2f}"),
+            ("ROS Elapsed", f"{(ros_ns - self.started_ros_ns) / NS:.2f}"),
+            ("Wall Time", f"{wall:.2f}"),
+            ("Wall Elapsed", f"{wall - self.started_wall:.2f}"),
+        ):
+            set_handle(self.time_texts[label], value)
 
     def close(self) -> None:
         self._stop.set()
         self._thread.join(timeout=2)
+        self.topics.close()
         with contextlib.redirect_stdout(io.StringIO()):  # viser's "Server stopped"
             self.server.stop()

@@ -1,0 +1,258 @@
+"""Displays without a topic: Grid, RobotModel, TF and Axes — drawn each frame with the latest
+transforms, as rviz draws them."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from belvedere.description.urdf import RobotModel
+from belvedere.errors import BelvedereError
+from belvedere.graph import NS
+from belvedere.tf import TFError, Transform, wxyz_from_xyzw
+from belvedere.viewer._display import Display, Prop
+from belvedere.viewer._robot import RobotDrawing
+from belvedere.viewer._status import Level
+
+__all__ = ["AxesDisplay", "GridDisplay", "RobotModelDisplay", "TFDisplay"]
+
+FIXED = "<Fixed Frame>"
+
+
+class _Unstamped(Display):
+    stamped = False
+
+    def reference(self, fixed: str) -> Transform | None:
+        frame = str(self.values.get("Reference Frame", FIXED))
+        return self.latest_pose("" if frame == FIXED else frame, fixed)
+
+
+class GridDisplay(_Unstamped):
+    cls = "rviz/Grid"
+    type_name = "Grid"
+    props = (
+        Prop("Reference Frame", FIXED, "frame"),
+        Prop("Plane Cell Count", 10, "int", low=1, high=1000, step=1),
+        Prop("Cell Size", 1.0, "float", low=0.01, high=100.0, step=0.01),
+        Prop("Color", (160, 160, 164), "color"),
+        Prop("Alpha", 0.5, "float"),
+        Prop("Plane", "XY", "choice", ("XY", "XZ", "YZ")),
+    )
+
+    def update(self, msg: Any, fixed: str) -> None:
+        pose = self.reference(fixed)
+        if pose is None:
+            return
+        handle = self.handles.get("grid")
+        if handle is None:
+            size = float(self.values["Cell Size"]) * int(self.values["Plane Cell Count"])
+            color = tuple(self.values["Color"])
+            handle = self.ctx.scene.add_grid(
+                f"{self.base}/grid",
+                width=size,
+                height=size,
+                plane=str(self.values["Plane"]).lower(),
+                cell_size=float(self.values["Cell Size"]),
+                section_size=float(self.values["Cell Size"]),
+                cell_color=color,
+                section_color=color,
+                shadow_opacity=0.0,
+            )
+        self.keep("grid", handle, pose)
+
+    def changed(self, key: str) -> None:
+        self.forget("grid")  # rebuilt with the new size or colour
+
+
+class RobotModelDisplay(_Unstamped):
+    """The robot from ``Robot Description`` (the viewer's model, or the graph's parameter
+    once it is set), its links placed by TF."""
+
+    cls = "rviz/RobotModel"
+    type_name = "RobotModel"
+    props = (
+        Prop("Robot Description", "robot_description", "text"),
+        Prop("TF Prefix", "", "text"),
+        Prop("Visual Enabled", True, "bool"),
+        Prop("Collision Enabled", False, "bool"),
+        Prop("Alpha", 1.0, "float"),
+    )
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        self.drawing: RobotDrawing | None = None
+        self.model: RobotModel | None = None
+        self.next_look_ns = 0
+        super().__init__(*args, **kwargs)
+
+    def _load(self) -> None:
+        """The model: the viewer's, else the parameter (looked for once a second)."""
+        if self.ctx.model is not None and self.values["Robot Description"] == "robot_description":
+            self.model = self.ctx.model
+        else:
+            now = self.ctx.now_ns()
+            if now < self.next_look_ns:
+                return
+            self.next_look_ns = now + NS
+            param = str(self.values["Robot Description"])
+            text = self.ctx.node.get_param(f"/{param.lstrip('/')}", None)
+            if not isinstance(text, str) or not text:
+                self.status.set(
+                    "URDF",
+                    Level.ERROR,
+                    f"Parameter [{param}] does not exist, and was not found by searchParam()",
+                )
+                return
+            try:
+                self.model = RobotModel.from_string(text, path=param)
+            except BelvedereError as err:
+                self.status.set("URDF", Level.ERROR, f"URDF failed to parse: {err.message}")
+                self.next_look_ns = 2**62  # the same text will not parse better
+                return
+        self.drawing = RobotDrawing(
+            self.ctx.scene, self.model, root=f"{self.base}/robot", packages=self.ctx.packages
+        )
+        self.changed("Visual Enabled")
+        self.changed("Alpha")
+        self.status.set("URDF", Level.OK, "URDF parsed OK")
+
+    def update(self, msg: Any, fixed: str) -> None:
+        if self.drawing is None:
+            self._load()
+            if self.drawing is None:
+                return
+        prefix = str(self.values["TF Prefix"]).strip("/")
+        missing: list[str] = []
+        buffer = self.ctx.buffer
+        for link, drawing in self.drawing.links.items():
+            frame = f"{prefix}/{link}" if prefix else link
+            try:
+                t = buffer.lookup_transform(fixed, frame)
+            except TFError:
+                missing.append(link)
+                continue
+            drawing.frame.position = t.translation
+            drawing.frame.wxyz = wxyz_from_xyzw(t.quat_xyzw)
+        if missing:
+            self.status.set(
+                "Transform",
+                Level.ERROR,
+                f"No transform from [{missing[0]}] to [{fixed}]"
+                + (f" (and {len(missing) - 1} more links)" if len(missing) > 1 else ""),
+            )
+        else:
+            self.status.set("Transform", Level.OK, "Transform OK")
+
+    def changed(self, key: str) -> None:
+        if self.drawing is None:
+            return
+        if key in ("Visual Enabled", "Collision Enabled"):
+            self.drawing.show(
+                visual=bool(self.values["Visual Enabled"]) and self.enabled,
+                collision=bool(self.values["Collision Enabled"]) and self.enabled,
+            )
+        elif key == "Alpha":
+            self.drawing.set_alpha(float(self.values["Alpha"]))
+
+    def show(self, visible: bool) -> None:
+        if self.drawing is not None:
+            self.drawing.show(
+                visual=visible and bool(self.values["Visual Enabled"]),
+                collision=visible and bool(self.values["Collision Enabled"]),
+            )
+
+    def remove(self) -> None:
+        super().remove()
+        if self.drawing is not None:
+            self.drawing.remove()
+
+
+class TFDisplay(_Unstamped):
+    """Every frame's axes and name, and an arrow from each frame to its parent."""
+
+    cls = "rviz/TF"
+    type_name = "TF"
+    props = (
+        Prop("Show Names", True, "bool"),
+        Prop("Show Axes", True, "bool"),
+        Prop("Show Arrows", True, "bool"),
+        Prop("Marker Scale", 1.0, "float", low=0.01, high=10.0),
+        Prop("Frame Timeout", 15.0, "float", low=0.0, high=600.0),
+    )
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        self.frames: dict[str, tuple[Any, Any]] = {}
+        super().__init__(*args, **kwargs)
+
+    def update(self, msg: Any, fixed: str) -> None:
+        buffer = self.ctx.buffer
+        scale = float(self.values["Marker Scale"])
+        show_names, show_axes = bool(self.values["Show Names"]), bool(self.values["Show Axes"])
+        arrows: list[tuple[tuple[float, ...], tuple[float, ...]]] = []
+        where: dict[str, Transform] = {}
+        for frame in sorted(buffer.frames() | {fixed}):
+            try:
+                t = buffer.lookup_transform(fixed, frame)
+            except TFError:
+                continue
+            where[frame] = t
+            pair = self.frames.get(frame)
+            if pair is None:
+                axes = self.ctx.scene.add_frame(
+                    f"{self.base}/{frame}", axes_length=0.1, axes_radius=0.005
+                )
+                label = self.ctx.scene.add_label(f"{self.base}/{frame}/name", frame)
+                pair = self.frames[frame] = (axes, label)
+                self.handles[f"frame:{frame}"] = axes
+                self.handles[f"name:{frame}"] = label
+            axes, label = pair
+            axes.position = t.translation
+            axes.wxyz = wxyz_from_xyzw(t.quat_xyzw)
+            axes.scale = scale
+            axes.show_axes = show_axes
+            label.visible = show_names
+        if self.values["Show Arrows"]:
+            for frame, t in where.items():
+                parent = buffer.parent(frame)
+                if parent in where:
+                    arrows.append((t.translation, where[parent].translation))
+        if arrows:
+            segs = np.array(arrows, dtype=np.float32)
+            handle = self.ctx.scene.add_line_segments(
+                f"{self.base}/arrows", segs, (255, 220, 0), thickness=0.004 * math.sqrt(scale)
+            )
+            self.keep("arrows", handle)
+        else:
+            self.forget("arrows")
+        self.status.set("Frames", Level.OK, f"{len(where)} frames")
+
+    def remove(self) -> None:
+        super().remove()
+        self.frames.clear()
+
+
+class AxesDisplay(_Unstamped):
+    cls = "rviz/Axes"
+    type_name = "Axes"
+    props = (
+        Prop("Reference Frame", FIXED, "frame"),
+        Prop("Length", 1.0, "float", low=0.01, high=10.0),
+        Prop("Radius", 0.1, "float", low=0.001, high=1.0),
+    )
+
+    def update(self, msg: Any, fixed: str) -> None:
+        pose = self.reference(fixed)
+        if pose is None:
+            return
+        handle = self.handles.get("axes")
+        if handle is None:
+            handle = self.ctx.scene.add_frame(
+                f"{self.base}/axes",
+                axes_length=float(self.values["Length"]),
+                axes_radius=float(self.values["Radius"]),
+            )
+        self.keep("axes", handle, pose)
+
+    def changed(self, key: str) -> None:
+        self.forget("axes")

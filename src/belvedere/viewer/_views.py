@@ -1,0 +1,193 @@
+"""rviz's view controllers, one per browser tab: Orbit and XYOrbit (following a target frame's
+position), ThirdPersonFollower (its position and heading) and TopDownOrtho (from above).
+
+viser's camera is a perspective one: TopDownOrtho looks straight down through a narrow field of
+view from far above, so that a metre covers ``Scale`` pixels across the map as in rviz.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from belvedere.tf import TFBuffer, TFError, Transform, quat_xyzw_to_matrix
+
+__all__ = ["VIEW_TYPES", "ViewState", "camera_pose"]
+
+VIEW_TYPES = ("rviz/Orbit", "rviz/XYOrbit", "rviz/ThirdPersonFollower", "rviz/TopDownOrtho")
+FIXED = "<Fixed Frame>"
+ORTHO_FOV = math.radians(4.0)
+
+
+def _number(properties: Mapping[str, Any], key: str, default: float) -> float:
+    try:
+        return float(properties.get(key, default))
+    except (TypeError, ValueError):
+        return default
+
+
+def _point(properties: Mapping[str, Any], key: str) -> tuple[float, float, float]:
+    p = properties.get(key) or {}
+    if not isinstance(p, Mapping):
+        return (0.0, 0.0, 0.0)
+    return (_number(p, "X", 0.0), _number(p, "Y", 0.0), _number(p, "Z", 0.0))
+
+
+Array = npt.NDArray[np.float64]
+
+
+def _apply(m: Array, p: Array) -> Array:
+    out: Array = m[:3, :3] @ p + m[:3, 3]
+    return out
+
+
+def _same(a: tuple[Array, Array], b: tuple[Array, Array]) -> bool:
+    return bool(np.allclose(a[0], b[0], atol=1e-4) and np.allclose(a[1], b[1], atol=1e-4))
+
+
+def _yaw(t: Transform) -> float:
+    m = quat_xyzw_to_matrix(t.quat_xyzw)
+    return math.atan2(float(m[1, 0]), float(m[0, 0]))
+
+
+def camera_pose(
+    cls: str, properties: Mapping[str, Any], target: Transform, viewport_height: int = 700
+) -> tuple[
+    tuple[float, float, float], tuple[float, float, float], tuple[float, float, float], float
+]:
+    """(eye, look_at, up, fov) of a view seen from the fixed frame, the target frame at
+    ``target``."""
+    tx, ty, tz = target.translation
+    if cls == "rviz/TopDownOrtho":
+        scale = max(_number(properties, "Scale", 10.0), 1e-3)  # pixels per metre
+        angle = _number(properties, "Angle", 0.0)
+        x, y = _number(properties, "X", 0.0) + tx, _number(properties, "Y", 0.0) + ty
+        height = viewport_height / scale / 2 / math.tan(ORTHO_FOV / 2)
+        up = (-math.sin(angle), math.cos(angle), 0.0)
+        return (x, y, height), (x, y, 0.0), up, ORTHO_FOV
+    distance = max(_number(properties, "Distance", 10.0), 0.01)
+    pitch = _number(properties, "Pitch", 0.785398)
+    yaw = _number(properties, "Yaw", 0.785398)
+    fx, fy, fz = _point(properties, "Focal Point")
+    if cls == "rviz/ThirdPersonFollower":
+        heading = _yaw(target)
+        c, s = math.cos(heading), math.sin(heading)
+        fx, fy = c * fx - s * fy, s * fx + c * fy
+        yaw += heading
+    if cls == "rviz/XYOrbit":
+        fz = 0.0
+    focal = (fx + tx, fy + ty, fz + tz)
+    offset = (
+        distance * math.cos(pitch) * math.cos(yaw),
+        distance * math.cos(pitch) * math.sin(yaw),
+        distance * math.sin(pitch),
+    )
+    eye = (focal[0] + offset[0], focal[1] + offset[1], focal[2] + offset[2])
+    fov = _number(properties, "Field of View", 0.785398)  # rviz: 45° vertical
+    return eye, focal, (0.0, 0.0, 1.0), fov
+
+
+@dataclass
+class ViewState:
+    """One tab's view: its type and properties, and where the target frame was last seen (the
+    camera then moves with it, keeping what the user did with the mouse)."""
+
+    cls: str = "rviz/Orbit"
+    properties: dict[str, Any] = field(default_factory=dict)
+    placed: bool = False
+    local: tuple[Array, Array] | None = None
+    """(eye, look_at) in the frame the camera follows."""
+    written: deque[tuple[Array, Array]] = field(default_factory=lambda: deque(maxlen=60))
+    """What this tab's camera was last told: a camera state the browser reports back late
+    is one of these, and is not taken for the user's mouse."""
+
+    @property
+    def target_frame(self) -> str:
+        return str(self.properties.get("Target Frame", FIXED))
+
+    def target(self, buffer: TFBuffer, fixed: str) -> Transform | None:
+        frame = self.target_frame
+        if frame in (FIXED, "", fixed):
+            return Transform()
+        try:
+            return buffer.lookup_transform(fixed, frame)
+        except TFError:
+            return None
+
+    def _carrier(self, target: Transform) -> Array:
+        """The frame the camera rides in: the target's position (and heading, for
+        ThirdPersonFollower; without height, for XYOrbit and TopDownOrtho)."""
+        x, y, z = target.translation
+        if self.cls in ("rviz/XYOrbit", "rviz/TopDownOrtho"):
+            z = 0.0
+        yaw = _yaw(target) if self.cls == "rviz/ThirdPersonFollower" else 0.0
+        c, s = math.cos(yaw), math.sin(yaw)
+        m = np.eye(4)
+        m[:3, :3] = [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
+        m[:3, 3] = (x, y, z)
+        return m
+
+    def follow(self, camera: Any, buffer: TFBuffer, fixed: str) -> None:
+        """Place the camera once, then move it with the target frame (render thread)."""
+        target = self.target(buffer, fixed)
+        if target is None:
+            return
+        carrier = self._carrier(target)
+        inverse: Array = np.linalg.inv(carrier).astype(np.float64)
+        if not self.placed:
+            height = int(getattr(camera, "image_height", 0) or 700)
+            eye, look_at, up, fov = camera_pose(self.cls, self.properties, target, height)
+            camera.up_direction = up
+            camera.fov = fov
+            if self.cls == "rviz/TopDownOrtho":
+                camera.far = max(1000.0, eye[2] * 2)
+            self.placed = True
+            self.local = (_apply(inverse, np.array(eye)), _apply(inverse, np.array(look_at)))
+        else:
+            seen = (np.asarray(camera.position, float), np.asarray(camera.look_at, float))
+            if not any(_same(seen, w) for w in self.written):
+                # The user moved the camera: follow from where they put it.
+                self.local = (_apply(inverse, seen[0]), _apply(inverse, seen[1]))
+        assert self.local is not None
+        want = (_apply(carrier, self.local[0]), _apply(carrier, self.local[1]))
+        if self.written and _same(want, self.written[-1]):
+            return
+        self.written.append(want)
+        camera.position, camera.look_at = want
+
+    def properties_from(self, camera: Any, buffer: TFBuffer, fixed: str) -> dict[str, Any]:
+        """The view's properties as the camera is now (for File > Save Config)."""
+        props = dict(self.properties)
+        target = self.target(buffer, fixed) or Transform()
+        eye, look_at = np.asarray(camera.position), np.asarray(camera.look_at)
+        if self.cls == "rviz/TopDownOrtho":
+            height = max(float(eye[2] - look_at[2]), 1e-6)
+            props["Scale"] = 700 / (2 * height * math.tan(ORTHO_FOV / 2))
+            props["X"] = float(look_at[0] - target.translation[0])
+            props["Y"] = float(look_at[1] - target.translation[1])
+            return props
+        rel = eye - look_at
+        distance = float(np.linalg.norm(rel))
+        yaw = math.atan2(float(rel[1]), float(rel[0]))
+        pitch = math.asin(max(-1.0, min(1.0, float(rel[2]) / max(distance, 1e-9))))
+        focal = look_at - np.asarray(target.translation)
+        if self.cls == "rviz/ThirdPersonFollower":
+            heading = _yaw(target)
+            c, s = math.cos(-heading), math.sin(-heading)
+            focal[:2] = (c * focal[0] - s * focal[1], s * focal[0] + c * focal[1])
+            yaw -= heading
+        props.update(
+            {
+                "Distance": distance,
+                "Pitch": pitch,
+                "Yaw": yaw % (2 * math.pi),
+                "Focal Point": {"X": float(focal[0]), "Y": float(focal[1]), "Z": float(focal[2])},
+            }
+        )
+        return props
