@@ -269,7 +269,7 @@ class MapDisplay(Display):
             rgba[..., 3] = (rgba[..., 3] * float(self.values["Alpha"])).astype(np.uint8)
             self.image = rgba
             # Cells stay crisp when each is several texels (the browser filters linearly).
-            k = max(1, min(8, 2048 // max(info.width, info.height)))
+            k = max(1, min(8, 1024 // max(info.width, info.height)))
             texels = np.repeat(np.repeat(rgba, k, axis=0), k, axis=1) if k > 1 else rgba
             handle = self.ctx.scene.add_image(
                 f"{self.base}/grid",
