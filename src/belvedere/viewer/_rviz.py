@@ -23,7 +23,8 @@ from typing import Any, Final
 import yaml
 
 from belvedere.errors import ParseError
-from belvedere.fileio import write_file
+from belvedere.fileio import FileWriteError, write_file
+from belvedere.viewer._rviz_defaults import DEFAULTS, GROUP, TOPIC_KEYS, VIEW_DEFAULTS
 from belvedere.yamlfile import YamlDocument, load_yaml
 
 __all__ = [
@@ -62,236 +63,6 @@ KNOWN: dict[str, str] = {
 """rviz display class → the viewer's display kind, for the classes the viewer draws.
 
 A ``rviz/Map`` whose ``Color Scheme`` is ``costmap`` is a ``Costmap``."""
-
-GROUP: Final = "rviz/Group"
-
-_TOPIC_KEYS: Final = {
-    "rviz/Image": "Image Topic",
-    "rviz/Camera": "Image Topic",
-    "rviz/Marker": "Marker Topic",
-    "rviz/MarkerArray": "Marker Topic",
-    "rviz/InteractiveMarkers": "Update Topic",
-}
-"""Where a display keeps its topic when it is not ``Topic``."""
-
-# What rviz 1.14 writes for a display it created with nothing set (its own save_config
-# output); a "/" separates a property from its sub-property.
-_SUBSCRIBER: Final[dict[str, Any]] = {"Topic": "", "Queue Size": 10, "Unreliable": False}
-_CLOUD: Final[dict[str, Any]] = {
-    **_SUBSCRIBER,
-    "Selectable": True,
-    "Style": "Flat Squares",
-    "Size (m)": 0.01,
-    "Size (Pixels)": 3.0,
-    "Alpha": 1.0,
-    "Decay Time": 0.0,
-    "Position Transformer": "",
-    "Color Transformer": "",
-    "Color": "255; 255; 255",
-    "Channel Name": "intensity",
-    "Axis": "Z",
-    "Use rainbow": True,
-    "Invert Rainbow": False,
-    "Min Color": "0; 0; 0",
-    "Max Color": "255; 255; 255",
-    "Autocompute Intensity Bounds": True,
-    "Autocompute Value Bounds": True,
-    "Autocompute Value Bounds/Min Value": -10.0,
-    "Autocompute Value Bounds/Max Value": 10.0,
-    "Use Fixed Frame": True,
-}
-_ARROW: Final[dict[str, Any]] = {
-    "Shape": "Arrow",
-    "Color": "255; 25; 0",
-    "Alpha": 1.0,
-    "Shaft Length": 1.0,
-    "Shaft Radius": 0.05,
-    "Head Length": 0.3,
-    "Head Radius": 0.1,
-    "Axes Length": 1.0,
-    "Axes Radius": 0.1,
-}
-_COVARIANCE: Final[dict[str, Any]] = {
-    "Covariance": True,
-    "Covariance/Position": True,
-    "Covariance/Position/Color": "204; 51; 204",
-    "Covariance/Position/Alpha": 0.3,
-    "Covariance/Position/Scale": 1.0,
-    "Covariance/Orientation": True,
-    "Covariance/Orientation/Color": "255; 255; 127",
-    "Covariance/Orientation/Alpha": 0.5,
-    "Covariance/Orientation/Scale": 1.0,
-    "Covariance/Orientation/Offset": 1.0,
-    "Covariance/Orientation/Frame": "Local",
-    "Covariance/Orientation/Color Style": "Unique",
-}
-_OFFSET: Final[dict[str, Any]] = {"Offset/X": 0.0, "Offset/Y": 0.0, "Offset/Z": 0.0}
-
-DEFAULTS: dict[str, dict[str, Any]] = {
-    "rviz/Grid": {
-        "Reference Frame": "<Fixed Frame>",
-        "Plane Cell Count": 10,
-        "Normal Cell Count": 0,
-        "Cell Size": 1.0,
-        "Line Style": "Lines",
-        "Line Style/Line Width": 0.03,
-        "Color": "160; 160; 164",
-        "Alpha": 0.5,
-        "Plane": "XY",
-        **_OFFSET,
-    },
-    "rviz/RobotModel": {
-        "Visual Enabled": True,
-        "Collision Enabled": False,
-        "Update Interval": 0.0,
-        "Alpha": 1.0,
-        "Robot Description": "robot_description",
-        "TF Prefix": "",
-    },
-    "rviz/TF": {
-        "Show Names": True,
-        "Show Axes": True,
-        "Show Arrows": True,
-        "Marker Scale": 1.0,
-        "Marker Alpha": 1.0,
-        "Update Interval": 0.0,
-        "Frame Timeout": 15.0,
-        "Frames/All Enabled": True,
-    },
-    "rviz/LaserScan": _CLOUD,
-    "rviz/PointCloud2": _CLOUD,
-    "rviz/PointCloud": _CLOUD,
-    "rviz/Map": {
-        **_SUBSCRIBER,
-        "Alpha": 0.7,
-        "Color Scheme": "map",
-        "Draw Behind": False,
-        "Use Timestamp": False,
-    },
-    "rviz/Path": {
-        **_SUBSCRIBER,
-        "Line Style": "Lines",
-        "Line Width": 0.03,
-        "Color": "25; 255; 0",
-        "Alpha": 1.0,
-        "Buffer Length": 1,
-        **_OFFSET,
-        "Pose Style": "None",
-        "Pose Color": "255; 85; 255",
-        "Length": 0.3,
-        "Radius": 0.03,
-        "Head Diameter": 0.3,
-        "Head Length": 0.2,
-        "Shaft Diameter": 0.1,
-        "Shaft Length": 0.1,
-    },
-    "rviz/PoseArray": {
-        **_SUBSCRIBER,
-        "Shape": "Arrow (Flat)",
-        "Color": "255; 25; 0",
-        "Alpha": 1.0,
-        "Arrow Length": 0.3,
-        "Head Radius": 0.03,
-        "Head Length": 0.07,
-        "Shaft Radius": 0.01,
-        "Shaft Length": 0.23,
-        "Axes Length": 0.3,
-        "Axes Radius": 0.01,
-    },
-    "rviz/Odometry": {
-        **_SUBSCRIBER,
-        "Position Tolerance": 0.1,
-        "Angle Tolerance": 0.1,
-        "Keep": 100,
-        **{("Shape" if k == "Shape" else f"Shape/{k}"): v for k, v in _ARROW.items()},
-        **_COVARIANCE,
-    },
-    "rviz/Pose": {**_SUBSCRIBER, **_ARROW},
-    "rviz/PoseWithCovariance": {**_SUBSCRIBER, **_ARROW, **_COVARIANCE},
-    "rviz/Image": {
-        "Image Topic": "",
-        "Transport Hint": "raw",
-        "Queue Size": 2,
-        "Unreliable": False,
-        "Normalize Range": True,
-        "Min Value": 0.0,
-        "Max Value": 1.0,
-        "Median window": 5,
-    },
-    "rviz/Camera": {
-        "Image Topic": "",
-        "Transport Hint": "raw",
-        "Queue Size": 2,
-        "Unreliable": False,
-        "Image Rendering": "background and overlay",
-        "Overlay Alpha": 0.5,
-        "Zoom Factor": 1.0,
-        "Visibility": True,
-    },
-    "rviz/Marker": {"Marker Topic": "visualization_marker", "Queue Size": 100},
-    "rviz/MarkerArray": {"Marker Topic": "visualization_marker_array", "Queue Size": 100},
-    "rviz/Polygon": {**_SUBSCRIBER, "Color": "25; 255; 0", "Alpha": 1.0},
-    "rviz/GridCells": {**_SUBSCRIBER, "Color": "25; 255; 0", "Alpha": 1.0},
-    "rviz/PointStamped": {
-        **_SUBSCRIBER,
-        "Color": "204; 41; 204",
-        "Alpha": 1.0,
-        "Radius": 0.2,
-        "History Length": 1,
-    },
-    "rviz/Range": {**_SUBSCRIBER, "Color": "255; 255; 255", "Alpha": 0.5, "Buffer Length": 1},
-    "rviz/InteractiveMarkers": {
-        "Update Topic": "",
-        "Show Descriptions": True,
-        "Show Axes": False,
-        "Show Visual Aids": False,
-        "Enable Transparency": True,
-    },
-    "rviz/Axes": {
-        "Reference Frame": "<Fixed Frame>",
-        "Length": 1.0,
-        "Radius": 0.1,
-        "Show Trail": False,
-        "Alpha": 1.0,
-    },
-    GROUP: {},
-}
-"""rviz 1.14's default of every property of each display class (property paths joined by
-``/``)."""
-
-_VIEW_COMMON: Final[dict[str, Any]] = {
-    "Target Frame": "<Fixed Frame>",
-    "Near Clip Distance": 0.01,
-    "Invert Z Axis": False,
-}
-_ORBIT: Final[dict[str, Any]] = {
-    **_VIEW_COMMON,
-    "Distance": 10.0,
-    "Focal Point/X": 0.0,
-    "Focal Point/Y": 0.0,
-    "Focal Point/Z": 0.0,
-    "Pitch": 0.785398,
-    "Yaw": 0.785398,
-    "Field of View": 0.785398,
-    "Focal Shape Size": 0.05,
-    "Focal Shape Fixed Size": True,
-}
-VIEW_DEFAULTS: dict[str, dict[str, Any]] = {
-    "rviz/Orbit": _ORBIT,
-    "rviz/XYOrbit": _ORBIT,
-    "rviz/ThirdPersonFollower": _ORBIT,
-    "rviz/TopDownOrtho": {**_VIEW_COMMON, "Scale": 10.0, "Angle": 0.0, "X": 0.0, "Y": 0.0},
-    "rviz/FPS": {
-        **_VIEW_COMMON,
-        "Pitch": 0.0,
-        "Yaw": 0.0,
-        "Roll": 0.0,
-        "Position/X": 0.0,
-        "Position/Y": 0.0,
-        "Position/Z": 0.0,
-    },
-}
-"""rviz 1.14's default of every property of each view controller class."""
 
 _COLOR = re.compile(r"\s*(\d{1,3})\s*;\s*(\d{1,3})\s*;\s*(\d{1,3})\s*")
 
@@ -414,7 +185,7 @@ class RvizDisplay(_Properties):
     @property
     def topic_key(self) -> str | None:
         """The property that holds this display's topic, or None for a display without."""
-        key = _TOPIC_KEYS.get(self.cls, "Topic")
+        key = TOPIC_KEYS.get(self.cls, "Topic")
         if key in self.properties or key in self.defaults():
             return key
         return None
@@ -591,9 +362,9 @@ class _Reader:
         if cls == GROUP:
             listed = self.sequence(data.pop("Displays", None), (*keys, "Displays"), "Displays")
             children = [self.display(d, (*keys, "Displays", i)) for i, d in enumerate(listed)]
-        if written != cls and cls in _TOPIC_KEYS and "Topic" in data:
+        if written != cls and cls in TOPIC_KEYS and "Topic" in data:
             # ROS 2 keeps every topic under "Topic"; rviz 1 reads these under another key.
-            data[_TOPIC_KEYS[cls]] = data.pop("Topic")
+            data[TOPIC_KEYS[cls]] = data.pop("Topic")
         self.check(data, DEFAULTS.get(cls, {}), keys)
         line = self.doc.location(*keys).line or None
         return RvizDisplay(cls, name, enabled, data, children, line)
@@ -744,4 +515,31 @@ def write_rviz(config: RvizConfig, path: str | Path) -> None:
     Raises:
         FileWriteError: the file cannot be written (names it and the reason).
     """
+    unfit = _unwritable(config)
+    if unfit:
+        raise FileWriteError(path, unfit, existed=Path(path).exists())
     write_file(path, dump_rviz(config))
+
+
+def _plain(value: Any) -> bool:
+    if isinstance(value, dict):
+        return all(isinstance(k, str) and _plain(v) for k, v in value.items())
+    if isinstance(value, list):
+        return all(_plain(v) for v in value)
+    return value is None or isinstance(value, str | int | float | bool)
+
+
+def _unwritable(config: RvizConfig) -> str | None:
+    """What in ``config`` YAML cannot hold (a value set in code), or None."""
+    owners: list[tuple[str, str, dict[str, Any]]] = [
+        ("display", d.name, d.properties) for d in config.walk()
+    ]
+    owners += [("view", v.name, v.properties) for v in [config.view, *config.saved_views]]
+    for what, name, properties in owners:
+        for key, value in properties.items():
+            if not _plain(value):
+                kind = type(value).__name__
+                return f"{what} {name!r}: property {key!r} holds a {kind}, not a YAML value"
+    if not _plain(config.document):
+        return "the document holds values that are not YAML"
+    return None
