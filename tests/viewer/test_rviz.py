@@ -466,7 +466,10 @@ def test_views_are_read(every_class: RvizConfig) -> None:
 
 def test_a_config_without_views_or_options_has_rvizs(tmp_path: Path) -> None:
     path = tmp_path / "bare.rviz"
-    path.write_text("Visualization Manager:\n  Displays:\n    - {Class: rviz/Grid, Name: G}\n")
+    path.write_text(
+        "Visualization Manager:\n  Displays:\n    - {Class: rviz/Grid, Name: G}\n"
+        "    - {Class: rviz/Axes, Value: true}\n"
+    )
     config = read_rviz(path)
     assert (config.fixed_frame, config.background, config.frame_rate) == ("map", (48, 48, 48), 30)
     assert (config.view.cls, config.view.number("Distance"), config.view.number("Yaw")) == (
@@ -475,7 +478,8 @@ def test_a_config_without_views_or_options_has_rvizs(tmp_path: Path) -> None:
         0.785398,
     )
     # rviz leaves a display off unless the file says "Enabled: true"
-    assert [(d.name, d.enabled) for d in config.displays] == [("G", False)]
+    # (or its own checkbox, "Value"); a display without a name stays unnamed, as in rviz
+    assert [(d.name, d.enabled) for d in config.displays] == [("G", False), ("", True)]
     (tmp_path / "empty.rviz").write_text("")
     assert read_rviz(tmp_path / "empty.rviz") == RvizConfig()
 

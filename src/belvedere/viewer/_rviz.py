@@ -14,6 +14,7 @@ This module is the model only: pure data and YAML, no viser.
 from __future__ import annotations
 
 import copy
+import math
 import re
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
@@ -24,7 +25,13 @@ import yaml
 
 from belvedere.errors import ParseError
 from belvedere.fileio import FileWriteError, write_file
-from belvedere.viewer._rviz_defaults import DEFAULTS, GROUP, TOPIC_KEYS, VIEW_DEFAULTS
+from belvedere.viewer._rviz_defaults import (
+    DEFAULTS,
+    GLOBAL_DEFAULTS,
+    GROUP,
+    TOPIC_KEYS,
+    VIEW_DEFAULTS,
+)
 from belvedere.yamlfile import YamlDocument, load_yaml
 
 __all__ = [
@@ -116,8 +123,8 @@ class _Properties:
                 return False, None
             node = node[part]
         if isinstance(node, dict):  # a property with sub-properties keeps its own value here
-            return ("Value" in node), node.get("Value")
-        return True, node
+            node = node.get("Value")
+        return node is not None, node  # "~" leaves rviz's default, as in rviz
 
     def get(self, path: str, default: Any = None) -> Any:
         """The value of property ``path`` (``"Line Style/Line Width"``): the file's, else
@@ -281,6 +288,17 @@ class RvizConfig:
         return classes
 
 
+class _GlobalOptions(_Properties):
+    """The Global Options of a config, with rviz's defaults."""
+
+    def __init__(self, properties: dict[str, Any]) -> None:
+        self.cls = "Global Options"
+        self.properties = properties
+
+    def defaults(self) -> Mapping[str, Any]:
+        return GLOBAL_DEFAULTS
+
+
 class _Reader:
     """Builds the model from a parsed document, locating every complaint."""
 
@@ -333,6 +351,9 @@ class _Reader:
             if isinstance(value, bool) or not isinstance(value, int | float):
                 msg = f"{name!r} must be a number, got {_describe(value)}"
                 raise self.fail(keys, msg)
+            if not math.isfinite(value):
+                msg = f"{name!r} must be a finite number, got {value!r}"
+                raise self.fail(keys, msg)
         elif _is_color(default):
             try:
                 parse_color(value)
@@ -351,7 +372,7 @@ class _Reader:
             raise self.fail((*keys, "Class"), msg)
         cls = _rviz1_class(written)
         name = data.pop("Name", None)
-        name = cls.rsplit("/", 1)[-1] if name is None else str(name)
+        name = "" if name is None else str(name)  # rviz leaves an unnamed display unnamed
         # rviz enables a display only when told to ("Enabled", or its own "Value").
         enabled = data.pop("Enabled", data.get("Value", False))
         data.pop("Value", None)
@@ -387,12 +408,7 @@ class _Reader:
         manager = self.mapping(root.get("Visualization Manager"), vm_keys, "Visualization Manager")
         options_keys = (*vm_keys, "Global Options")
         options = self.mapping(manager.get("Global Options"), options_keys, "Global Options")
-        globals_defaults: dict[str, Any] = {
-            "Background Color": "48; 48; 48",
-            "Frame Rate": 30,
-            "Default Light": True,
-        }
-        self.check(options, globals_defaults, options_keys)
+        self.check(options, GLOBAL_DEFAULTS, options_keys)
         listed = self.sequence(manager.get("Displays"), (*vm_keys, "Displays"), "Displays")
         displays = [self.display(d, (*vm_keys, "Displays", i)) for i, d in enumerate(listed)]
         views_keys = (*vm_keys, "Views")
@@ -406,12 +422,12 @@ class _Reader:
         saved_keys = (*views_keys, "Saved")
         saved = self.sequence(views.get("Saved"), saved_keys, "Saved views")
         saved_views = [self.view(v, (*saved_keys, i), f"View {i + 1}") for i, v in enumerate(saved)]
-        frame = options.get("Fixed Frame")
+        given = _GlobalOptions(options)
         return RvizConfig(
-            fixed_frame="map" if frame is None else str(frame),
-            background=parse_color(options.get("Background Color", "48; 48; 48")),
-            frame_rate=int(options.get("Frame Rate", 30)),
-            default_light=bool(options.get("Default Light", True)),
+            fixed_frame=given.text("Fixed Frame"),
+            background=given.color("Background Color"),
+            frame_rate=given.integer("Frame Rate"),
+            default_light=given.flag("Default Light"),
             displays=displays,
             view=view,
             saved_views=saved_views,

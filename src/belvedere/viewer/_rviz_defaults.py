@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from typing import Any, Final
 
-__all__ = ["DEFAULTS", "GROUP", "TOPIC_KEYS", "VIEW_DEFAULTS"]
+__all__ = ["DEFAULTS", "GLOBAL_DEFAULTS", "GROUP", "TOPIC_KEYS", "VIEW_DEFAULTS"]
 
 GROUP: Final = "rviz/Group"
 
@@ -240,3 +240,11 @@ VIEW_DEFAULTS: dict[str, dict[str, Any]] = {
     },
 }
 """rviz 1.14's default of every property of each view controller class."""
+
+GLOBAL_DEFAULTS: dict[str, Any] = {
+    "Fixed Frame": "map",
+    "Background Color": "48; 48; 48",
+    "Frame Rate": 30,
+    "Default Light": True,
+}
+"""rviz 1.14's Global Options when a config sets none."""
