@@ -644,6 +644,17 @@ def test_ros2_configs_are_read_as_rviz1(tmp_path: Path) -> None:
             "'Background Color': expected a colour",
         ),
         (
+            "Visualization Manager:\n  Global Options:\n    Frame Rate: " + "9" * 400 + "\n",
+            r"bad\.rviz:3:17:",
+            "'Frame Rate' is out of range, got 99999999999999999999…",
+        ),
+        (
+            "Visualization Manager:\n  Displays:\n    - Class: rviz/LaserScan\n"
+            "      Decay Time: .inf\n",
+            r"bad\.rviz:4:19:",
+            "'Decay Time' is out of range, got inf",
+        ),
+        (
             "Visualization Manager:\n  Global Options:\n    Frame Rate: fast\n",
             r"bad\.rviz:3:17:",
             "'Frame Rate' must be a number",

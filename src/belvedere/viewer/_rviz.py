@@ -351,8 +351,9 @@ class _Reader:
             if isinstance(value, bool) or not isinstance(value, int | float):
                 msg = f"{name!r} must be a number, got {_describe(value)}"
                 raise self.fail(keys, msg)
-            if not math.isfinite(value):
-                msg = f"{name!r} must be a finite number, got {value!r}"
+            if not _in_range(value, default):
+                shown = repr(value) if len(repr(value)) < 40 else f"{repr(value)[:20]}…"
+                msg = f"{name!r} is out of range, got {shown}"
                 raise self.fail(keys, msg)
         elif _is_color(default):
             try:
@@ -433,6 +434,16 @@ class _Reader:
             saved_views=saved_views,
             document=root,
         )
+
+
+def _in_range(value: float, default: float) -> bool:
+    """rviz keeps a property in a 32-bit int or a float32 (whose range is kept generous)."""
+    if isinstance(default, int) and isinstance(value, int):
+        return -(2**31) <= value < 2**31
+    try:
+        return math.isfinite(float(value)) and abs(float(value)) < 1e38
+    except OverflowError:
+        return False
 
 
 def _describe(value: Any) -> str:
