@@ -438,12 +438,15 @@ class _Reader:
 
 def _in_range(value: float, default: float) -> bool:
     """rviz keeps a property in a 32-bit int or a float32 (whose range is kept generous)."""
-    if isinstance(default, int) and isinstance(value, int):
-        return -(2**31) <= value < 2**31
     try:
-        return math.isfinite(float(value)) and abs(float(value)) < 1e38
+        number = float(value)
     except OverflowError:
         return False
+    if not math.isfinite(number):
+        return False
+    if isinstance(default, int):
+        return -(2**31) <= number < 2**31
+    return abs(number) < 1e38
 
 
 def _describe(value: Any) -> str:
