@@ -189,6 +189,25 @@ Visualization Manager:
       Enabled: true
       Topic: /move_base/global_costmap/inflated_obstacles
       Color: 38; 190; 255
+    - Class: rviz/PointCloud
+      Name: Old Cloud
+      Enabled: false
+      Topic: /cloud
+      Style: Boxes
+    - Class: rviz/PoseWithCovariance
+      Name: AMCL Pose
+      Enabled: true
+      Topic: /amcl_pose
+      Covariance:
+        Value: true
+        Position:
+          Value: true
+          Alpha: 0.5
+    - Class: rviz/Range
+      Name: Sonar
+      Enabled: true
+      Topic: /sonar
+      Alpha: 0.3
   Enabled: true
   Global Options:
     Background Color: 10; 20; 30
@@ -397,7 +416,12 @@ def test_every_class_is_read_with_its_values(every_class: RvizConfig) -> None:
         "rviz/Axes",
         "rviz/PointStamped",
         "rviz/GridCells",
+        "rviz/PointCloud",
+        "rviz/PoseWithCovariance",
+        "rviz/Range",
     ]
+    assert d["AMCL Pose"].number("Covariance/Position/Alpha") == 0.5
+    assert (d["Sonar"].number("Alpha"), d["Old Cloud"].text("Style")) == (0.3, "Boxes")
 
 
 def test_unset_properties_have_rvizs_defaults(every_class: RvizConfig) -> None:
