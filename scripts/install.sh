@@ -15,6 +15,7 @@ DEBIAN_PACKAGES=(
   libstd-msgs-dev libgeometry-msgs-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev
   libros-rosgraph-msgs-dev libactionlib-msgs-dev libtrajectory-msgs-dev
   libvisualization-msgs-dev libdiagnostic-msgs-dev libstd-srvs-dev
+  rviz xvfb xauth
 )
 
 if [ ${#DEBIAN_PACKAGES[@]} -gt 0 ] && command -v apt-get >/dev/null 2>&1; then

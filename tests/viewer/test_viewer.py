@@ -18,7 +18,6 @@ from belvedere.viewer import (
     Viewer,
     allowed_mesh_path,
     floor_point,
-    read_rviz,
 )
 from tests.conftest import EXAMPLES
 from tests.waiting import wait_until
@@ -48,27 +47,6 @@ def test_meshes_inside_package_roots_resolve() -> None:
         "package://mbot_description/meshes/kinect.dae", model_path=None, packages=packages, at=None
     )
     assert path == (PKG / "meshes" / "kinect.dae").resolve()
-
-
-def test_rviz_config(tmp_path: Path) -> None:
-    config = read_rviz(PKG / "config" / "mbot.rviz")
-    assert config.fixed_frame == "base_footprint"
-    assert [d.kind for d in config.displays] == ["Grid", "RobotModel", "TF"]
-    custom = tmp_path / "nav.rviz"
-    custom.write_text(
-        "Visualization Manager:\n  Global Options: {Fixed Frame: map}\n  Displays:\n"
-        "    - {Class: rviz/LaserScan, Enabled: true, Name: Scan, Topic: /scan}\n"
-        "    - {Class: rviz/Map, Enabled: true, Name: Map, Topic: /map}\n"
-        "    - {Class: rviz/Odometry, Enabled: false, Name: Odom, Topic: /odom}\n"
-        "    - {Class: rviz_plugins/Fancy, Enabled: true, Name: X}\n"
-    )
-    config = read_rviz(custom)
-    assert config.fixed_frame == "map"
-    assert [(d.kind, d.topic) for d in config.displays] == [
-        ("LaserScan", "/scan"),
-        ("OccupancyGrid", "/map"),
-    ]
-    assert config.unknown == ["rviz_plugins/Fancy"]
 
 
 def test_floor_point() -> None:

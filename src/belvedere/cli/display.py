@@ -52,6 +52,7 @@ def run(args: argparse.Namespace) -> int:
         port=args.port,
         allow_origins=args.allow_origins,
         rviz=rviz,
+        rviz_path=args.rviz,
         joint_publisher=jsp,
         packages=packages,
     )

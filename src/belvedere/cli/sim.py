@@ -240,6 +240,7 @@ def _open_viewer(
         allow_origins=args.allow_origins,
         fixed_frame=None if args.rviz else sim.odom_frame,
         rviz=read_rviz(args.rviz) if args.rviz else None,
+        rviz_path=args.rviz,
         sim=sim,
         packages=packages,
         world=world,

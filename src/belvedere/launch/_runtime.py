@@ -268,6 +268,7 @@ class LaunchRuntime:
             self.graph,
             model=model,
             rviz=read_rviz(self.rviz_config) if self.rviz_config else None,
+            rviz_path=self.rviz_config,
             joint_publisher=self.joint_publisher if self.gui_joints else None,
             sim=sim,
             packages=self.packages,

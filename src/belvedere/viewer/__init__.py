@@ -4,7 +4,15 @@ from belvedere.viewer._access import ViewerAccess, ViewerError, check_origin
 from belvedere.viewer._catalog import DISPLAYS
 from belvedere.viewer._display import Display
 from belvedere.viewer._robot import MeshAccessError, RobotDrawing, allowed_mesh_path
-from belvedere.viewer._rviz import RvizConfig, RvizDisplay, read_rviz
+from belvedere.viewer._rviz import (
+    RvizConfig,
+    RvizDisplay,
+    RvizView,
+    format_color,
+    parse_color,
+    read_rviz,
+    write_rviz,
+)
 from belvedere.viewer._viewer import SimControls, Viewer, floor_point
 
 __all__ = [
@@ -14,6 +22,7 @@ __all__ = [
     "RobotDrawing",
     "RvizConfig",
     "RvizDisplay",
+    "RvizView",
     "SimControls",
     "Viewer",
     "ViewerAccess",
@@ -21,5 +30,8 @@ __all__ = [
     "allowed_mesh_path",
     "check_origin",
     "floor_point",
+    "format_color",
+    "parse_color",
     "read_rviz",
+    "write_rviz",
 ]

@@ -82,10 +82,15 @@ class UnsupportedDisplay(Display):
     stamped = False
 
     def __init__(self, *args: Any, rviz_class: str, **kwargs: Any) -> None:
-        self.rviz_class = rviz_class
+        self.rviz_class_name = rviz_class
         super().__init__(*args, **kwargs)
+        self.values.pop("Topic", None)
         self.status.set(
             "Plugin",
             Level.ERROR,
             f"The class required for this display, '{rviz_class}', could not be loaded.",
         )
+
+    @property
+    def rviz_class(self) -> str:
+        return self.rviz_class_name

@@ -25,6 +25,7 @@ from belvedere.graph import NS, Node, Subscription
 from belvedere.msgs import short
 from belvedere.packages import PackageIndex
 from belvedere.tf import TFBuffer, TFError, TFExtrapolationError, Transform, wxyz_from_xyzw
+from belvedere.viewer._rviz import parse_color
 from belvedere.viewer._status import Level, Status
 
 __all__ = ["Display", "DisplayContext", "Prop", "color_tuple", "transform_points"]
@@ -66,13 +67,11 @@ class DisplayContext:
 
 def color_tuple(value: Any) -> RGB:
     """A colour as rviz writes it (``"255; 0; 0"``) or as a sequence of three numbers."""
-    parts = [p.strip() for p in value.split(";")] if isinstance(value, str) else list(value)
-    if len(parts) != 3:
-        msg = f"a colour is three numbers 0-255 ('255; 0; 0'), not {value!r}"
-        raise BelvedereError(msg)
     try:
-        r, g, b = (max(0, min(255, round(float(p)))) for p in parts)
-    except ValueError:
+        if isinstance(value, str):
+            return parse_color(value)
+        r, g, b = (max(0, min(255, round(float(p)))) for p in value)
+    except (TypeError, ValueError):
         msg = f"a colour is three numbers 0-255 ('255; 0; 0'), not {value!r}"
         raise BelvedereError(msg) from None
     return (r, g, b)
@@ -133,6 +132,8 @@ class Display:
         self.dropped_reason: str | None = None
         self.handles: dict[str, Any] = {}
         self.subscription: Subscription | None = None
+        self.source: Any = None
+        """The ``.rviz`` entry it was read from (kept when the config is saved again)."""
         self.fixed = ""
         """The fixed frame of the last frame drawn."""
         if self.msg_type:
@@ -178,6 +179,10 @@ class Display:
 
     def changed(self, key: str) -> None:
         """A property changed (subclasses redraw what depends on it)."""
+
+    @property
+    def rviz_class(self) -> str:
+        return self.cls
 
     @property
     def topic(self) -> str:

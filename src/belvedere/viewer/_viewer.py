@@ -14,11 +14,13 @@ import math
 import threading
 import time
 from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
 from typing import Any, Protocol
 
 import numpy as np
 
 from belvedere.description.urdf import RobotModel
+from belvedere.errors import BelvedereError
 from belvedere.graph import NS, Graph, Node
 from belvedere.msgs import short
 from belvedere.packages import PackageIndex
@@ -27,7 +29,7 @@ from belvedere.viewer._access import ViewerAccess, ViewerError, guard_viser
 from belvedere.viewer._catalog import DISPLAYS, UnsupportedDisplay, display_type
 from belvedere.viewer._display import Display, DisplayContext, color_tuple
 from belvedere.viewer._panel import DisplayPanel, global_status_markdown, set_handle
-from belvedere.viewer._rviz import RvizConfig
+from belvedere.viewer._rviz import RvizConfig, RvizDisplay, RvizView, format_color, write_rviz
 from belvedere.viewer._status import Level, Status
 from belvedere.viewer._topics import GraphTopics
 from belvedere.viewer._views import VIEW_TYPES, ViewState
@@ -88,6 +90,7 @@ class Viewer:
         allow_origins: Sequence[str] = (),
         token: str | None = None,
         cmd_vel: str = "/cmd_vel",
+        rviz_path: str | Path | None = None,
     ) -> None:
         """``world``: models drawn in the fixed frame (Gazebo's world frame);
         ``world_poses``: where the movable ones are now (called each frame).
@@ -115,6 +118,7 @@ class Viewer:
         self.topics = GraphTopics(graph)
         self.model = model
         self.rviz = rviz
+        self.rviz_path = rviz_path
         self.fixed_frame = (
             fixed_frame
             or (rviz.fixed_frame if rviz else None)
@@ -163,8 +167,6 @@ class Viewer:
         camera.fov = CAMERA_FOV
         self._build_gui(joint_publisher, sim)
         self._add_initial_displays(rviz)
-        if rviz is not None and rviz.background is not None:
-            self.set_background(rviz.background)
         self.server.on_client_connect(self._client_connected)
         self.server.on_client_disconnect(self._client_left)
         self.node.timer(0.1, self._teleop_tick)
@@ -225,6 +227,21 @@ class Viewer:
                 lambda _: self._add_from_gui(kind.value, typed.value.strip() or topic.value)
             )
             self._offer_topics = offer_topics
+        with gui.add_folder("File", expand_by_default=False):
+            default = str(self.rviz_path) if self.rviz_path else "belvedere.rviz"
+            save_path = gui.add_text("Config file", default)
+            self.save_note = gui.add_markdown("")
+
+            def save(event: Any) -> None:
+                try:
+                    written = self.save_config(save_path.value.strip(), event.client)
+                except BelvedereError as err:
+                    self.save_note.content = f"**Not saved:** {err.describe()}"
+                    return
+                self.save_note.content = f"Saved `{written}`."
+                self.node.logger.info("saved the rviz config %s", written)
+
+            gui.add_button("Save Config").on_click(save)
         with gui.add_folder("Time", expand_by_default=False):
             self.time_texts = {
                 label: gui.add_text(label, "0.00", disabled=True)
@@ -383,21 +400,69 @@ class Viewer:
             return
         for d in rviz.displays:
             self.add_config_display(d)
+        if rviz.background is not None:
+            self.set_background(rviz.background)
 
-    def add_config_display(self, d: Any) -> Display:
-        """A display of an ``.rviz`` config: its class, name, Enabled flag and values; a class
-        we do not draw is listed with an Error status naming it."""
+    def add_config_display(self, d: RvizDisplay, *, enabled: bool = True) -> list[Display]:
+        """The displays of an ``.rviz`` config entry (a group's, in order): class, name,
+        Enabled flag and values; a class we do not draw is listed with an Error status
+        naming it."""
+        if d.cls == "rviz/Group":
+            return [
+                shown
+                for child in d.children
+                for shown in self.add_config_display(child, enabled=enabled and d.enabled)
+            ]
         found = display_type(d.cls)
+        values = _flat(d.properties)
         if found is None:
-            display: Display = UnsupportedDisplay(self.ctx, d.name, rviz_class=d.cls)
-            display.values.update(d.properties)
-            self._register(display)
-            return display
-        cls, implied = found
-        values = {**implied, **{k: v for k, v in d.properties.items() if k != "Topic"}}
-        return self.add_display(
-            cls.type_name, d.topic, name=d.name, values=values, enabled=d.enabled
+            display: Display = UnsupportedDisplay(
+                self.ctx, d.name, rviz_class=d.cls, enabled=enabled and d.enabled
+            )
+            display.values.update(values)
+        else:
+            cls, implied = found
+            if d.topic_key:
+                values.pop(d.topic_key, None)
+            display = cls(
+                self.ctx,
+                d.name or cls.type_name,
+                topic=d.topic,
+                values={**implied, **values},
+                enabled=enabled and d.enabled,
+            )
+        display.source = d
+        self._register(display)
+        return [display]
+
+    def config(self, view: ViewState | None = None, camera: Any = None) -> RvizConfig:
+        """The viewer as an ``.rviz`` config (File > Save Config): what was loaded, with the
+        displays, global options and ``view`` as they are now."""
+        base = self.rviz or RvizConfig.default()
+        config = RvizConfig(
+            fixed_frame=self.fixed_frame,
+            background=color_tuple(self.background.value),
+            frame_rate=round(self.rate_hz),
+            default_light=base.default_light,
+            displays=[_config_display(d) for d in self.displays],
+            view=base.view,
+            saved_views=base.saved_views,
+            document=base.document,
         )
+        if view is not None and camera is not None:
+            config.view = RvizView(
+                view.cls,
+                "Current View",
+                view.properties_from(camera, self.tf.buffer, self.fixed_frame),
+            )
+        return config
+
+    def save_config(self, path: str | Path, client: Any = None) -> Path:
+        """Write :meth:`config` (with ``client``'s view) to ``path`` atomically."""
+        entry = self.views.get(client.client_id) if client is not None else None
+        view, camera = (entry[1], entry[0].camera) if entry is not None else (None, None)
+        write_rviz(self.config(view, camera), path)
+        return Path(path)
 
     def add_display(
         self,
@@ -573,3 +638,55 @@ class Viewer:
         self.topics.close()
         with contextlib.redirect_stdout(io.StringIO()):  # viser's "Server stopped"
             self.server.stop()
+
+
+def _flat(properties: Mapping[str, Any]) -> dict[str, Any]:
+    """rviz's nested properties (``Line Style: {Value: Lines, Line Width: 0.03}``) as the
+    flat names the panel shows (``Line Style``, ``Line Width``)."""
+    flat: dict[str, Any] = {}
+    for key, value in properties.items():
+        if isinstance(value, dict):
+            if "Value" in value:
+                flat[key] = value["Value"]
+            for sub, inner in _flat({k: v for k, v in value.items() if k != "Value"}).items():
+                flat.setdefault(sub, inner)
+        else:
+            flat[key] = value
+    return flat
+
+
+def _config_display(display: Display) -> RvizDisplay:
+    """A display as its config entry: the one it was read from (keeping what we do not
+    model, and where nested values sit), updated with the values it has now."""
+    source: RvizDisplay | None = display.source
+    cls = display.rviz_class
+    entry = RvizDisplay(
+        cls=cls,
+        name=display.name,
+        enabled=display.enabled,
+        properties=dict(source.properties) if source is not None else {},
+        children=[],
+    )
+    known = {p.name: p for p in display.all_props()}
+    paths = _paths(entry.properties)
+    for key, value in display.values.items():
+        prop = known.get(key)
+        if prop is None and source is not None:
+            continue  # kept as the file had it
+        written = format_color(value) if prop is not None and prop.kind == "color" else value
+        if key == "Topic" and entry.topic_key:
+            key = entry.topic_key
+        entry.set(paths.get(key, key), written)
+    return entry
+
+
+def _paths(properties: Mapping[str, Any], prefix: str = "") -> dict[str, str]:
+    """Where each property name sits in rviz's nesting (``Line Width`` →
+    ``Line Style/Line Width``)."""
+    found: dict[str, str] = {}
+    for key, value in properties.items():
+        found.setdefault(key, prefix + key)
+        if isinstance(value, dict):
+            for name, path in _paths(value, f"{prefix}{key}/").items():
+                found.setdefault(name, path)
+    return found
