@@ -71,8 +71,8 @@ class ClientPublishing:
                 msg = message_from_data(entry.msgtype, json.loads(data))
             else:
                 msg = types().store.deserialize_ros1(data, entry.msgtype)
-        except (BelvedereError, ValueError, KeyError, TypeError, IndexError) as err:
-            what = err.message if isinstance(err, BelvedereError) else str(err)
+        except Exception as err:  # noqa: BLE001 (a client sent something else)
+            what = err.message if isinstance(err, BelvedereError) else str(err) or repr(err)
             self._refuse(f"a message for {entry.topic} is not a {short(entry.msgtype)}: {what}")
             return
         self.node.graph.executor.post(partial(self._publish, entry, msg))
