@@ -66,6 +66,8 @@ class FoxgloveClient:
         self.parameters: dict[str, list[dict[str, Any]]] = {}
         """parameterValues replies, by request id."""
         self._next_id = 1
+        self._subscribing: dict[int, int] = {}
+        """Subscription ids, by channel."""
         self.wait(lambda: self.server_info, what="the server's info")
 
     @property
@@ -107,11 +109,17 @@ class FoxgloveClient:
                 self.channels.pop(cid, None)
                 self.withdrawn.append(cid)
         elif op == "status":
-            self.statuses.append(doc)
+            refused = doc["message"].removeprefix("Unknown channel ID: ")
+            if refused.isdigit() and int(refused) in self._subscribing:
+                # foxglove-sdk 0.30 can refuse a subscription that comes right after the
+                # channel's advertisement (the channel is not in its table yet): ask again
+                self._send_subscribe(self._subscribing[int(refused)], int(refused))
+            else:
+                self.statuses.append(doc)
         elif op == "parameterValues":
             self.parameters[doc.get("id", "")] = doc["parameters"]
 
-    def wait(self, predicate: Callable[[], T], *, what: str, timeout: float = DEADLINE) -> T:
+    def wait(self, predicate: Callable[[], T | None], *, what: str, timeout: float = DEADLINE) -> T:
         """Read frames until ``predicate()`` is truthy (its value)."""
         deadline = time.monotonic() + timeout
         while True:
@@ -148,9 +156,13 @@ class FoxgloveClient:
     def subscribe(self, topic: str) -> int:
         """Subscribe to ``topic``'s channel; the subscription's id."""
         sub = self._id()
-        channel = self.channel(topic)
-        self._send({"op": "subscribe", "subscriptions": [{"id": sub, "channelId": channel["id"]}]})
+        channel = self.channel(topic)["id"]
+        self._subscribing[channel] = sub
+        self._send_subscribe(sub, channel)
         return sub
+
+    def _send_subscribe(self, sub: int, channel: int) -> None:
+        self._send({"op": "subscribe", "subscriptions": [{"id": sub, "channelId": channel}]})
 
     def unsubscribe(self, sub: int) -> None:
         self._send({"op": "unsubscribe", "subscriptionIds": [sub]})

@@ -42,6 +42,9 @@ def add_parser(
 
 
 def run(args: argparse.Namespace) -> int:
+    from belvedere.foxglove import require_sdk
+
+    require_sdk()  # before joining the graph
     graph = join_graph(args)
     try:
         bridge = start_foxglove(args, graph, node_name=f"foxglove_bridge_{os.getpid()}")

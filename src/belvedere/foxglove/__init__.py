@@ -20,6 +20,7 @@ from belvedere.foxglove._bridge import (
     SCHEMA_ENCODING,
     FoxgloveBridge,
     FoxgloveBridgeError,
+    require_sdk,
     ros1_schema,
 )
 
@@ -29,5 +30,6 @@ __all__ = [
     "SCHEMA_ENCODING",
     "FoxgloveBridge",
     "FoxgloveBridgeError",
+    "require_sdk",
     "ros1_schema",
 ]

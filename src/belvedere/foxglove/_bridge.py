@@ -24,8 +24,9 @@ from belvedere.graph import Graph, GraphError, Subscription, ZenohTransport
 from belvedere.msgs import MessageTypeError, types
 
 if TYPE_CHECKING:
-    import foxglove
     from foxglove.websocket import ChannelView, Client, ClientChannel, WebSocketServer
+
+    import foxglove
 
 __all__ = [
     "DEFAULT_PORT",
@@ -33,6 +34,7 @@ __all__ = [
     "SCHEMA_ENCODING",
     "FoxgloveBridge",
     "FoxgloveBridgeError",
+    "require_sdk",
     "ros1_schema",
 ]
 
@@ -57,13 +59,14 @@ class FoxgloveBridgeError(BelvedereError):
     """The bridge cannot start as asked (no SDK, the port taken)."""
 
 
-def sdk() -> ModuleType:
+def require_sdk() -> ModuleType:
     """The ``foxglove`` package, or one error saying how to install it."""
     try:
-        import foxglove
         import foxglove.websocket
+
+        import foxglove
     except ImportError as err:
-        msg = f"--foxglove needs the foxglove-sdk package, which is not installed ({err})"
+        msg = f"the Foxglove bridge needs the foxglove-sdk package, which is not installed ({err})"
         raise FoxgloveBridgeError(
             msg, hint="pip install 'belvedere[foxglove]' (or: pip install foxglove-sdk)"
         ) from None
@@ -110,7 +113,7 @@ class FoxgloveBridge:
         node_name: str = "foxglove_bridge",
         poll: float = POLL_S,
     ) -> None:
-        fox = sdk()
+        fox = require_sdk()
         from foxglove.websocket import Capability
 
         self.graph = graph
