@@ -37,6 +37,7 @@ _VERBS = (
     "node",
     "tf",
     "bag",
+    "foxglove",
     "run",
     "rospack",
     "map",

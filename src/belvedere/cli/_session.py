@@ -9,10 +9,10 @@ import sys
 import threading
 import time
 from pathlib import Path
-from typing import Any
 
+from belvedere.cli._foxglove import start_foxglove
 from belvedere.cli._script import ScriptOptions, install_script
-from belvedere.cli._tool import open_transport
+from belvedere.cli._tool import join_graph, open_transport
 from belvedere.graph import Graph, GraphError
 from belvedere.launch import LaunchConfig, LaunchNode
 from belvedere.launch._runtime import LaunchRuntime
@@ -44,7 +44,7 @@ def run_session(
     (rosrun's way). ``join``: the nodes join the graph that is running (its parameters, its
     clock) instead of making one, as ROS nodes join a running master."""
     if join:
-        graph = _joined_graph(args)
+        graph = join_graph(args)
     else:
         graph = Graph(sim_time=sim_time, seed=args.seed, transport=open_transport(args))
     runtime = LaunchRuntime(
@@ -59,9 +59,11 @@ def run_session(
         },
     )
     status = 0
+    bridge = None
     try:
         if join:
             _share_params(graph, config)
+        bridge = start_foxglove(args, graph)
         runtime.start()
         if script is not None and not runtime.run_script(script[0], script[1], argv=script[2]):
             return 1
@@ -74,28 +76,11 @@ def run_session(
         pass
     finally:
         sys.stdout.flush()
+        if bridge is not None:
+            bridge.close()
         runtime.close()
         graph.shutdown()
     return status
-
-
-def _joined_graph(args: argparse.Namespace) -> Graph:
-    """A graph on the running one: its parameters copied, in its time (following its
-    ``/clock`` when it simulates time)."""
-    transport = open_transport(args, serve_params=False)
-    try:
-        remote: Any = transport.param_request({"op": "get", "name": "/"})
-    except GraphError:
-        remote = {}  # a graph without a parameter server (a tool's): nothing to copy
-    if not isinstance(remote, dict):
-        remote = {}
-    sim_time = bool(remote.get("use_sim_time", False))
-    graph = Graph(sim_time=sim_time, seed=args.seed, transport=transport, clock_hz=None)
-    if remote:
-        graph.params.set("/", remote)
-    if sim_time:
-        graph.follow_clock(graph.create_node(f"belvedere_clock_{os.getpid()}"))
-    return graph
 
 
 def _share_params(graph: Graph, config: LaunchConfig) -> None:

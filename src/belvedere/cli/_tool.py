@@ -13,6 +13,7 @@ from typing import Any
 from belvedere.graph import (
     MAX_DOMAIN,
     Graph,
+    GraphError,
     GraphInfo,
     Node,
     TransportError,
@@ -24,6 +25,7 @@ __all__ = [
     "Tool",
     "action_parsers",
     "add_graph_options",
+    "join_graph",
     "open_tool",
     "open_transport",
     "wait_for",
@@ -100,6 +102,26 @@ def open_tool(args: argparse.Namespace, kind: str) -> Tool:
     graph = Graph(sim_time=False, transport=transport)
     node = graph.create_node(f"belvedere_{kind}_{os.getpid()}")
     return Tool(graph, transport, node)
+
+
+def join_graph(args: argparse.Namespace) -> Graph:
+    """A graph on the running one: its parameters copied, in its time (following its
+    ``/clock`` when it simulates time), as ROS nodes join a running master."""
+    transport = open_transport(args, serve_params=False)
+    try:
+        remote: Any = transport.param_request({"op": "get", "name": "/"})
+    except GraphError:
+        remote = {}  # a graph without a parameter server (a tool's): nothing to copy
+    if not isinstance(remote, dict):
+        remote = {}
+    sim_time = bool(remote.get("use_sim_time", False))
+    seed = getattr(args, "seed", 0)
+    graph = Graph(sim_time=sim_time, seed=seed, transport=transport, clock_hz=None)
+    if remote:
+        graph.params.set("/", remote)
+    if sim_time:
+        graph.follow_clock(graph.create_node(f"belvedere_clock_{os.getpid()}"))
+    return graph
 
 
 def wait_for(condition: object, timeout: float, step: float = 0.05) -> bool:

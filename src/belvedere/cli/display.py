@@ -9,6 +9,7 @@ import time
 import webbrowser
 
 from belvedere.cli._args import add_viewer_options, mappings_only
+from belvedere.cli._foxglove import add_foxglove_options, start_foxglove
 from belvedere.cli._tool import add_graph_options, open_transport
 from belvedere.description.urdf import RobotModel
 from belvedere.graph import Graph
@@ -26,6 +27,7 @@ def add_parser(
     p.add_argument("--rviz", metavar="CONFIG", help="an rviz .rviz config to start from")
     add_viewer_options(p)
     p.add_argument("--open", action="store_true", help="open a browser on the viewer")
+    add_foxglove_options(p)
     p.add_argument("--duration", type=float, help="exit after SECONDS (for scripts)")
     add_graph_options(p)
     p.set_defaults(run=run)
@@ -45,17 +47,23 @@ def run(args: argparse.Namespace) -> int:
     RobotStatePublisher(graph.create_node("robot_state_publisher"), model)
     jsp = JointStatePublisher(graph.create_node("joint_state_publisher"), model)
     rviz = read_rviz(args.rviz) if args.rviz else None
-    viewer = Viewer(
-        graph,
-        model=model,
-        host=args.host,
-        port=args.port,
-        allow_origins=args.allow_origins,
-        rviz=rviz,
-        rviz_path=args.rviz,
-        joint_publisher=jsp,
-        packages=packages,
-    )
+    bridge = start_foxglove(args, graph)
+    try:
+        viewer = Viewer(
+            graph,
+            model=model,
+            host=args.host,
+            port=args.port,
+            allow_origins=args.allow_origins,
+            rviz=rviz,
+            rviz_path=args.rviz,
+            joint_publisher=jsp,
+            packages=packages,
+        )
+    except BaseException:
+        if bridge is not None:
+            bridge.close()
+        raise
     graph.start(rtf=None)
     sys.stdout.write(f"{viewer.url}\n")
     sys.stdout.flush()
@@ -69,6 +77,8 @@ def run(args: argparse.Namespace) -> int:
     except KeyboardInterrupt:
         pass
     finally:
+        if bridge is not None:
+            bridge.close()
         viewer.close()
         graph.shutdown()
     return 0

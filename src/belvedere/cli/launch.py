@@ -10,6 +10,7 @@ from pathlib import Path
 
 from belvedere import nodes
 from belvedere.cli._args import add_viewer_options, mappings_only
+from belvedere.cli._foxglove import add_foxglove_options
 from belvedere.cli._script import ScriptOptions, add_script_options
 from belvedere.cli._session import run_session
 from belvedere.cli._tool import add_graph_options
@@ -40,6 +41,7 @@ def add_parser(
     p.add_argument("--headless", action="store_true", help="no viewer (rviz, gzclient)")
     p.add_argument("--seed", type=int, default=0, help="seed of the simulation's randomness")
     add_viewer_options(p)
+    add_foxglove_options(p)
     add_script_options(p)
     add_graph_options(p)
     p.set_defaults(run=run)

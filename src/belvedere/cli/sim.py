@@ -15,6 +15,7 @@ import webbrowser
 from typing import TYPE_CHECKING
 
 from belvedere.cli._args import add_viewer_options, mappings_only
+from belvedere.cli._foxglove import add_foxglove_options, start_foxglove
 from belvedere.cli._script import ScriptOptions, add_script_options, install_script
 from belvedere.cli._tool import add_graph_options, open_transport
 from belvedere.description.urdf import Pose, RobotModel
@@ -34,6 +35,7 @@ from belvedere.world import ModelPaths, WorldModel, empty_world, read_world
 from belvedere.yamlfile import load_yaml_file
 
 if TYPE_CHECKING:
+    from belvedere.foxglove import FoxgloveBridge
     from belvedere.viewer import Viewer
 
 Simulation = KinematicSimulation | PhysicsSimulation
@@ -96,6 +98,7 @@ def add_parser(
     p.add_argument("--rviz", metavar="CONFIG", help="an rviz .rviz config for the viewer")
     add_viewer_options(p)
     p.add_argument("--open", action="store_true", help="open a browser on the viewer")
+    add_foxglove_options(p)
     add_script_options(p)
     add_graph_options(p)
     p.set_defaults(run=run)
@@ -135,6 +138,7 @@ def run(args: argparse.Namespace) -> int:
         if value is not None:
             graph.params.set(param, value)
     viewer: Viewer | None = None
+    bridge: FoxgloveBridge | None = None
     try:
         if world is not None:
             sim: Simulation = _physics(args, graph, model, world, packages)
@@ -143,6 +147,7 @@ def run(args: argparse.Namespace) -> int:
         install_script(graph, script)
         if args.paused:
             graph.executor.pause(True)
+        bridge = start_foxglove(args, graph)
         if not args.headless:
             viewer = _open_viewer(args, graph, model, sim, packages, world)
         _run(graph, args)
@@ -150,6 +155,8 @@ def run(args: argparse.Namespace) -> int:
         pass
     finally:
         sys.stdout.flush()
+        if bridge is not None:
+            bridge.close()
         if viewer is not None:
             viewer.close()
         graph.shutdown()

@@ -1,0 +1,61 @@
+"""``--foxglove [PORT]``: the Foxglove bridge beside a verb's graph (display, sim, launch)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import TYPE_CHECKING
+
+from belvedere.graph import Graph
+
+if TYPE_CHECKING:
+    from belvedere.foxglove import FoxgloveBridge
+
+__all__ = ["DEFAULT_PORT", "add_foxglove_options", "port", "start_foxglove"]
+
+DEFAULT_PORT = 8765
+"""belvedere.foxglove.DEFAULT_PORT, without importing the bridge to build the parser."""
+
+
+def port(text: str) -> int:
+    """A TCP port, 0 (any free one) to 65535."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if not 0 <= value <= 65535:
+        msg = f"a port is a number from 0 to 65535 (0: any free port), not {text!r}"
+        raise argparse.ArgumentTypeError(msg)
+    return value
+
+
+def add_foxglove_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--foxglove",
+        nargs="?",
+        const=DEFAULT_PORT,
+        type=port,
+        metavar="PORT",
+        help=f"also serve the graph's topics to Foxglove on PORT (default: {DEFAULT_PORT}; "
+        "needs belvedere[foxglove])",
+    )
+    p.add_argument(
+        "--foxglove-host",
+        default="127.0.0.1",
+        metavar="HOST",
+        help="address the Foxglove bridge listens on (default: this machine only)",
+    )
+
+
+def start_foxglove(
+    args: argparse.Namespace, graph: Graph, *, node_name: str = "foxglove_bridge"
+) -> FoxgloveBridge | None:
+    """The bridge ``--foxglove`` asks for (None without it), its URL said on stderr."""
+    wanted: int | None = getattr(args, "foxglove", None)
+    if wanted is None:
+        return None
+    from belvedere.foxglove import FoxgloveBridge
+
+    bridge = FoxgloveBridge(graph, host=args.foxglove_host, port=wanted, node_name=node_name)
+    sys.stderr.write(f"foxglove: {bridge.url}\n")
+    return bridge

@@ -1,0 +1,63 @@
+"""``belvedere foxglove [--port P]``: serve a running graph's topics to Foxglove
+(foxglove_bridge, beside anything that runs)."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import time
+
+from belvedere.cli._foxglove import DEFAULT_PORT, port, start_foxglove
+from belvedere.cli._tool import add_graph_options, join_graph
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(
+    sub: argparse._SubParsersAction[argparse.ArgumentParser], common: argparse.ArgumentParser
+) -> None:
+    p = sub.add_parser(
+        "foxglove",
+        parents=[common],
+        help="serve the graph's topics to Foxglove",
+        description="Join the running graph and serve its topics over Foxglove's WebSocket "
+        "protocol (open the printed ws:// URL in Foxglove). Needs belvedere[foxglove].",
+    )
+    p.add_argument(
+        "--port",
+        type=port,
+        default=DEFAULT_PORT,
+        dest="foxglove",
+        help=f"port to serve on (default: {DEFAULT_PORT}; 0: any free port)",
+    )
+    p.add_argument(
+        "--host",
+        default="127.0.0.1",
+        dest="foxglove_host",
+        help="address to listen on (default: this machine only)",
+    )
+    p.add_argument("--duration", type=float, help="exit after SECONDS (for scripts)")
+    add_graph_options(p)
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from belvedere.foxglove import require_sdk
+
+    require_sdk()  # before joining the graph
+    graph = join_graph(args)
+    try:
+        bridge = start_foxglove(args, graph, node_name=f"foxglove_bridge_{os.getpid()}")
+        assert bridge is not None
+        graph.start(rtf=None)
+        try:
+            deadline = None if args.duration is None else time.monotonic() + args.duration
+            while deadline is None or time.monotonic() < deadline:
+                time.sleep(0.2)
+        except KeyboardInterrupt:
+            pass
+        finally:
+            bridge.close()
+    finally:
+        graph.shutdown()
+    return 0
