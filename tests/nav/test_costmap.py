@@ -316,18 +316,82 @@ def test_the_footprint_is_cleared_and_the_rolling_window_follows_the_robot() -> 
     assert layer.grid.costs[30, 30] == FREE
 
 
-def test_clear_outside_resets_obstacles_beyond_the_window() -> None:
-    costmap = LayeredCostmap(CostmapParams.from_mapping(_params(COMMON, GLOBAL)))
-    costmap.set_map(np.zeros((100, 100), dtype=np.int8), 0.05, (0.0, 0.0), "map")
+LAYERS_TWO_OBSTACLES = """
+global_frame: map
+robot_base_frame: base_footprint
+resolution: 0.05
+robot_radius: 0.175
+plugins:
+  - {name: static_layer, type: "costmap_2d::StaticLayer"}
+  - {name: obstacles, type: "costmap_2d::ObstacleLayer"}
+  - {name: sonar, type: "costmap_2d::ObstacleLayer"}
+  - {name: inflation_layer, type: "costmap_2d::InflationLayer"}
+obstacles:
+  observation_sources: scan
+  scan: {data_type: LaserScan, topic: /scan, marking: true, clearing: false}
+sonar:
+  observation_sources: range
+  range: {data_type: PointCloud2, topic: /range, marking: true, clearing: false}
+inflation_layer: {inflation_radius: 0.1}
+"""
+
+
+def _seen(costmap: LayeredCostmap) -> None:
+    """Obstacles 0.5 m and 2 m from (2.5, 2.5) in both obstacle layers, then no more readings."""
     near, far = _scan_ring(2.5, 2.5, 0.5), _scan_ring(2.5, 2.5, 2.0)
-    both = np.concatenate([near.points, far.points])
-    costmap.add_observation("scan", Observation(near.origin, both, 0), 0)
+    both = Observation(near.origin, np.concatenate([near.points, far.points]), 0)
+    costmap.add_observation("scan", both, 0)
+    costmap.add_observation("range", both, 0)
     costmap.update((2.5, 2.5, 0.0), 0)
-    costmap.obstacle_layers[0].buffers["scan"].observations.clear()
-    costmap.clear_outside(2.5, 2.5, 2.0)
+    for layer in costmap.obstacle_layers:
+        for buffer in layer.buffers.values():
+            buffer.observations.clear()
+
+
+def test_clearing_resets_only_the_named_layers_outside_the_window() -> None:
+    costmap = LayeredCostmap(CostmapParams.from_mapping(yaml.safe_load(LAYERS_TWO_OBSTACLES)))
+    costmap.set_map(np.zeros((100, 100), dtype=np.int8), 0.05, (0.0, 0.0), "map")
+    _seen(costmap)
+    obstacles, sonar = (layer.grid for layer in costmap.obstacle_layers)
+    assert obstacles is not None
+    assert sonar is not None
+    assert obstacles.costs[50, 90] == sonar.costs[50, 90] == LETHAL
+    # ClearCostmapRecovery's default layer_names: ["obstacles"]; missing names are reported
+    missing, not_clearable = costmap.clear_area(2.5, 2.5, 2.0, ["obstacles", "voxels"])
+    assert (missing, not_clearable) == (["voxels"], [])
+    assert obstacles.costs[50, 90] == NO_INFORMATION  # 2 m away: outside the 2 m square
+    assert obstacles.costs[50, 60] == LETHAL  # 0.5 m: inside
+    assert sonar.costs[50, 90] == LETHAL  # not named: kept
     costmap.update((2.5, 2.5, 0.0), 0)
-    assert costmap.master.costs[50, 60] == LETHAL  # 0.5 m: inside the 2 m square
-    assert costmap.master.costs[50, 90] == FREE  # 2 m: outside
+    assert costmap.master.costs[50, 90] == LETHAL  # the sonar still sees it
+    costmap.clear_area(2.5, 2.5, 2.0, ["sonar", "layers/obstacles"])  # names after the last /
+    costmap.update((2.5, 2.5, 0.0), 0)
+    assert costmap.master.costs[50, 90] == FREE  # no layer has an opinion: the map's free
+    assert costmap.master.costs[50, 60] == LETHAL
+    # the square's edge cells are cleared: the window keeps the cells strictly inside it
+    assert sonar.costs[50, 30] == NO_INFORMATION
+    assert sonar.costs[50, 31] == FREE
+    # inflation has no cells of its own to clear
+    assert costmap.clear_area(2.5, 2.5, 2.0, ["inflation_layer"]) == ([], ["inflation_layer"])
+
+
+def test_clearing_inside_the_window_and_the_static_layer() -> None:
+    costmap = LayeredCostmap(CostmapParams.from_mapping(yaml.safe_load(LAYERS_TWO_OBSTACLES)))
+    room = np.zeros((100, 100), dtype=np.int8)
+    room[:, 95:] = 100
+    costmap.set_map(room, 0.05, (0.0, 0.0), "map")
+    _seen(costmap)
+    costmap.clear_area(2.5, 2.5, 2.0, ["obstacles", "sonar"], invert=True)
+    costmap.update((2.5, 2.5, 0.0), 0)
+    assert costmap.master.costs[50, 60] == FREE  # inside: cleared
+    assert costmap.master.costs[50, 90] == LETHAL  # outside: kept
+    assert costmap.master.costs[50, 97] == LETHAL  # the map's wall
+    costmap.clear_area(2.5, 2.5, 2.0, ["static_layer"])
+    costmap.update((2.5, 2.5, 0.0), 0)
+    assert costmap.static_layers[0].map is not None
+    assert costmap.static_layers[0].map.costs[50, 97] == NO_INFORMATION
+    # gone until the next map; the obstacle layers' free cells fill the unknown master cell
+    assert costmap.master.costs[50, 97] == FREE
 
 
 def test_footprints_and_their_radii() -> None:

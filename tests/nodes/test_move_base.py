@@ -6,6 +6,7 @@ and an unknown planner plugin is one error at its YAML line."""
 from __future__ import annotations
 
 import itertools
+import logging
 import math
 from pathlib import Path
 from typing import Any
@@ -139,3 +140,54 @@ def test_an_unknown_planner_is_one_error_at_its_yaml_line(tmp_path: Path) -> Non
     assert text.startswith(f"{params}:2:21: error: /move_base: parameter base_local_planner: ")
     assert "unknown local planner plugin 'teb_local_planner/TebLocalPlannerROS'" in text
     assert "base_local_planner/TrajectoryPlannerROS, dwa_local_planner/DWAPlannerROS" in text
+
+
+def _recovering(tmp_path: Path, yaml_text: str) -> Graph:
+    params = tmp_path / "recoveries.yaml"
+    params.write_text(
+        "recovery_behavior_enabled: true\nclearing_rotation_allowed: false\n" + yaml_text
+    )
+    return _start(
+        _launch(tmp_path, f'  <rosparam ns="move_base" file="{params}" command="load"/>\n')
+    )
+
+
+@pytest.mark.parametrize(
+    ("layers", "warned"),
+    [
+        ("", True),  # the default ["obstacles"]: the pre-Hydro costmaps have "obstacle_layer"
+        (
+            "conservative_reset: {layer_names: [obstacle_layer]}\n"
+            "aggressive_reset: {layer_names: [obstacle_layer]}\n",
+            False,
+        ),
+    ],
+)
+def test_clearing_recoveries_clear_the_layers_they_name(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture, layers: str, warned: bool
+) -> None:
+    graph = _recovering(tmp_path, layers)
+    try:
+        probe = graph.create_node("probe")
+        client = ActionClient(probe, "/move_base", "move_base_msgs/MoveBase")
+        graph.run(duration=1.0)
+        with caplog.at_level(logging.INFO, logger="belvedere"):
+            goal = client.send_goal(_goal(20.0, 0.0, 0.0))  # off the map: no plan, ever
+            graph.run(duration=60.0, until=lambda: client.done(goal))
+    finally:
+        graph.shutdown()
+    assert client.status[goal] == GoalStatus.ABORTED
+    assert "recovery: conservative_reset" in caplog.text
+    assert "recovery: aggressive_reset" in caplog.text
+    missing = "cannot clear layer obstacles: it does not exist"
+    assert (missing in caplog.text) is warned
+    if warned:
+        assert "/move_base/global_costmap: " + missing in caplog.text
+        assert "/move_base/local_costmap: " + missing in caplog.text
+
+
+def test_a_bad_clearing_parameter_is_one_error(tmp_path: Path) -> None:
+    with pytest.raises(LaunchError, match=r"conservative_reset/affected_maps must be 'local', "):
+        _recovering(tmp_path, "conservative_reset: {affected_maps: none}\n")
+    with pytest.raises(LaunchError, match=r"aggressive_reset/layer_names must be a list"):
+        _recovering(tmp_path, "aggressive_reset: {layer_names: obstacles}\n")

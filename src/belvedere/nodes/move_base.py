@@ -41,7 +41,12 @@ from belvedere.nav.planners import (
     UnknownPluginError,
     make_global_planner,
 )
-from belvedere.nav.recovery import RotateOutcome, RotateRecovery, RotateRecoveryParams
+from belvedere.nav.recovery import (
+    ClearCostmapParams,
+    RotateOutcome,
+    RotateRecovery,
+    RotateRecoveryParams,
+)
 from belvedere.nodes._costmap import Costmap2DROS
 from belvedere.nodes._registry import (
     NodeSpec,
@@ -188,6 +193,7 @@ class _MoveBase:
         self.rotate_params = RotateRecoveryParams.from_mapping(
             own if isinstance(own, dict) else {}, blp if isinstance(blp, dict) else {}
         )
+        self.clearing = self._clearing_params(private if isinstance(private, dict) else {})
         self._warned: set[str] = set()
         self.global_costmap.start()
         self.local_costmap.start()
@@ -212,6 +218,30 @@ class _MoveBase:
             message = f"{spec.full_name}: parameter {param}: {err}"
             raise StartError(message, where) from None
         return planner
+
+    def _clearing_params(self, private: Mapping[str, Any]) -> dict[str, ClearCostmapParams]:
+        """The two clearing recoveries' parameters. As move_base does for its default
+        recoveries, their ``reset_distance`` is ``conservative_reset_dist`` and four times
+        ``~local_costmap/circumscribed_radius`` (a parameter of its own, default 0.46 m, not
+        the costmap's radius)."""
+        local = private.get("local_costmap", {})
+        radius = local.get("circumscribed_radius", 0.46) if isinstance(local, dict) else 0.46
+        if isinstance(radius, bool) or not isinstance(radius, int | float):
+            message = (
+                f"parameter local_costmap/circumscribed_radius must be a number, got {radius!r}"
+            )
+            raise ValueError(message)
+        distances = {
+            "conservative_reset": self.params.conservative_reset_dist,
+            "aggressive_reset": 4.0 * float(radius),
+        }
+        out = {}
+        for name, distance in distances.items():
+            own = private.get(name, {})
+            out[name] = ClearCostmapParams.from_mapping(
+                name, own if isinstance(own, dict) else {}, distance
+            )
+        return out
 
     # --- inputs ------------------------------------------------------------------------------
     def _warn_once(self, key: str, text: str) -> None:
@@ -440,15 +470,17 @@ class _MoveBase:
             self.state = _State.CLEARING
             self.rotation = None
             return
-        distance = (
-            self.params.conservative_reset_dist
-            if name == "conservative_reset"
-            else 4.0 * self.global_costmap.circumscribed_radius
-        )
-        for costmap in (self.global_costmap, self.local_costmap):
-            pose = costmap.robot_pose()
-            if pose is not None:
-                costmap.clear_outside(float(pose[0]), float(pose[1]), 2.0 * distance)
+        clearing = self.clearing[name]
+        for which, costmap in (("global", self.global_costmap), ("local", self.local_costmap)):
+            if not clearing.affects(which):
+                continue
+            costmap.clear_area(
+                clearing.reset_distance,
+                clearing.layer_names,
+                invert=clearing.invert_area_to_clear,
+            )
+            if clearing.force_updating:
+                costmap.update_now()
         self._start_planning()
 
     def _clearing_step(self, now: int) -> None:

@@ -175,11 +175,23 @@ class LayeredCostmap:
         for layer in self.obstacle_layers:
             layer.reset()
 
-    def clear_outside(
-        self, x: float, y: float, size: float, layers: Iterable[str] | None = None
-    ) -> None:
-        """Obstacle layers (those named, or all) reset outside a size x size square at (x, y)."""
-        wanted = None if layers is None else set(layers)
+    def clear_area(
+        self, x: float, y: float, size: float, layers: Iterable[str], *, invert: bool = False
+    ) -> tuple[list[str], list[str]]:
+        """``ClearCostmapRecovery`` on the layers named (by the part of a layer's name after
+        its last ``/``): static and obstacle layers have their cells outside the size x size
+        square at (x, y) (inside it, with ``invert``) set to NO_INFORMATION. Returns the names
+        that match no layer and those of layers without cells of their own (inflation)."""
+        wanted = set(layers)
+        found: set[str] = set()
+        not_clearable: list[str] = []
         for name, layer in self.layers:
-            if isinstance(layer, ObstacleLayer) and (wanted is None or name in wanted):
-                layer.clear_outside(x, y, size)
+            short = name.rsplit("/", 1)[-1]
+            if short not in wanted:
+                continue
+            found.add(short)
+            if isinstance(layer, InflationLayer):
+                not_clearable.append(short)
+            else:
+                layer.clear_area(x, y, size, invert=invert)
+        return sorted(wanted - found), not_clearable

@@ -58,6 +58,23 @@ def inflation_cost(
     return np.clip(cost, 0, 255).astype(np.uint8)
 
 
+def clear_area(grid: CostGrid, x: float, y: float, size: float, *, invert: bool) -> None:
+    """``ClearCostmapRecovery``'s ``clearMap``: every cell outside the open square of side
+    ``size`` centred on (x, y) (inside it, with ``invert``) back to NO_INFORMATION. The
+    square's corners become cells by truncation toward zero (``worldToMapNoBounds``), and the
+    cells on its edge are cleared too."""
+    res = grid.resolution
+    i0 = int((x - size / 2 - grid.origin_x) / res)
+    j0 = int((y - size / 2 - grid.origin_y) / res)
+    i1 = int((x + size / 2 - grid.origin_x) / res)
+    j1 = int((y + size / 2 - grid.origin_y) / res)
+    inside = np.zeros(grid.costs.shape, dtype=bool)
+    cols = slice(max(i0 + 1, 0), max(i1, 0))
+    rows = slice(max(j0 + 1, 0), max(j1, 0))
+    inside[rows, cols] = True
+    grid.costs[inside == invert] = NO_INFORMATION
+
+
 @dataclass(frozen=True)
 class Observation:
     """Points seen by one sensor reading, in the costmap's global frame: the sensor's origin
@@ -101,6 +118,11 @@ class StaticLayer:
         self.frame = frame
         self.received += 1
         return True
+
+    def clear_area(self, x: float, y: float, size: float, *, invert: bool = False) -> None:
+        """``ClearCostmapRecovery`` on the layer's copy of the map (until the next map)."""
+        if self.map is not None:
+            clear_area(self.map, x, y, size, invert=invert)
 
     def update(self, master: CostGrid, map_to_global: Pose2D | None, rolling: bool) -> None:
         if self.map is None or not self.params.enabled:
@@ -219,18 +241,10 @@ class ObstacleLayer:
         if self.grid is not None:
             self.grid.costs[:] = self.default
 
-    def clear_outside(self, x: float, y: float, size: float) -> None:
-        """``ClearCostmapRecovery``: back to the default outside a size x size square."""
-        grid = self.grid
-        if grid is None:
-            return
-        i0 = math.floor((x - size / 2 - grid.origin_x) / grid.resolution)
-        j0 = math.floor((y - size / 2 - grid.origin_y) / grid.resolution)
-        i1 = math.floor((x + size / 2 - grid.origin_x) / grid.resolution)
-        j1 = math.floor((y + size / 2 - grid.origin_y) / grid.resolution)
-        keep = grid.costs[max(j0, 0) : max(j1, 0), max(i0, 0) : max(i1, 0)].copy()
-        grid.costs[:] = self.default
-        grid.costs[max(j0, 0) : max(j1, 0), max(i0, 0) : max(i1, 0)] = keep
+    def clear_area(self, x: float, y: float, size: float, *, invert: bool = False) -> None:
+        """``ClearCostmapRecovery`` on this layer (see :func:`clear_area`)."""
+        if self.grid is not None:
+            clear_area(self.grid, x, y, size, invert=invert)
 
     def update_bounds(self, now_ns: int) -> None:
         """Ray-trace the clearing observations, then mark the marking ones."""
