@@ -4,6 +4,7 @@ footprints, and the errors bad parameters give."""
 
 from __future__ import annotations
 
+import copy
 import math
 from typing import Any
 
@@ -392,6 +393,36 @@ def test_clearing_inside_the_window_and_the_static_layer() -> None:
     assert costmap.static_layers[0].map.costs[50, 97] == NO_INFORMATION
     # gone until the next map; the obstacle layers' free cells fill the unknown master cell
     assert costmap.master.costs[50, 97] == FREE
+
+
+@pytest.mark.parametrize("config", ["global", "local"])
+def test_an_update_rewrites_only_what_changed_and_equals_a_full_rebuild(config: str) -> None:
+    if config == "global":
+        values = _params(COMMON, GLOBAL)
+    else:  # the local window, bigger than the scans so it need not move with the robot
+        values = _params(COMMON, LOCAL, width=6.0, height=6.0)
+    costmap = LayeredCostmap(CostmapParams.from_mapping(values))
+    costmap.set_map(_room(), 0.05, (0.0, 0.0), "map")
+    rng = np.random.default_rng(7)
+    partial = 0
+    for step in range(12):
+        x, y = 1.5 + 0.004 * step, 2.0 + 0.003 * step  # under a cell: the window stays
+        scan = _scan_ring(x, y, 0.6 + 0.1 * (step % 4))
+        kept = rng.random(len(scan.points)) < 0.7  # a different subset of beams each time
+        costmap.add_observation("scan", Observation(scan.origin, scan.points[kept], 0), 0)
+        reference = copy.deepcopy(costmap)
+        reference.rebuild_all()
+        costmap.update((x, y, 0.0), 0)
+        reference.update((x, y, 0.0), 0)
+        assert np.array_equal(costmap.master.costs, reference.master.costs), step
+        assert costmap.last_window is not None
+        rows, cols = costmap.last_window
+        partial += (rows.stop - rows.start) * (cols.stop - cols.start) < costmap.master.costs.size
+        for layer in costmap.obstacle_layers:
+            for buffer in layer.buffers.values():
+                buffer.observations.clear()
+    assert (costmap.master.costs == LETHAL).sum() > 50
+    assert partial >= 10  # all but the first update (and a moved window) were partial
 
 
 def test_footprints_and_their_radii() -> None:
