@@ -70,12 +70,52 @@ def test_goals_on_the_action_are_reached(fake_nav: Any) -> None:
         assert client.status[goal] == GoalStatus.SUCCEEDED
         graph.run(duration=0.5)
         here = odom[-1]
-        # rbx1's fake tolerances: 5 cm, 0.1 rad (and what the robot coasts after the stop)
-        assert math.hypot(here.position.x - x, here.position.y - y) < 0.07
+        # the stand-in's tolerances: 7.5 cm, 0.1 rad (and what the robot coasts after the stop)
+        assert math.hypot(here.position.x - x, here.position.y - y) < 0.09
         assert abs(math.remainder(_yaw(here.orientation) - yaw, math.tau)) < 0.15
         assert client.feedback[goal]  # the robot's position on the way
     assert plans
     assert plans[-1].header.frame_id == "map"
+
+
+def test_short_goals_on_cell_corners_end(fake_nav: Any, caplog: pytest.LogCaptureFixture) -> None:
+    """The rospy goal sequence that once stalled at wall time: goals on cell corners, the last
+    a short 90 degree one. With a tolerance under a cell's diagonal the robot stopped in the
+    goal's cell 5.01 cm from (0.8, 0.8) and turned in place for good."""
+    graph, probe, odom = fake_nav
+    client = ActionClient(probe, "/move_base", "move_base_msgs/MoveBase")
+    graph.run(duration=1.0)
+    sequence = [(0.8, 0.0, 0.0), (0.8, 0.8, 1.57), (0.0, 0.0, 0.0), (0.8, 0.8, 1.57)]
+    with caplog.at_level(logging.WARNING, logger="belvedere"):
+        for x, y, yaw in sequence:
+            goal = client.send_goal(_goal(x, y, yaw))
+            graph.run(duration=60.0, until=lambda goal=goal: client.done(goal))
+            assert client.status[goal] == GoalStatus.SUCCEEDED, (x, y, yaw)
+            here = odom[-1]
+            assert math.hypot(here.position.x - x, here.position.y - y) < 0.09
+    assert "xy_goal_tolerance" not in caplog.text
+
+
+def test_a_goal_tolerance_under_a_cell_is_warned(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    params = tmp_path / "tolerance.yaml"
+    params.write_text("TrajectoryPlannerROS: {xy_goal_tolerance: 0.05}\n")
+    graph = _start(
+        _launch(tmp_path, f'  <rosparam ns="move_base" file="{params}" command="load"/>\n')
+    )
+    try:
+        client = ActionClient(graph.create_node("probe"), "/move_base", "move_base_msgs/MoveBase")
+        graph.run(duration=1.0)
+        with caplog.at_level(logging.WARNING, logger="belvedere"):
+            goal = client.send_goal(_goal(0.5, 0.0, 0.0))
+            graph.run(duration=30.0, until=lambda: client.done(goal))
+    finally:
+        graph.shutdown()
+    assert (
+        "TrajectoryPlannerROS/xy_goal_tolerance 0.05 m is less than a local costmap cell's "
+        "diagonal (0.071 m at 0.05 m/cell)"
+    ) in caplog.text
 
 
 def test_a_simple_goal_is_reached(fake_nav: Any) -> None:
@@ -90,12 +130,12 @@ def test_a_simple_goal_is_reached(fake_nav: Any) -> None:
     graph.run(
         duration=40.0,
         until=lambda: (
-            bool(odom) and math.hypot(odom[-1].position.x - 1.5, odom[-1].position.y) < 0.05
+            bool(odom) and math.hypot(odom[-1].position.x - 1.5, odom[-1].position.y) < 0.075
         ),
     )
     assert current
     assert current[-1].pose.position.x == pytest.approx(1.5)
-    assert math.hypot(odom[-1].position.x - 1.5, odom[-1].position.y) < 0.05
+    assert math.hypot(odom[-1].position.x - 1.5, odom[-1].position.y) < 0.075
 
 
 def test_make_plan_and_an_unreachable_goal(fake_nav: Any) -> None:

@@ -34,7 +34,13 @@ import numpy.typing as npt
 
 from belvedere.graph import NS, ActionServer, GoalHandle, Node
 from belvedere.msgs import build, message_from_data, types
-from belvedere.nav.local import Command, LocalPlanner, NoTrajectoryError, make_local_planner
+from belvedere.nav.local import (
+    Command,
+    LocalPlanner,
+    NoTrajectoryError,
+    TrajectoryPlannerROS,
+    make_local_planner,
+)
 from belvedere.nav.planners import (
     GlobalPlanner,
     NoPathError,
@@ -386,10 +392,29 @@ class _MoveBase:
         ):
             return True
         self.plan_to_local = moved
+        self._check_goal_tolerance()
         local = _transform(self.plan, moved)
         self.local_planner.set_plan(local)
         self._publish_path(self.followed_pub, local, self.local_costmap.global_frame)
         return True
+
+    def _check_goal_tolerance(self) -> None:
+        """TrajectoryPlannerROS scores a trajectory by the cell it ends in, so every in-place
+        turn in the goal's cell costs the same as being there: a robot that stops in that cell
+        outside ``xy_goal_tolerance`` can turn in place for good. Warn when the tolerance does
+        not cover the cell (a goal on a cell's corner is a diagonal away from its far one)."""
+        if not isinstance(self.local_planner, TrajectoryPlannerROS):
+            return
+        tolerance = self.local_planner.params.xy_goal_tolerance
+        resolution = self.local_costmap.costmap.master.resolution
+        if tolerance < resolution * math.sqrt(2.0):
+            self._warn_once(
+                "tolerance",
+                f"TrajectoryPlannerROS/xy_goal_tolerance {tolerance:g} m is less than a local "
+                f"costmap cell's diagonal ({resolution * math.sqrt(2.0):.3f} m at "
+                f"{resolution:g} m/cell): the robot may stop in the goal's cell outside the "
+                "tolerance and turn in place there until oscillation_timeout or forever",
+            )
 
     def _control_step(self, now: int) -> None:
         p = self.params
