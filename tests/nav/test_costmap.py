@@ -24,6 +24,7 @@ from belvedere.nav.costmap import (
     ObstacleParams,
     StaticParams,
     circle_footprint,
+    convex_fill,
     inflation_cost,
     radii,
     raytrace,
@@ -279,6 +280,27 @@ def test_vectorised_ray_tracing_walks_bresenhams_cells() -> None:
     got = list(zip(cols.tolist(), rows.tolist(), strict=True))
     expected = [cell for end in ends for cell in _bresenham(0, 0, int(end[0]), int(end[1]), 25.0)]
     assert got == expected
+
+
+def test_convex_fill_is_the_outline_and_each_columns_span() -> None:
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        angles = np.sort(rng.uniform(0, 2 * math.pi, 6))
+        radius = rng.uniform(3, 12)
+        vertices = np.column_stack(
+            [20 + radius * np.cos(angles), 20 + radius * np.sin(angles)]
+        ).astype(np.int64)
+        outline = {
+            cell
+            for k in range(len(vertices))
+            for cell in _bresenham(*vertices[k], *vertices[(k + 1) % len(vertices)], math.inf)
+        }
+        expected = set()
+        for col in {c for c, _ in outline}:
+            rows = [r for c, r in outline if c == col]
+            expected |= {(col, r) for r in range(min(rows), max(rows) + 1)}
+        cols, rows = convex_fill(vertices, 40, 40)
+        assert set(zip(cols.tolist(), rows.tolist(), strict=True)) == expected
 
 
 def test_both_parameter_styles_give_the_same_grid() -> None:
