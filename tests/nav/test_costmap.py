@@ -290,15 +290,16 @@ def test_convex_fill_is_the_outline_and_each_columns_span() -> None:
         vertices = np.column_stack(
             [20 + radius * np.cos(angles), 20 + radius * np.sin(angles)]
         ).astype(np.int64)
+        corners = [(int(x), int(y)) for x, y in vertices]
         outline = {
             cell
-            for k in range(len(vertices))
-            for cell in _bresenham(*vertices[k], *vertices[(k + 1) % len(vertices)], math.inf)
+            for (x0, y0), (x1, y1) in zip(corners, corners[1:] + corners[:1], strict=True)
+            for cell in _bresenham(x0, y0, x1, y1, math.inf)
         }
         expected = set()
         for col in {c for c, _ in outline}:
-            rows = [r for c, r in outline if c == col]
-            expected |= {(col, r) for r in range(min(rows), max(rows) + 1)}
+            span = [r for c, r in outline if c == col]
+            expected |= {(col, r) for r in range(min(span), max(span) + 1)}
         cols, rows = convex_fill(vertices, 40, 40)
         assert set(zip(cols.tolist(), rows.tolist(), strict=True)) == expected
 
