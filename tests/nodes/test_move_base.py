@@ -231,3 +231,23 @@ def test_a_bad_clearing_parameter_is_one_error(tmp_path: Path) -> None:
         _recovering(tmp_path, "conservative_reset: {affected_maps: none}\n")
     with pytest.raises(LaunchError, match=r"aggressive_reset/layer_names must be a list"):
         _recovering(tmp_path, "aggressive_reset: {layer_names: obstacles}\n")
+
+
+def test_oscillation_runs_the_recoveries_in_turn_then_aborts(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    # the robot cannot cover oscillation_distance within oscillation_timeout: it oscillates
+    graph = _recovering(tmp_path, "oscillation_timeout: 2.0\noscillation_distance: 5.0\n")
+    try:
+        client = ActionClient(graph.create_node("probe"), "/move_base", "move_base_msgs/MoveBase")
+        graph.run(duration=1.0)
+        with caplog.at_level(logging.INFO, logger="belvedere"):
+            goal = client.send_goal(_goal(3.0, 0.0, 0.0))
+            graph.run(duration=30.0, until=lambda: client.done(goal))
+    finally:
+        graph.shutdown()
+    assert client.status[goal] == GoalStatus.ABORTED
+    recoveries = [line for line in caplog.text.splitlines() if "; recovery: " in line]
+    assert len(recoveries) == 2
+    assert "the robot is oscillating; recovery: conservative_reset" in recoveries[0]
+    assert "the robot is oscillating; recovery: aggressive_reset" in recoveries[1]

@@ -122,6 +122,15 @@ class _State(Enum):
     CLEARING = "clearing"
 
 
+class _Trigger(Enum):
+    """What sent move_base to its recoveries last; only progress of that kind (a plan, a
+    command, or moving ``oscillation_distance``) starts the recoveries over."""
+
+    PLANNING = "planning"
+    CONTROLLING = "controlling"
+    OSCILLATION = "oscillation"
+
+
 def _short(plugin: str) -> str:
     """A plugin's parameter namespace: ``navfn/NavfnROS`` → ``NavfnROS``."""
     return plugin.rsplit("/", 1)[-1]
@@ -187,6 +196,7 @@ class _MoveBase:
         self.plan: Floats | None = None
         self.plan_to_local: tuple[float, float, float] | None = None
         self.recovery_index = 0
+        self.recovery_trigger = _Trigger.PLANNING
         self.planning_since = 0
         self.last_valid_control = 0
         self.last_plan_at = 0
@@ -283,6 +293,7 @@ class _MoveBase:
         self._publish_goal()
         self._start_planning()
         self.recovery_index = 0
+        self.oscillation_pose = None
 
     def _in_global_frame(self, pose_stamped: Any) -> Floats | None:
         frame = pose_stamped.header.frame_id.lstrip("/") or self.global_costmap.global_frame
@@ -319,7 +330,7 @@ class _MoveBase:
         self.planning_since = self.node.now_ns()
         self.last_valid_control = self.node.now_ns()
         self.retries = 0
-        self.oscillation_pose = None
+        self.oscillation_since = self.node.now_ns()
 
     def _cycle(self) -> None:
         handle = self.handle
@@ -341,6 +352,7 @@ class _MoveBase:
             }
             base_position = {"header": header, "pose": _pose_data(*pose)}
             handle.publish_feedback({"base_position": base_position})
+            self._note_progress(pose, now)
         if self.state is _State.PLANNING:
             self._plan_step(now)
         elif self.state is _State.CONTROLLING:
@@ -352,6 +364,8 @@ class _MoveBase:
         if self._make_plan():
             self.state = _State.CONTROLLING
             self.last_valid_control = now
+            if self.recovery_trigger is _Trigger.PLANNING:
+                self.recovery_index = 0
             return
         self.retries += 1
         p = self.params
@@ -359,7 +373,7 @@ class _MoveBase:
         out_of_retries = 0 <= p.max_planning_retries < self.retries
         if out_of_patience or out_of_retries:
             self._stop()
-            self._recover("failed to find a valid plan")
+            self._recover("failed to find a valid plan", _Trigger.PLANNING)
 
     def _make_plan(self) -> bool:
         pose = self.global_costmap.robot_pose()
@@ -424,9 +438,11 @@ class _MoveBase:
         if pose is None or not self._hand_plan_to_local():
             self._stop()
             return
-        if self._oscillating(pose, now):
+        if p.oscillation_timeout > 0 and now - self.oscillation_since > round(
+            p.oscillation_timeout * NS
+        ):
             self._stop()
-            self._recover("the robot is oscillating")
+            self._recover("the robot is oscillating", _Trigger.OSCILLATION)
             return
         self.local_costmap.update_now()
         if self.local_planner.goal_reached(pose, self.velocity):
@@ -442,11 +458,15 @@ class _MoveBase:
         except NoTrajectoryError as err:
             self._stop()
             if now - self.last_valid_control > round(p.controller_patience * NS):
-                self._recover(f"the local planner found no valid command ({err})")
+                self._recover(
+                    f"the local planner found no valid command ({err})", _Trigger.CONTROLLING
+                )
             else:
                 self._start_planning_keep_patience()
             return
         self.last_valid_control = now
+        if self.recovery_trigger is _Trigger.CONTROLLING:
+            self.recovery_index = 0
         self._send(command.vx, command.vy, command.vth)
         self._publish_path(self.local_plan_pub, command.local_plan, self.local_costmap.global_frame)
         if self.local_planner.goal_reached(pose, self.velocity):
@@ -459,19 +479,18 @@ class _MoveBase:
         self.state = _State.PLANNING
         self.planning_since = self.node.now_ns()
 
-    def _oscillating(self, pose: Floats, now: int) -> bool:
-        p = self.params
-        if self.oscillation_pose is None or (
-            math.hypot(*(pose[:2] - self.oscillation_pose[:2])) >= p.oscillation_distance
+    def _note_progress(self, pose: Floats, now: int) -> None:
+        """Each cycle, as move_base: once the robot is ``oscillation_distance`` from where the
+        oscillation clock last started, the clock starts again there (and, if oscillation
+        caused the last recovery, the recoveries start over)."""
+        if self.oscillation_pose is not None and (
+            math.hypot(*(pose[:2] - self.oscillation_pose[:2])) < self.params.oscillation_distance
         ):
-            self.oscillation_pose = pose.copy()
-            self.oscillation_since = now
-            if self.recovery_index and self.state is _State.CONTROLLING:
-                self.recovery_index = 0  # progress: the recoveries start over
-            return False
-        return p.oscillation_timeout > 0 and now - self.oscillation_since > round(
-            p.oscillation_timeout * NS
-        )
+            return
+        self.oscillation_pose = pose.copy()
+        self.oscillation_since = now
+        if self.recovery_trigger is _Trigger.OSCILLATION:
+            self.recovery_index = 0
 
     # --- recoveries ----------------------------------------------------------------------------
     def _behaviours(self) -> list[str]:
@@ -480,7 +499,10 @@ class _MoveBase:
         rotate = ["rotate_recovery"] if self.params.clearing_rotation_allowed else []
         return ["conservative_reset", *rotate, "aggressive_reset", *rotate]
 
-    def _recover(self, why: str) -> None:
+    def _recover(self, why: str, trigger: _Trigger) -> None:
+        """The next recovery behaviour (after a recovery the oscillation clock restarts but
+        not where it counts from), or abort when all have run."""
+        self.recovery_trigger = trigger
         behaviours = self._behaviours()
         if self.recovery_index >= len(behaviours):
             handle = self.handle
