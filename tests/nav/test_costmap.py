@@ -4,6 +4,7 @@ footprints, and the errors bad parameters give."""
 
 from __future__ import annotations
 
+import copy
 import math
 from typing import Any
 
@@ -23,6 +24,7 @@ from belvedere.nav.costmap import (
     ObstacleParams,
     StaticParams,
     circle_footprint,
+    convex_fill,
     inflation_cost,
     radii,
     raytrace,
@@ -280,6 +282,28 @@ def test_vectorised_ray_tracing_walks_bresenhams_cells() -> None:
     assert got == expected
 
 
+def test_convex_fill_is_the_outline_and_each_columns_span() -> None:
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        angles = np.sort(rng.uniform(0, 2 * math.pi, 6))
+        radius = rng.uniform(3, 12)
+        vertices = np.column_stack(
+            [20 + radius * np.cos(angles), 20 + radius * np.sin(angles)]
+        ).astype(np.int64)
+        corners = [(int(x), int(y)) for x, y in vertices]
+        outline = {
+            cell
+            for (x0, y0), (x1, y1) in zip(corners, corners[1:] + corners[:1], strict=True)
+            for cell in _bresenham(x0, y0, x1, y1, math.inf)
+        }
+        expected = set()
+        for col in {c for c, _ in outline}:
+            span = [r for c, r in outline if c == col]
+            expected |= {(col, r) for r in range(min(span), max(span) + 1)}
+        cols, rows = convex_fill(vertices, 40, 40)
+        assert set(zip(cols.tolist(), rows.tolist(), strict=True)) == expected
+
+
 def test_both_parameter_styles_give_the_same_grid() -> None:
     old = LayeredCostmap(CostmapParams.from_mapping(_params(COMMON, GLOBAL)))
     new = LayeredCostmap(CostmapParams.from_mapping(_params(LAYERED)))
@@ -316,18 +340,112 @@ def test_the_footprint_is_cleared_and_the_rolling_window_follows_the_robot() -> 
     assert layer.grid.costs[30, 30] == FREE
 
 
-def test_clear_outside_resets_obstacles_beyond_the_window() -> None:
-    costmap = LayeredCostmap(CostmapParams.from_mapping(_params(COMMON, GLOBAL)))
-    costmap.set_map(np.zeros((100, 100), dtype=np.int8), 0.05, (0.0, 0.0), "map")
+LAYERS_TWO_OBSTACLES = """
+global_frame: map
+robot_base_frame: base_footprint
+resolution: 0.05
+robot_radius: 0.175
+plugins:
+  - {name: static_layer, type: "costmap_2d::StaticLayer"}
+  - {name: obstacles, type: "costmap_2d::ObstacleLayer"}
+  - {name: sonar, type: "costmap_2d::ObstacleLayer"}
+  - {name: inflation_layer, type: "costmap_2d::InflationLayer"}
+obstacles:
+  observation_sources: scan
+  scan: {data_type: LaserScan, topic: /scan, marking: true, clearing: false}
+sonar:
+  observation_sources: range
+  range: {data_type: PointCloud2, topic: /range, marking: true, clearing: false}
+inflation_layer: {inflation_radius: 0.1}
+"""
+
+
+def _seen(costmap: LayeredCostmap) -> None:
+    """Obstacles 0.5 m and 2 m from (2.5, 2.5) in both obstacle layers, then no more readings."""
     near, far = _scan_ring(2.5, 2.5, 0.5), _scan_ring(2.5, 2.5, 2.0)
-    both = np.concatenate([near.points, far.points])
-    costmap.add_observation("scan", Observation(near.origin, both, 0), 0)
+    both = Observation(near.origin, np.concatenate([near.points, far.points]), 0)
+    costmap.add_observation("scan", both, 0)
+    costmap.add_observation("range", both, 0)
     costmap.update((2.5, 2.5, 0.0), 0)
-    costmap.obstacle_layers[0].buffers["scan"].observations.clear()
-    costmap.clear_outside(2.5, 2.5, 2.0)
+    for layer in costmap.obstacle_layers:
+        for buffer in layer.buffers.values():
+            buffer.observations.clear()
+
+
+def test_clearing_resets_only_the_named_layers_outside_the_window() -> None:
+    costmap = LayeredCostmap(CostmapParams.from_mapping(yaml.safe_load(LAYERS_TWO_OBSTACLES)))
+    costmap.set_map(np.zeros((100, 100), dtype=np.int8), 0.05, (0.0, 0.0), "map")
+    _seen(costmap)
+    obstacles, sonar = (layer.grid for layer in costmap.obstacle_layers)
+    assert obstacles is not None
+    assert sonar is not None
+    assert obstacles.costs[50, 90] == sonar.costs[50, 90] == LETHAL
+    # ClearCostmapRecovery's default layer_names: ["obstacles"]; missing names are reported
+    missing, not_clearable = costmap.clear_area(2.5, 2.5, 2.0, ["obstacles", "voxels"])
+    assert (missing, not_clearable) == (["voxels"], [])
+    assert obstacles.costs[50, 90] == NO_INFORMATION  # 2 m away: outside the 2 m square
+    assert obstacles.costs[50, 60] == LETHAL  # 0.5 m: inside
+    assert sonar.costs[50, 90] == LETHAL  # not named: kept
     costmap.update((2.5, 2.5, 0.0), 0)
-    assert costmap.master.costs[50, 60] == LETHAL  # 0.5 m: inside the 2 m square
-    assert costmap.master.costs[50, 90] == FREE  # 2 m: outside
+    assert costmap.master.costs[50, 90] == LETHAL  # the sonar still sees it
+    costmap.clear_area(2.5, 2.5, 2.0, ["sonar", "layers/obstacles"])  # names after the last /
+    costmap.update((2.5, 2.5, 0.0), 0)
+    assert costmap.master.costs[50, 90] == FREE  # no layer has an opinion: the map's free
+    assert costmap.master.costs[50, 60] == LETHAL
+    # the square's edge cells are cleared: the window keeps the cells strictly inside it
+    assert sonar.costs[50, 30] == NO_INFORMATION
+    assert sonar.costs[50, 31] == FREE
+    # inflation has no cells of its own to clear
+    assert costmap.clear_area(2.5, 2.5, 2.0, ["inflation_layer"]) == ([], ["inflation_layer"])
+
+
+def test_clearing_inside_the_window_and_the_static_layer() -> None:
+    costmap = LayeredCostmap(CostmapParams.from_mapping(yaml.safe_load(LAYERS_TWO_OBSTACLES)))
+    room = np.zeros((100, 100), dtype=np.int8)
+    room[:, 95:] = 100
+    costmap.set_map(room, 0.05, (0.0, 0.0), "map")
+    _seen(costmap)
+    costmap.clear_area(2.5, 2.5, 2.0, ["obstacles", "sonar"], invert=True)
+    costmap.update((2.5, 2.5, 0.0), 0)
+    assert costmap.master.costs[50, 60] == FREE  # inside: cleared
+    assert costmap.master.costs[50, 90] == LETHAL  # outside: kept
+    assert costmap.master.costs[50, 97] == LETHAL  # the map's wall
+    costmap.clear_area(2.5, 2.5, 2.0, ["static_layer"])
+    costmap.update((2.5, 2.5, 0.0), 0)
+    assert costmap.static_layers[0].map is not None
+    assert costmap.static_layers[0].map.costs[50, 97] == NO_INFORMATION
+    # gone until the next map; the obstacle layers' free cells fill the unknown master cell
+    assert costmap.master.costs[50, 97] == FREE
+
+
+@pytest.mark.parametrize("config", ["global", "local"])
+def test_an_update_rewrites_only_what_changed_and_equals_a_full_rebuild(config: str) -> None:
+    if config == "global":
+        values = _params(COMMON, GLOBAL)
+    else:  # the local window, bigger than the scans so it need not move with the robot
+        values = _params(COMMON, LOCAL, width=6.0, height=6.0)
+    costmap = LayeredCostmap(CostmapParams.from_mapping(values))
+    costmap.set_map(_room(), 0.05, (0.0, 0.0), "map")
+    rng = np.random.default_rng(7)
+    partial = 0
+    for step in range(12):
+        x, y = 1.5 + 0.004 * step, 2.0 + 0.003 * step  # under a cell: the window stays
+        scan = _scan_ring(x, y, 0.6 + 0.1 * (step % 4))
+        kept = rng.random(len(scan.points)) < 0.7  # a different subset of beams each time
+        costmap.add_observation("scan", Observation(scan.origin, scan.points[kept], 0), 0)
+        reference = copy.deepcopy(costmap)
+        reference.rebuild_all()
+        costmap.update((x, y, 0.0), 0)
+        reference.update((x, y, 0.0), 0)
+        assert np.array_equal(costmap.master.costs, reference.master.costs), step
+        assert costmap.last_window is not None
+        rows, cols = costmap.last_window
+        partial += (rows.stop - rows.start) * (cols.stop - cols.start) < costmap.master.costs.size
+        for layer in costmap.obstacle_layers:
+            for buffer in layer.buffers.values():
+                buffer.observations.clear()
+    assert (costmap.master.costs == LETHAL).sum() > 50
+    assert partial >= 10  # all but the first update (and a moved window) were partial
 
 
 def test_footprints_and_their_radii() -> None:

@@ -190,6 +190,61 @@ def test_points_sit_at_cell_corners_for_navfn_and_centres_for_global_planner() -
     assert pot[0, 0] == POT_HIGH
 
 
+def _astar_potential(costs: npt.NDArray[np.uint8], **params: object) -> npt.NDArray[np.float32]:
+    planner = make_global_planner(
+        "global_planner/GlobalPlanner", {"use_dijkstra": False, "use_grid_path": True, **params}
+    )
+    assert isinstance(planner, GlobalPlannerPlugin)
+    planner.plan(CostGrid(costs, RES), (1.05, 1.05, 0), (2.05, 2.05, 0))
+    assert planner.potential is not None
+    return planner.potential
+
+
+def test_astar_uses_the_quadratic_potential_unless_told_not_to() -> None:
+    costs = np.zeros((40, 40), dtype=np.uint8)
+    quadratic = _astar_potential(costs)
+    plain = _astar_potential(costs, use_quadratic=False)
+    # the start is cell (10, 10); a step costs neutral_cost (50) on free cells
+    assert plain[10, 11] == quadratic[10, 11] == 50.0
+    assert plain[11, 11] == 100.0  # two steps: the plain sum is a Manhattan distance
+    # the quadratic calculator interpolates between the two neighbours (navfn's update)
+    assert quadratic[11, 11] == pytest.approx(50.0 + 50.0 * 0.7040, rel=1e-6)
+    assert quadratic[20, 20] < 0.85 * plain[20, 20]
+
+
+def test_astar_steps_wrap_in_eight_bits_as_in_ros() -> None:
+    costs = np.zeros((40, 40), dtype=np.uint8)
+    costs[10, 11] = 220  # 220 + neutral_cost 50 = 270, an unsigned char of 14
+    costs[11, 10] = 100
+    plain = _astar_potential(costs, use_quadratic=False)
+    assert plain[10, 11] == 14.0
+    assert plain[11, 10] == 150.0
+
+
+def test_clear_endpoint_lets_a_goal_just_inside_an_obstacle_be_planned_to() -> None:
+    costs = np.zeros((40, 40), dtype=np.uint8)
+    costs[20:30, 20:30] = LETHAL
+    grid = CostGrid(costs, RES)
+    goal = (2.15, 2.25, 0.0)  # cell (21, 22): two cells inside the block's lower-left corner
+    for params in ({}, {"use_grid_path": True}, {"use_quadratic": False}):
+        path = make_global_planner("global_planner/GlobalPlanner", params).plan(
+            grid, (1.0, 1.0, 0), goal
+        )
+        assert path[-1].tolist() == list(goal)
+        assert math.hypot(path[-2, 0] - goal[0], path[-2, 1] - goal[1]) < 0.1
+    # three cells deep is beyond clearEndpoint's reach
+    with pytest.raises(NoPathError):
+        make_global_planner("global_planner/GlobalPlanner", {}).plan(
+            grid, (1.0, 1.0, 0), (2.35, 2.35, 0.0)
+        )
+    # old_navfn_behavior skips clearEndpoint; A* never expands a lethal goal cell
+    for params in ({"old_navfn_behavior": True}, {"use_dijkstra": False}):
+        with pytest.raises(NoPathError, match=r"no path from \(1\.00, 1\.00\)"):
+            make_global_planner("global_planner/GlobalPlanner", params).plan(
+                grid, (1.0, 1.0, 0), goal
+            )
+
+
 def _straight(mode: int, window: int = 1) -> npt.NDArray[np.float64]:
     grid = CostGrid(np.zeros((40, 40), dtype=np.uint8), RES)
     planner = make_global_planner(

@@ -6,6 +6,7 @@ and an unknown planner plugin is one error at its YAML line."""
 from __future__ import annotations
 
 import itertools
+import logging
 import math
 from pathlib import Path
 from typing import Any
@@ -69,12 +70,52 @@ def test_goals_on_the_action_are_reached(fake_nav: Any) -> None:
         assert client.status[goal] == GoalStatus.SUCCEEDED
         graph.run(duration=0.5)
         here = odom[-1]
-        # rbx1's fake tolerances: 5 cm, 0.1 rad (and what the robot coasts after the stop)
-        assert math.hypot(here.position.x - x, here.position.y - y) < 0.07
+        # the stand-in's tolerances: 7.5 cm, 0.1 rad (and what the robot coasts after the stop)
+        assert math.hypot(here.position.x - x, here.position.y - y) < 0.09
         assert abs(math.remainder(_yaw(here.orientation) - yaw, math.tau)) < 0.15
         assert client.feedback[goal]  # the robot's position on the way
     assert plans
     assert plans[-1].header.frame_id == "map"
+
+
+def test_short_goals_on_cell_corners_end(fake_nav: Any, caplog: pytest.LogCaptureFixture) -> None:
+    """The rospy goal sequence that once stalled at wall time: goals on cell corners, the last
+    a short 90 degree one. With a tolerance under a cell's diagonal the robot stopped in the
+    goal's cell 5.01 cm from (0.8, 0.8) and turned in place for good."""
+    graph, probe, odom = fake_nav
+    client = ActionClient(probe, "/move_base", "move_base_msgs/MoveBase")
+    graph.run(duration=1.0)
+    sequence = [(0.8, 0.0, 0.0), (0.8, 0.8, 1.57), (0.0, 0.0, 0.0), (0.8, 0.8, 1.57)]
+    with caplog.at_level(logging.WARNING, logger="belvedere"):
+        for x, y, yaw in sequence:
+            goal = client.send_goal(_goal(x, y, yaw))
+            graph.run(duration=60.0, until=lambda goal=goal: client.done(goal))
+            assert client.status[goal] == GoalStatus.SUCCEEDED, (x, y, yaw)
+            here = odom[-1]
+            assert math.hypot(here.position.x - x, here.position.y - y) < 0.09
+    assert "xy_goal_tolerance" not in caplog.text
+
+
+def test_a_goal_tolerance_under_a_cell_is_warned(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    params = tmp_path / "tolerance.yaml"
+    params.write_text("TrajectoryPlannerROS: {xy_goal_tolerance: 0.05}\n")
+    graph = _start(
+        _launch(tmp_path, f'  <rosparam ns="move_base" file="{params}" command="load"/>\n')
+    )
+    try:
+        client = ActionClient(graph.create_node("probe"), "/move_base", "move_base_msgs/MoveBase")
+        graph.run(duration=1.0)
+        with caplog.at_level(logging.WARNING, logger="belvedere"):
+            goal = client.send_goal(_goal(0.5, 0.0, 0.0))
+            graph.run(duration=30.0, until=lambda: client.done(goal))
+    finally:
+        graph.shutdown()
+    assert (
+        "TrajectoryPlannerROS/xy_goal_tolerance 0.05 m is less than a local costmap cell's "
+        "diagonal (0.071 m at 0.05 m/cell)"
+    ) in caplog.text
 
 
 def test_a_simple_goal_is_reached(fake_nav: Any) -> None:
@@ -89,12 +130,12 @@ def test_a_simple_goal_is_reached(fake_nav: Any) -> None:
     graph.run(
         duration=40.0,
         until=lambda: (
-            bool(odom) and math.hypot(odom[-1].position.x - 1.5, odom[-1].position.y) < 0.05
+            bool(odom) and math.hypot(odom[-1].position.x - 1.5, odom[-1].position.y) < 0.075
         ),
     )
     assert current
     assert current[-1].pose.position.x == pytest.approx(1.5)
-    assert math.hypot(odom[-1].position.x - 1.5, odom[-1].position.y) < 0.05
+    assert math.hypot(odom[-1].position.x - 1.5, odom[-1].position.y) < 0.075
 
 
 def test_make_plan_and_an_unreachable_goal(fake_nav: Any) -> None:
@@ -139,3 +180,74 @@ def test_an_unknown_planner_is_one_error_at_its_yaml_line(tmp_path: Path) -> Non
     assert text.startswith(f"{params}:2:21: error: /move_base: parameter base_local_planner: ")
     assert "unknown local planner plugin 'teb_local_planner/TebLocalPlannerROS'" in text
     assert "base_local_planner/TrajectoryPlannerROS, dwa_local_planner/DWAPlannerROS" in text
+
+
+def _recovering(tmp_path: Path, yaml_text: str) -> Graph:
+    params = tmp_path / "recoveries.yaml"
+    params.write_text(
+        "recovery_behavior_enabled: true\nclearing_rotation_allowed: false\n" + yaml_text
+    )
+    return _start(
+        _launch(tmp_path, f'  <rosparam ns="move_base" file="{params}" command="load"/>\n')
+    )
+
+
+@pytest.mark.parametrize(
+    ("layers", "warned"),
+    [
+        ("", True),  # the default ["obstacles"]: the pre-Hydro costmaps have "obstacle_layer"
+        (
+            "conservative_reset: {layer_names: [obstacle_layer]}\n"
+            "aggressive_reset: {layer_names: [obstacle_layer]}\n",
+            False,
+        ),
+    ],
+)
+def test_clearing_recoveries_clear_the_layers_they_name(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture, layers: str, warned: bool
+) -> None:
+    graph = _recovering(tmp_path, layers)
+    try:
+        probe = graph.create_node("probe")
+        client = ActionClient(probe, "/move_base", "move_base_msgs/MoveBase")
+        graph.run(duration=1.0)
+        with caplog.at_level(logging.INFO, logger="belvedere"):
+            goal = client.send_goal(_goal(20.0, 0.0, 0.0))  # off the map: no plan, ever
+            graph.run(duration=60.0, until=lambda: client.done(goal))
+    finally:
+        graph.shutdown()
+    assert client.status[goal] == GoalStatus.ABORTED
+    assert "recovery: conservative_reset" in caplog.text
+    assert "recovery: aggressive_reset" in caplog.text
+    missing = "cannot clear layer obstacles: it does not exist"
+    assert (missing in caplog.text) is warned
+    if warned:
+        assert "/move_base/global_costmap: " + missing in caplog.text
+        assert "/move_base/local_costmap: " + missing in caplog.text
+
+
+def test_a_bad_clearing_parameter_is_one_error(tmp_path: Path) -> None:
+    with pytest.raises(LaunchError, match=r"conservative_reset/affected_maps must be 'local', "):
+        _recovering(tmp_path, "conservative_reset: {affected_maps: none}\n")
+    with pytest.raises(LaunchError, match=r"aggressive_reset/layer_names must be a list"):
+        _recovering(tmp_path, "aggressive_reset: {layer_names: obstacles}\n")
+
+
+def test_oscillation_runs_the_recoveries_in_turn_then_aborts(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    # the robot cannot cover oscillation_distance within oscillation_timeout: it oscillates
+    graph = _recovering(tmp_path, "oscillation_timeout: 2.0\noscillation_distance: 5.0\n")
+    try:
+        client = ActionClient(graph.create_node("probe"), "/move_base", "move_base_msgs/MoveBase")
+        graph.run(duration=1.0)
+        with caplog.at_level(logging.INFO, logger="belvedere"):
+            goal = client.send_goal(_goal(3.0, 0.0, 0.0))
+            graph.run(duration=30.0, until=lambda: client.done(goal))
+    finally:
+        graph.shutdown()
+    assert client.status[goal] == GoalStatus.ABORTED
+    recoveries = [line for line in caplog.text.splitlines() if "; recovery: " in line]
+    assert len(recoveries) == 2
+    assert "the robot is oscillating; recovery: conservative_reset" in recoveries[0]
+    assert "the robot is oscillating; recovery: aggressive_reset" in recoveries[1]

@@ -1,4 +1,7 @@
-"""rotate_recovery's decisions over plain arrays: move_base drives the turn, this says which
+"""move_base's recovery behaviours over plain arrays: clear_costmap_recovery's parameters and
+rotate_recovery's decisions.
+
+rotate_recovery's decisions: move_base drives the turn, this says which
 way and how fast, and when the turn is done or blocked.
 
 rotate_recovery/RotateRecovery turns the robot once around in place (to let the sensors clear
@@ -26,6 +29,7 @@ from belvedere.nav.costmap import CostGrid
 from belvedere.nav.local import FootprintModel
 
 __all__ = [
+    "ClearCostmapParams",
     "RotateOutcome",
     "RotateRecovery",
     "RotateRecoveryParams",
@@ -34,6 +38,52 @@ __all__ = [
 ]
 
 Floats = npt.NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class ClearCostmapParams:
+    """clear_costmap_recovery/ClearCostmapRecovery's parameters (``~<name>/``): the layers it
+    resets (by the part of their name after the last ``/``; the default ``obstacles`` matches
+    no layer of a costmap in the pre-Hydro style, whose layer is ``obstacle_layer``), outside
+    or inside (``invert_area_to_clear``) a square of side ``reset_distance`` at the robot, on
+    the ``local``, ``global`` or ``both`` costmaps, updating them at once with
+    ``force_updating``."""
+
+    reset_distance: float = 3.0
+    layer_names: tuple[str, ...] = ("obstacles",)
+    invert_area_to_clear: bool = False
+    force_updating: bool = False
+    affected_maps: str = "both"
+
+    @classmethod
+    def from_mapping(
+        cls, name: str, own: Mapping[str, Any], reset_distance: float
+    ) -> ClearCostmapParams:
+        """From the recovery's namespace ``name``; ``reset_distance`` is the one move_base
+        sets there for its default recoveries (over any value given)."""
+        layers = own.get("layer_names", ["obstacles"])
+        if not isinstance(layers, list) or not all(isinstance(n, str) for n in layers):
+            message = f"parameter {name}/layer_names must be a list of layer names, got {layers!r}"
+            raise ValueError(message)
+        maps = own.get("affected_maps", "both")
+        if maps not in ("local", "global", "both"):
+            message = (
+                f"parameter {name}/affected_maps must be 'local', 'global' or 'both', got {maps!r}"
+            )
+            raise ValueError(message)
+        flags = []
+        for key in ("invert_area_to_clear", "force_updating"):
+            value = own.get(key, False)
+            if not isinstance(value, bool):
+                message = f"parameter {name}/{key} must be true or false, got {value!r}"
+                raise ValueError(message)
+            flags.append(value)
+        invert, force = flags
+        return cls(reset_distance, tuple(layers), invert, force, str(maps))
+
+    def affects(self, which: str) -> bool:
+        """Whether the ``local`` or ``global`` costmap is cleared."""
+        return self.affected_maps in (which, "both")
 
 
 @dataclass(frozen=True)

@@ -17,6 +17,7 @@ import functools
 import logging
 import math
 from collections import deque
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any, Final
 
@@ -224,9 +225,21 @@ class Costmap2DROS:
         """``clear_costmaps``: every layer back to its default."""
         self.costmap.reset()
 
-    def clear_outside(self, x: float, y: float, size: float) -> None:
-        """``ClearCostmapRecovery``: the obstacle layers reset outside size x size at (x, y)."""
-        self.costmap.clear_outside(x, y, size)
+    def clear_area(self, size: float, layers: Sequence[str], *, invert: bool = False) -> bool:
+        """``ClearCostmapRecovery`` on this costmap: the named layers cleared outside (inside,
+        with ``invert``) the size x size square at the robot. False without a robot pose."""
+        pose = self.robot_pose()
+        if pose is None:
+            logger.error("%s: cannot clear the costmap: no robot pose", self.name)
+            return False
+        missing, not_clearable = self.costmap.clear_area(
+            float(pose[0]), float(pose[1]), size, layers, invert=invert
+        )
+        for name in missing:
+            self._warn_once(f"clear {name}", f"cannot clear layer {name}: it does not exist")
+        for name in not_clearable:
+            self._warn_once(f"clear {name}", f"cannot clear layer {name}: it holds no costs")
+        return True
 
     def update_now(self) -> bool:
         """One update: pending readings placed, the grid rebuilt at the robot's pose, the

@@ -34,14 +34,25 @@ import numpy.typing as npt
 
 from belvedere.graph import NS, ActionServer, GoalHandle, Node
 from belvedere.msgs import build, message_from_data, types
-from belvedere.nav.local import Command, LocalPlanner, NoTrajectoryError, make_local_planner
+from belvedere.nav.local import (
+    Command,
+    LocalPlanner,
+    NoTrajectoryError,
+    TrajectoryPlannerROS,
+    make_local_planner,
+)
 from belvedere.nav.planners import (
     GlobalPlanner,
     NoPathError,
     UnknownPluginError,
     make_global_planner,
 )
-from belvedere.nav.recovery import RotateOutcome, RotateRecovery, RotateRecoveryParams
+from belvedere.nav.recovery import (
+    ClearCostmapParams,
+    RotateOutcome,
+    RotateRecovery,
+    RotateRecoveryParams,
+)
 from belvedere.nodes._costmap import Costmap2DROS
 from belvedere.nodes._registry import (
     NodeSpec,
@@ -111,6 +122,15 @@ class _State(Enum):
     CLEARING = "clearing"
 
 
+class _Trigger(Enum):
+    """What sent move_base to its recoveries last; only progress of that kind (a plan, a
+    command, or moving ``oscillation_distance``) starts the recoveries over."""
+
+    PLANNING = "planning"
+    CONTROLLING = "controlling"
+    OSCILLATION = "oscillation"
+
+
 def _short(plugin: str) -> str:
     """A plugin's parameter namespace: ``navfn/NavfnROS`` → ``NavfnROS``."""
     return plugin.rsplit("/", 1)[-1]
@@ -176,6 +196,7 @@ class _MoveBase:
         self.plan: Floats | None = None
         self.plan_to_local: tuple[float, float, float] | None = None
         self.recovery_index = 0
+        self.recovery_trigger = _Trigger.PLANNING
         self.planning_since = 0
         self.last_valid_control = 0
         self.last_plan_at = 0
@@ -188,6 +209,7 @@ class _MoveBase:
         self.rotate_params = RotateRecoveryParams.from_mapping(
             own if isinstance(own, dict) else {}, blp if isinstance(blp, dict) else {}
         )
+        self.clearing = self._clearing_params(private if isinstance(private, dict) else {})
         self._warned: set[str] = set()
         self.global_costmap.start()
         self.local_costmap.start()
@@ -212,6 +234,30 @@ class _MoveBase:
             message = f"{spec.full_name}: parameter {param}: {err}"
             raise StartError(message, where) from None
         return planner
+
+    def _clearing_params(self, private: Mapping[str, Any]) -> dict[str, ClearCostmapParams]:
+        """The two clearing recoveries' parameters. As move_base does for its default
+        recoveries, their ``reset_distance`` is ``conservative_reset_dist`` and four times
+        ``~local_costmap/circumscribed_radius`` (a parameter of its own, default 0.46 m, not
+        the costmap's radius)."""
+        local = private.get("local_costmap", {})
+        radius = local.get("circumscribed_radius", 0.46) if isinstance(local, dict) else 0.46
+        if isinstance(radius, bool) or not isinstance(radius, int | float):
+            message = (
+                f"parameter local_costmap/circumscribed_radius must be a number, got {radius!r}"
+            )
+            raise ValueError(message)
+        distances = {
+            "conservative_reset": self.params.conservative_reset_dist,
+            "aggressive_reset": 4.0 * float(radius),
+        }
+        out = {}
+        for name, distance in distances.items():
+            own = private.get(name, {})
+            out[name] = ClearCostmapParams.from_mapping(
+                name, own if isinstance(own, dict) else {}, distance
+            )
+        return out
 
     # --- inputs ------------------------------------------------------------------------------
     def _warn_once(self, key: str, text: str) -> None:
@@ -247,6 +293,7 @@ class _MoveBase:
         self._publish_goal()
         self._start_planning()
         self.recovery_index = 0
+        self.oscillation_pose = None
 
     def _in_global_frame(self, pose_stamped: Any) -> Floats | None:
         frame = pose_stamped.header.frame_id.lstrip("/") or self.global_costmap.global_frame
@@ -283,7 +330,7 @@ class _MoveBase:
         self.planning_since = self.node.now_ns()
         self.last_valid_control = self.node.now_ns()
         self.retries = 0
-        self.oscillation_pose = None
+        self.oscillation_since = self.node.now_ns()
 
     def _cycle(self) -> None:
         handle = self.handle
@@ -305,6 +352,7 @@ class _MoveBase:
             }
             base_position = {"header": header, "pose": _pose_data(*pose)}
             handle.publish_feedback({"base_position": base_position})
+            self._note_progress(pose, now)
         if self.state is _State.PLANNING:
             self._plan_step(now)
         elif self.state is _State.CONTROLLING:
@@ -316,6 +364,8 @@ class _MoveBase:
         if self._make_plan():
             self.state = _State.CONTROLLING
             self.last_valid_control = now
+            if self.recovery_trigger is _Trigger.PLANNING:
+                self.recovery_index = 0
             return
         self.retries += 1
         p = self.params
@@ -323,7 +373,7 @@ class _MoveBase:
         out_of_retries = 0 <= p.max_planning_retries < self.retries
         if out_of_patience or out_of_retries:
             self._stop()
-            self._recover("failed to find a valid plan")
+            self._recover("failed to find a valid plan", _Trigger.PLANNING)
 
     def _make_plan(self) -> bool:
         pose = self.global_costmap.robot_pose()
@@ -356,10 +406,29 @@ class _MoveBase:
         ):
             return True
         self.plan_to_local = moved
+        self._check_goal_tolerance()
         local = _transform(self.plan, moved)
         self.local_planner.set_plan(local)
         self._publish_path(self.followed_pub, local, self.local_costmap.global_frame)
         return True
+
+    def _check_goal_tolerance(self) -> None:
+        """TrajectoryPlannerROS scores a trajectory by the cell it ends in, so every in-place
+        turn in the goal's cell costs the same as being there: a robot that stops in that cell
+        outside ``xy_goal_tolerance`` can turn in place for good. Warn when the tolerance does
+        not cover the cell (a goal on a cell's corner is a diagonal away from its far one)."""
+        if not isinstance(self.local_planner, TrajectoryPlannerROS):
+            return
+        tolerance = self.local_planner.params.xy_goal_tolerance
+        resolution = self.local_costmap.costmap.master.resolution
+        if tolerance < resolution * math.sqrt(2.0):
+            self._warn_once(
+                "tolerance",
+                f"TrajectoryPlannerROS/xy_goal_tolerance {tolerance:g} m is less than a local "
+                f"costmap cell's diagonal ({resolution * math.sqrt(2.0):.3f} m at "
+                f"{resolution:g} m/cell): the robot may stop in the goal's cell outside the "
+                "tolerance and turn in place there until oscillation_timeout or forever",
+            )
 
     def _control_step(self, now: int) -> None:
         p = self.params
@@ -369,9 +438,11 @@ class _MoveBase:
         if pose is None or not self._hand_plan_to_local():
             self._stop()
             return
-        if self._oscillating(pose, now):
+        if p.oscillation_timeout > 0 and now - self.oscillation_since > round(
+            p.oscillation_timeout * NS
+        ):
             self._stop()
-            self._recover("the robot is oscillating")
+            self._recover("the robot is oscillating", _Trigger.OSCILLATION)
             return
         self.local_costmap.update_now()
         if self.local_planner.goal_reached(pose, self.velocity):
@@ -387,11 +458,15 @@ class _MoveBase:
         except NoTrajectoryError as err:
             self._stop()
             if now - self.last_valid_control > round(p.controller_patience * NS):
-                self._recover(f"the local planner found no valid command ({err})")
+                self._recover(
+                    f"the local planner found no valid command ({err})", _Trigger.CONTROLLING
+                )
             else:
                 self._start_planning_keep_patience()
             return
         self.last_valid_control = now
+        if self.recovery_trigger is _Trigger.CONTROLLING:
+            self.recovery_index = 0
         self._send(command.vx, command.vy, command.vth)
         self._publish_path(self.local_plan_pub, command.local_plan, self.local_costmap.global_frame)
         if self.local_planner.goal_reached(pose, self.velocity):
@@ -404,19 +479,18 @@ class _MoveBase:
         self.state = _State.PLANNING
         self.planning_since = self.node.now_ns()
 
-    def _oscillating(self, pose: Floats, now: int) -> bool:
-        p = self.params
-        if self.oscillation_pose is None or (
-            math.hypot(*(pose[:2] - self.oscillation_pose[:2])) >= p.oscillation_distance
+    def _note_progress(self, pose: Floats, now: int) -> None:
+        """Each cycle, as move_base: once the robot is ``oscillation_distance`` from where the
+        oscillation clock last started, the clock starts again there (and, if oscillation
+        caused the last recovery, the recoveries start over)."""
+        if self.oscillation_pose is not None and (
+            math.hypot(*(pose[:2] - self.oscillation_pose[:2])) < self.params.oscillation_distance
         ):
-            self.oscillation_pose = pose.copy()
-            self.oscillation_since = now
-            if self.recovery_index and self.state is _State.CONTROLLING:
-                self.recovery_index = 0  # progress: the recoveries start over
-            return False
-        return p.oscillation_timeout > 0 and now - self.oscillation_since > round(
-            p.oscillation_timeout * NS
-        )
+            return
+        self.oscillation_pose = pose.copy()
+        self.oscillation_since = now
+        if self.recovery_trigger is _Trigger.OSCILLATION:
+            self.recovery_index = 0
 
     # --- recoveries ----------------------------------------------------------------------------
     def _behaviours(self) -> list[str]:
@@ -425,7 +499,10 @@ class _MoveBase:
         rotate = ["rotate_recovery"] if self.params.clearing_rotation_allowed else []
         return ["conservative_reset", *rotate, "aggressive_reset", *rotate]
 
-    def _recover(self, why: str) -> None:
+    def _recover(self, why: str, trigger: _Trigger) -> None:
+        """The next recovery behaviour (after a recovery the oscillation clock restarts but
+        not where it counts from), or abort when all have run."""
+        self.recovery_trigger = trigger
         behaviours = self._behaviours()
         if self.recovery_index >= len(behaviours):
             handle = self.handle
@@ -440,15 +517,17 @@ class _MoveBase:
             self.state = _State.CLEARING
             self.rotation = None
             return
-        distance = (
-            self.params.conservative_reset_dist
-            if name == "conservative_reset"
-            else 4.0 * self.global_costmap.circumscribed_radius
-        )
-        for costmap in (self.global_costmap, self.local_costmap):
-            pose = costmap.robot_pose()
-            if pose is not None:
-                costmap.clear_outside(float(pose[0]), float(pose[1]), 2.0 * distance)
+        clearing = self.clearing[name]
+        for which, costmap in (("global", self.global_costmap), ("local", self.local_costmap)):
+            if not clearing.affects(which):
+                continue
+            costmap.clear_area(
+                clearing.reset_distance,
+                clearing.layer_names,
+                invert=clearing.invert_area_to_clear,
+            )
+            if clearing.force_updating:
+                costmap.update_now()
         self._start_planning()
 
     def _clearing_step(self, now: int) -> None:

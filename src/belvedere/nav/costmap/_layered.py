@@ -11,12 +11,16 @@ import numpy.typing as npt
 from belvedere.nav.costmap._footprint import radii
 from belvedere.nav.costmap._grid import FREE, NO_INFORMATION, CostGrid
 from belvedere.nav.costmap._layers import (
+    Bounds,
     InflationLayer,
     Observation,
     ObstacleLayer,
     Pose2D,
     StaticLayer,
+    Window,
+    union,
 )
+from belvedere.nav.costmap._layers import whole as whole_grid
 from belvedere.nav.costmap._params import CostmapParams, InflationParams, ObstacleParams
 
 __all__ = ["Layer", "LayeredCostmap"]
@@ -44,6 +48,11 @@ class LayeredCostmap:
     Not rolling, the grid takes the static map's size, resolution and origin when a map
     arrives (before that, ``width``/``height``/``resolution``/``origin_*``). Rolling, it keeps
     its size and is re-centred on the robot at each update, moving by whole cells.
+
+    As costmap_2d's ``updateMap``, an update rewrites only the box the obstacle layers touched
+    (their rays, marks and the footprint's cells), grown by the inflation radius; the whole
+    grid after a new map, a reset or clearing, a new footprint, and in a rolling window that
+    moved or holds a static map.
     """
 
     def __init__(self, params: CostmapParams) -> None:
@@ -62,6 +71,10 @@ class LayeredCostmap:
         self.inscribed_radius, self.circumscribed_radius = radii(self.footprint)
         self.size_locked = False
         self.updated = False
+        self._whole = True
+        """Whether the next update rewrites the whole grid."""
+        self.last_window: Window | None = None
+        """The cells (rows, columns) the last update rewrote; None when nothing changed."""
         for _, layer in self.layers:
             if isinstance(layer, ObstacleLayer):
                 layer.match(self.master)
@@ -77,6 +90,7 @@ class LayeredCostmap:
     def set_footprint(self, footprint: npt.NDArray[np.float64]) -> None:
         self.footprint = footprint
         self.inscribed_radius, self.circumscribed_radius = radii(footprint)
+        self._whole = True
 
     def _resize(self, rows: int, cols: int, resolution: float, x: float, y: float) -> None:
         self.master = CostGrid(
@@ -85,6 +99,7 @@ class LayeredCostmap:
         for layer in self.obstacle_layers:
             layer.grid = None
             layer.match(self.master)
+        self._whole = True
 
     def set_map(
         self,
@@ -100,6 +115,7 @@ class LayeredCostmap:
         for name, each in self.layers:
             if isinstance(each, StaticLayer) and layer in (None, name):
                 taken |= each.set_map(data, resolution, origin, frame)
+        self._whole |= taken
         if not taken or self.params.rolling_window:
             return
         m = self.master
@@ -136,7 +152,8 @@ class LayeredCostmap:
         fp = self.footprint
         return np.column_stack([x + c * fp[:, 0] - s * fp[:, 1], y + s * fp[:, 0] + c * fp[:, 1]])
 
-    def _follow(self, pose: Pose2D) -> None:
+    def _follow(self, pose: Pose2D) -> bool:
+        """Re-centre a rolling window on the robot; whether it moved."""
         m = self.master
         new_x = pose[0] - m.width * m.resolution / 2
         new_y = pose[1] - m.height * m.resolution / 2
@@ -144,42 +161,93 @@ class LayeredCostmap:
         di = int((new_x - m.origin_x) / m.resolution)
         dj = int((new_y - m.origin_y) / m.resolution)
         if di == 0 and dj == 0:
-            return
+            return False
         m.origin_x += di * m.resolution
         m.origin_y += dj * m.resolution
         for layer in self.obstacle_layers:
             layer.match(m)
+        return True
 
     def update(self, pose: Pose2D, now_ns: int, *, map_to_global: Pose2D | None = None) -> None:
         """One ``updateMap``: follow the robot (rolling), let the obstacle layers take their
-        observations, then rebuild the grid layer by layer. ``map_to_global`` places the
-        static map in a rolling window (the pose of the map's frame in the global frame)."""
-        if self.params.rolling_window:
-            self._follow(pose)
-        for obstacles in self.obstacle_layers:
-            obstacles.update_bounds(now_ns)
-        self.master.costs[:] = self.default
+        observations and clear the footprint, then rebuild the part of the grid that can have
+        changed, layer by layer. ``map_to_global`` places the static map in a rolling window
+        (the pose of the map's frame in the global frame)."""
+        whole = self._whole
+        rolling = self.params.rolling_window
+        if rolling:
+            whole |= self._follow(pose)
+            whole |= any(layer.map is not None for layer in self.static_layers)
         footprint = self.footprint_at(pose)
+        touched: Bounds = None
+        for obstacles in self.obstacle_layers:
+            touched = union(touched, obstacles.update_bounds(now_ns, footprint))
+        self._whole = False
+        self.updated = True
+        window = self._window(None if whole else touched, whole=whole)
+        self.last_window = window
+        if window is None:
+            return
+        self.master.costs[window] = self.default
         for _, layer in self.layers:
             if isinstance(layer, StaticLayer):
-                layer.update(self.master, map_to_global, self.params.rolling_window)
+                layer.update(self.master, map_to_global, rolling, window)
             elif isinstance(layer, ObstacleLayer):
-                layer.update(self.master, footprint)
+                layer.update(self.master, window)
             else:
-                layer.update(self.master, self.inscribed_radius)
-        self.updated = True
+                layer.update(self.master, self.inscribed_radius, window)
+
+    def _window(self, touched: Bounds, *, whole: bool) -> Window | None:
+        """The cells to rewrite: all, or those the inflation of the touched box can reach."""
+        m = self.master
+        if whole:
+            return whole_grid(m)
+        if touched is None:
+            return None
+        pad = max(
+            (
+                layer.reach(m.resolution)
+                for _, layer in self.layers
+                if isinstance(layer, InflationLayer)
+            ),
+            default=0,
+        )
+        i0, j0, i1, j1 = touched
+        cols = slice(max(i0 - pad, 0), min(i1 + pad, m.width))
+        rows = slice(max(j0 - pad, 0), min(j1 + pad, m.height))
+        if cols.start >= cols.stop or rows.start >= rows.stop:
+            return None
+        return rows, cols
+
+    def rebuild_all(self) -> None:
+        """Make the next update rewrite the whole grid (as after a new map)."""
+        self._whole = True
 
     def reset(self) -> None:
         """``resetLayers``: the grid and the obstacle layers back to their defaults."""
         self.master.costs[:] = self.default
         for layer in self.obstacle_layers:
             layer.reset()
+        self._whole = True
 
-    def clear_outside(
-        self, x: float, y: float, size: float, layers: Iterable[str] | None = None
-    ) -> None:
-        """Obstacle layers (those named, or all) reset outside a size x size square at (x, y)."""
-        wanted = None if layers is None else set(layers)
+    def clear_area(
+        self, x: float, y: float, size: float, layers: Iterable[str], *, invert: bool = False
+    ) -> tuple[list[str], list[str]]:
+        """``ClearCostmapRecovery`` on the layers named (by the part of a layer's name after
+        its last ``/``): static and obstacle layers have their cells outside the size x size
+        square at (x, y) (inside it, with ``invert``) set to NO_INFORMATION. Returns the names
+        that match no layer and those of layers without cells of their own (inflation)."""
+        wanted = set(layers)
+        found: set[str] = set()
+        not_clearable: list[str] = []
         for name, layer in self.layers:
-            if isinstance(layer, ObstacleLayer) and (wanted is None or name in wanted):
-                layer.clear_outside(x, y, size)
+            short = name.rsplit("/", 1)[-1]
+            if short not in wanted:
+                continue
+            found.add(short)
+            if isinstance(layer, InflationLayer):
+                not_clearable.append(short)
+            else:
+                layer.clear_area(x, y, size, invert=invert)
+                self._whole = True
+        return sorted(wanted - found), not_clearable

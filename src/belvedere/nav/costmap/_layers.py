@@ -22,17 +22,42 @@ from belvedere.nav.costmap._params import (
 from belvedere.nav.costmap._raster import convex_fill, raytrace
 
 __all__ = [
+    "Bounds",
     "InflationLayer",
     "Observation",
     "ObstacleLayer",
     "StaticLayer",
     "inflation_cost",
+    "union",
 ]
 
 logger = logging.getLogger(__name__)
 
 Costs = npt.NDArray[np.uint8]
 Pose2D = tuple[float, float, float]
+Bounds = tuple[int, int, int, int] | None
+"""Cells a layer touched: columns i0 <= i < i1 and rows j0 <= j < j1 (None: none)."""
+Window = tuple[slice, slice]
+"""The part of the grid an update rewrites: (rows, columns)."""
+
+
+def _bounds(cols: npt.NDArray[np.int64], rows: npt.NDArray[np.int64]) -> Bounds:
+    if cols.size == 0:
+        return None
+    return int(cols.min()), int(rows.min()), int(cols.max()) + 1, int(rows.max()) + 1
+
+
+def whole(grid: CostGrid) -> Window:
+    return slice(0, grid.height), slice(0, grid.width)
+
+
+def union(a: Bounds, b: Bounds) -> Bounds:
+    """The box around both (``updateBounds``' growing min/max)."""
+    if a is None:
+        return b
+    if b is None:
+        return a
+    return min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3])
 
 
 def _cell_distance(world: float, resolution: float) -> int:
@@ -56,6 +81,23 @@ def inflation_cost(
     cost = np.where(metres <= inscribed_radius, INSCRIBED, np.floor(decay))
     cost = np.where(distance_cells == 0, LETHAL, cost)
     return np.clip(cost, 0, 255).astype(np.uint8)
+
+
+def clear_area(grid: CostGrid, x: float, y: float, size: float, *, invert: bool) -> None:
+    """``ClearCostmapRecovery``'s ``clearMap``: every cell outside the open square of side
+    ``size`` centred on (x, y) (inside it, with ``invert``) back to NO_INFORMATION. The
+    square's corners become cells by truncation toward zero (``worldToMapNoBounds``), and the
+    cells on its edge are cleared too."""
+    res = grid.resolution
+    i0 = int((x - size / 2 - grid.origin_x) / res)
+    j0 = int((y - size / 2 - grid.origin_y) / res)
+    i1 = int((x + size / 2 - grid.origin_x) / res)
+    j1 = int((y + size / 2 - grid.origin_y) / res)
+    inside = np.zeros(grid.costs.shape, dtype=bool)
+    cols = slice(max(i0 + 1, 0), max(i1, 0))
+    rows = slice(max(j0 + 1, 0), max(j1, 0))
+    inside[rows, cols] = True
+    grid.costs[inside == invert] = NO_INFORMATION
 
 
 @dataclass(frozen=True)
@@ -102,24 +144,37 @@ class StaticLayer:
         self.received += 1
         return True
 
-    def update(self, master: CostGrid, map_to_global: Pose2D | None, rolling: bool) -> None:
+    def clear_area(self, x: float, y: float, size: float, *, invert: bool = False) -> None:
+        """``ClearCostmapRecovery`` on the layer's copy of the map (until the next map)."""
+        if self.map is not None:
+            clear_area(self.map, x, y, size, invert=invert)
+
+    def update(
+        self,
+        master: CostGrid,
+        map_to_global: Pose2D | None,
+        rolling: bool,
+        window: Window | None = None,
+    ) -> None:
+        """Write the map into the master's ``window`` (all by default; a rolling window: all
+        of it, sampled through ``map_to_global``)."""
         if self.map is None or not self.params.enabled:
             return
-        if not rolling:
-            source = self.map.costs
-            if source.shape != master.costs.shape:
-                return
-        else:
+        window = window or whole(master)
+        if rolling:
             source, valid = self._sample(master, map_to_global or (0.0, 0.0, 0.0))
             if self.params.use_maximum:
                 master.costs[valid] = _maximum(master.costs[valid], source[valid])
             else:
                 master.costs[valid] = source[valid]
             return
+        if self.map.costs.shape != master.costs.shape:
+            return
+        source = self.map.costs[window]
         if self.params.use_maximum:
-            master.costs[:] = _maximum(master.costs, source)
+            master.costs[window] = _maximum(master.costs[window], source)
         else:
-            master.costs[:] = source
+            master.costs[window] = source
 
     def _sample(
         self, master: CostGrid, map_to_global: Pose2D
@@ -219,36 +274,44 @@ class ObstacleLayer:
         if self.grid is not None:
             self.grid.costs[:] = self.default
 
-    def clear_outside(self, x: float, y: float, size: float) -> None:
-        """``ClearCostmapRecovery``: back to the default outside a size x size square."""
-        grid = self.grid
-        if grid is None:
-            return
-        i0 = math.floor((x - size / 2 - grid.origin_x) / grid.resolution)
-        j0 = math.floor((y - size / 2 - grid.origin_y) / grid.resolution)
-        i1 = math.floor((x + size / 2 - grid.origin_x) / grid.resolution)
-        j1 = math.floor((y + size / 2 - grid.origin_y) / grid.resolution)
-        keep = grid.costs[max(j0, 0) : max(j1, 0), max(i0, 0) : max(i1, 0)].copy()
-        grid.costs[:] = self.default
-        grid.costs[max(j0, 0) : max(j1, 0), max(i0, 0) : max(i1, 0)] = keep
+    def clear_area(self, x: float, y: float, size: float, *, invert: bool = False) -> None:
+        """``ClearCostmapRecovery`` on this layer (see :func:`clear_area`)."""
+        if self.grid is not None:
+            clear_area(self.grid, x, y, size, invert=invert)
 
-    def update_bounds(self, now_ns: int) -> None:
-        """Ray-trace the clearing observations, then mark the marking ones."""
+    def update_bounds(
+        self, now_ns: int, footprint_world: npt.NDArray[np.float64] | None = None
+    ) -> Bounds:
+        """Ray-trace the clearing observations, mark the marking ones, then clear the cells
+        under the footprint; the box of the cells this touched."""
         grid = self.grid
         if grid is None or not self.params.enabled:
-            return
+            return None
+        touched: Bounds = None
         for buffer in self.buffers.values():
             buffer.purge(now_ns)
         for buffer in self.buffers.values():
             if buffer.params.clearing:
                 for observation in buffer.observations:
-                    self._clear(grid, observation, buffer.params.raytrace_range)
+                    touched = union(
+                        touched, self._clear(grid, observation, buffer.params.raytrace_range)
+                    )
         for buffer in self.buffers.values():
             if buffer.params.marking:
                 for observation in buffer.observations:
-                    self._mark(grid, observation, buffer.params.obstacle_range)
+                    touched = union(
+                        touched, self._mark(grid, observation, buffer.params.obstacle_range)
+                    )
+        if self.params.footprint_clearing_enabled and footprint_world is not None:
+            vertices = np.floor(
+                (footprint_world - [grid.origin_x, grid.origin_y]) / grid.resolution
+            ).astype(np.int64)
+            cols, rows = convex_fill(vertices, grid.width, grid.height)
+            grid.costs[rows, cols] = FREE
+            touched = union(touched, _bounds(cols, rows))
+        return touched
 
-    def _mark(self, grid: CostGrid, observation: Observation, obstacle_range: float) -> None:
+    def _mark(self, grid: CostGrid, observation: Observation, obstacle_range: float) -> Bounds:
         points = observation.points
         points = points[points[:, 2] <= self.params.max_obstacle_height]
         sq = ((points - observation.origin) ** 2).sum(axis=1)
@@ -257,8 +320,9 @@ class ObstacleLayer:
         j = np.floor((points[:, 1] - grid.origin_y) / grid.resolution).astype(np.int64)
         inside = (i >= 0) & (i < grid.width) & (j >= 0) & (j < grid.height)
         grid.costs[j[inside], i[inside]] = LETHAL
+        return _bounds(i[inside], j[inside])
 
-    def _clear(self, grid: CostGrid, observation: Observation, raytrace_range: float) -> None:
+    def _clear(self, grid: CostGrid, observation: Observation, raytrace_range: float) -> Bounds:
         ox, oy = float(observation.origin[0]), float(observation.origin[1])
         start = grid.world_to_map(ox, oy)
         if start is None:
@@ -270,9 +334,9 @@ class ObstacleLayer:
                     ox,
                     oy,
                 )
-            return
+            return None
         if len(observation.points) == 0:
-            return
+            return None
         wx = observation.points[:, 0].copy()
         wy = observation.points[:, 1].copy()
         x_lo, y_lo = grid.origin_x, grid.origin_y
@@ -299,22 +363,20 @@ class ObstacleLayer:
         )
         ok = (cols >= 0) & (cols < grid.width) & (rows >= 0) & (rows < grid.height)
         grid.costs[rows[ok], cols[ok]] = FREE
+        return _bounds(cols[ok], rows[ok])
 
-    def update(self, master: CostGrid, footprint_world: npt.NDArray[np.float64] | None) -> None:
+    def update(self, master: CostGrid, window: Window | None = None) -> None:
+        """Write this layer's cells of ``window`` (all by default) into the master."""
         grid = self.grid
         if grid is None or not self.params.enabled:
             return
-        if self.params.footprint_clearing_enabled and footprint_world is not None:
-            vertices = np.floor(
-                (footprint_world - [grid.origin_x, grid.origin_y]) / grid.resolution
-            ).astype(np.int64)
-            cols, rows = convex_fill(vertices, grid.width, grid.height)
-            grid.costs[rows, cols] = FREE
+        window = window or whole(master)
+        mine, theirs = grid.costs[window], master.costs[window]
         if self.params.combination_method == 0:
-            known = grid.costs != NO_INFORMATION
-            master.costs[known] = grid.costs[known]
+            known = mine != NO_INFORMATION
+            theirs[known] = mine[known]
         else:
-            master.costs[:] = _maximum(master.costs, grid.costs)
+            theirs[:] = _maximum(theirs, mine)
 
 
 class InflationLayer:
@@ -324,19 +386,34 @@ class InflationLayer:
     def __init__(self, params: InflationParams) -> None:
         self.params = params
 
-    def update(self, master: CostGrid, inscribed_radius: float) -> None:
+    def reach(self, resolution: float) -> int:
+        """How many cells a change of a lethal cell can move inflated costs."""
+        return _cell_distance(self.params.inflation_radius, resolution) + 1
+
+    def update(
+        self, master: CostGrid, inscribed_radius: float, window: Window | None = None
+    ) -> None:
+        """Inflate the lethal cells into the master's ``window`` (all of it by default;
+        lethal cells up to the inflation radius outside it count too)."""
         p = self.params
         if not p.enabled:
             return
-        lethal = master.costs == LETHAL
+        window = window or whole(master)
+        rows, cols = window
+        pad = self.reach(master.resolution)
+        r0, r1 = max(rows.start - pad, 0), min(rows.stop + pad, master.height)
+        c0, c1 = max(cols.start - pad, 0), min(cols.stop + pad, master.width)
+        lethal = master.costs[r0:r1, c0:c1] == LETHAL
         if not lethal.any():
             return
-        distance = ndimage.distance_transform_edt(~lethal)
+        inner = (slice(rows.start - r0, rows.stop - r0), slice(cols.start - c0, cols.stop - c0))
+        distance = ndimage.distance_transform_edt(~lethal)[inner]
         reach = distance <= _cell_distance(p.inflation_radius, master.resolution)
         cost = inflation_cost(
             distance[reach], master.resolution, inscribed_radius, p.cost_scaling_factor
         )
-        old = master.costs[reach]
+        target = master.costs[window]
+        old = target[reach]
         unknown = old == NO_INFORMATION
         replace = cost > FREE if p.inflate_unknown else cost >= INSCRIBED
-        master.costs[reach] = np.where(unknown, np.where(replace, cost, old), np.maximum(old, cost))
+        target[reach] = np.where(unknown, np.where(replace, cost, old), np.maximum(old, cost))

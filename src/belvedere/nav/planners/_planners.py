@@ -12,10 +12,10 @@ global_planner
     ``neutral_cost + cost_factor·cost`` capped below ``lethal_cost``, Dijkstra or A*
     (``use_dijkstra``), quadratic or plain sums (``use_quadratic``), gradient or grid paths
     (``use_grid_path``), points at cell centres, ``orientation_mode``. Like ROS Noetic it reads
-    ``default_tolerance`` but does not use it (ros-planning/navigation#262). Its A* sets each
-    cell's potential once, as ``AStarExpansion`` does with ``cost + neutral_cost`` per step;
-    here that is an exact A* (a Dijkstra over heuristic-reduced edge costs) whose potential is
-    the plain sum, also with ``use_quadratic``.
+    ``default_tolerance`` but does not use it (ros-planning/navigation#262). Its A* is
+    ``AStarExpansion`` (see ``_astar``), with the quadratic potential too. Unless
+    ``old_navfn_behavior``, the cells within two of the goal that the search did not reach get
+    a potential from their neighbours before the path is walked (``clearEndpoint``).
 """
 
 from __future__ import annotations
@@ -27,11 +27,10 @@ from typing import Any, Final, Protocol
 
 import numpy as np
 import numpy.typing as npt
-from scipy import sparse
-from scipy.sparse import csgraph
 
 from belvedere.nav._plugins import UnknownPluginError
 from belvedere.nav.costmap import FREE, NO_INFORMATION, CostGrid
+from belvedere.nav.planners._astar import astar, clear_endpoint
 from belvedere.nav.planners._orientation import OrientationMode, orient
 from belvedere.nav.planners._paths import gradient_path, grid_path
 from belvedere.nav.planners._wavefront import POT_HIGH, Field, propagate
@@ -299,6 +298,14 @@ class GlobalPlannerPlugin:
             passable |= costs == NO_INFORMATION
         return step.astype(np.float32), passable
 
+    def _astar_passable(self, costs: npt.NDArray[np.uint8]) -> npt.NDArray[np.bool_]:
+        """Where ``AStarExpansion`` goes: below ``lethal_cost`` (one higher than Dijkstra's
+        limit), or unknown with ``allow_unknown``."""
+        passable = costs < self.params.lethal_cost
+        if self.params.allow_unknown:
+            passable |= costs == NO_INFORMATION
+        return passable
+
     def plan(self, grid: CostGrid, start: npt.ArrayLike, goal: npt.ArrayLike) -> Path:
         p = self.params
         start_pose, goal_pose = _pose(start, "start"), _pose(goal, "goal")
@@ -316,7 +323,19 @@ class GlobalPlannerPlugin:
                 quadratic=p.use_quadratic,
             )
         else:
-            pot = self._astar(costs, passable, start_cell, goal_cell)
+            reached = astar(
+                costs,
+                self._astar_passable(costs),
+                start_cell,
+                goal_cell,
+                neutral=p.neutral_cost,
+                quadratic=p.use_quadratic,
+            )
+            if reached is None:
+                raise _no_path(start_pose, goal_pose)
+            pot = reached
+        if not p.old_navfn_behavior:
+            clear_endpoint(costs, pot, goal_cell, neutral=p.neutral_cost, quadratic=p.use_quadratic)
         self.potential = pot
         if pot[goal_cell[1], goal_cell[0]] >= POT_HIGH:
             raise _no_path(start_pose, goal_pose)
@@ -331,50 +350,6 @@ class GlobalPlannerPlugin:
         path = _finish(walked, grid, offset, goal_pose)
         orient(path, float(start_pose[2]), p.orientation_mode, p.orientation_window_size)
         return path
-
-    def _astar(
-        self,
-        costs: npt.NDArray[np.uint8],
-        passable: npt.NDArray[np.bool_],
-        start: tuple[int, int],
-        goal: tuple[int, int],
-    ) -> Field:
-        """A*'s potentials: ``cost + neutral_cost`` per step over four neighbours, on the
-        cells A* closes (those with potential + heuristic up to the goal's)."""
-        height, width = costs.shape
-        neutral = float(self.params.neutral_cost)
-        ok = passable.copy()
-        ok[0, :] = ok[-1, :] = ok[:, 0] = ok[:, -1] = False
-        ok[start[1], start[0]] = True
-        rows, cols = np.mgrid[0:height, 0:width]
-        heuristic = (np.abs(cols - goal[0]) + np.abs(rows - goal[1])) * neutral
-        enter = costs.astype(np.float64) + neutral
-        index = np.arange(height * width).reshape(height, width)
-        sources: list[npt.NDArray[np.intp]] = []
-        targets: list[npt.NDArray[np.intp]] = []
-        weights: list[npt.NDArray[np.float64]] = []
-        for a, b in (
-            (np.s_[:, :-1], np.s_[:, 1:]),
-            (np.s_[:, 1:], np.s_[:, :-1]),
-            (np.s_[:-1, :], np.s_[1:, :]),
-            (np.s_[1:, :], np.s_[:-1, :]),
-        ):
-            both = ok[a] & ok[b]
-            sources.append(index[a][both])
-            targets.append(index[b][both])
-            # reduced costs keep Dijkstra's order equal to A*'s (the heuristic is consistent:
-            # a step changes it by at most neutral_cost, and every step costs at least that)
-            weights.append(enter[b][both] - heuristic[a][both] + heuristic[b][both])
-        graph = sparse.csr_matrix(
-            (np.concatenate(weights), (np.concatenate(sources), np.concatenate(targets))),
-            shape=(height * width, height * width),
-        )
-        reduced = csgraph.dijkstra(graph, indices=index[start[1], start[0]])
-        reduced = reduced.reshape(height, width)
-        potential = reduced - heuristic + heuristic[start[1], start[0]]
-        reach = reduced[goal[1], goal[0]]
-        closed = np.isfinite(reduced) & (reduced <= reach + 1e-6)
-        return np.where(closed, potential, POT_HIGH).astype(np.float32)
 
 
 PLUGINS: Final = ("navfn/NavfnROS", "global_planner/GlobalPlanner")
