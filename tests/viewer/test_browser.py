@@ -51,14 +51,25 @@ def _free_port() -> int:
 
 def project(point: tuple[float, float, float]) -> tuple[float, float]:
     """Screen pixel of a world point under the viewer's initial camera."""
-    eye, target = np.array(CAMERA_POSITION), np.array(CAMERA_LOOK_AT)
+    return project_from(CAMERA_POSITION, CAMERA_LOOK_AT, CAMERA_FOV, point)
+
+
+def project_from(
+    eye_at: tuple[float, float, float],
+    look_at: tuple[float, float, float],
+    fov: float,
+    point: tuple[float, float, float],
+) -> tuple[float, float]:
+    """Screen pixel of a world point for a camera at ``eye_at`` looking at ``look_at`` (z up,
+    vertical field of view ``fov``)."""
+    eye, target = np.array(eye_at), np.array(look_at)
     forward = (target - eye) / np.linalg.norm(target - eye)
     right = np.cross(forward, [0.0, 0.0, 1.0])
     right /= np.linalg.norm(right)
     up = np.cross(right, forward)
     rel = np.asarray(point) - eye
     x, y, z = rel @ right, rel @ up, rel @ forward
-    f = 1.0 / math.tan(CAMERA_FOV / 2)
+    f = 1.0 / math.tan(fov / 2)
     w, h = VIEWPORT
     aspect = w / h
     return (w / 2 * (1 + f * x / (z * aspect)), h / 2 * (1 - f * y / z))

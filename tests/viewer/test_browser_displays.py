@@ -3,7 +3,6 @@ the walls while the robot spins; views follow the robot; the Displays tree shows
 
 from __future__ import annotations
 
-import math
 from io import BytesIO
 from pathlib import Path
 from typing import Any
@@ -25,6 +24,7 @@ from tests.viewer.test_browser import (
     VIEWPORT,
     _free_port,
     browser_page,
+    project_from,
     wait_for_pixel,
 )
 from tests.waiting import wait_until
@@ -154,7 +154,7 @@ def test_the_view_follows_its_target_frame() -> None:
 
             viewer.views[client.client_id] = (client, ViewState("rviz/Orbit", props))
             eye, look_at, _, fov = camera_pose("rviz/Orbit", props, _identity())
-            middle = _project(eye, look_at, fov, (0.0, 0.0, 0.19))
+            middle = project_from(eye, look_at, fov, (0.0, 0.0, 0.19))
             wait_for_pixel(page, middle, is_base, what="the base in the middle")
             graph.executor.post(lambda: cmd.publish_data({"linear": {"x": 0.5}}))
             wait_until(lambda: base.x > 1.5, what="the base past x = 1.5", detail=lambda: base.x)
@@ -178,25 +178,6 @@ def _identity() -> Any:
     from belvedere.tf import Transform
 
     return Transform()
-
-
-def _project(
-    eye: tuple[float, float, float],
-    look_at: tuple[float, float, float],
-    fov: float,
-    point: tuple[float, float, float],
-) -> tuple[float, float]:
-    """Screen pixel of a world point for a camera at ``eye`` looking at ``look_at`` (z up)."""
-    e, t = np.array(eye), np.array(look_at)
-    forward = (t - e) / np.linalg.norm(t - e)
-    right = np.cross(forward, [0.0, 0.0, 1.0])
-    right /= np.linalg.norm(right)
-    up = np.cross(right, forward)
-    rel = np.asarray(point) - e
-    x, y, z = rel @ right, rel @ up, rel @ forward
-    f = 1.0 / math.tan(fov / 2)
-    w, h = VIEWPORT
-    return (w / 2 * (1 + f * x / (z * w / h)), h / 2 * (1 - f * y / z))
 
 
 def test_the_displays_tree_shows_statuses_and_refuses_a_wrong_type() -> None:
