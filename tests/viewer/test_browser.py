@@ -264,7 +264,8 @@ def test_scan_and_map_appear(scene: Scene, page: Any) -> None:
         return r > 150 and max(g, b) < 130
 
     wait_for_pixel(page, project((-0.8, 0.0, 0.0)), red, what="a red scan point straight behind")
-    free, occupied = (project((-0.5 + 0.5, -1.0 + 0.25 * k + 0.125, 0.0)) for k in (0, 1))
+    # x = -0.25: between the Grid display's lines (0.5 m apart), which rviz draws over maps
+    free, occupied = (project((-0.25, -1.0 + 0.25 * k + 0.125, 0.0)) for k in (0, 1))
     wait_for_pixel(page, free, lambda rgb: rgb[0] > 200, what="a white (free) row of the map")
     wait_for_pixel(page, occupied, lambda rgb: rgb[0] < 80, what="a black (occupied) map row")
 

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any, Final
 
 from belvedere.errors import BelvedereError
 from belvedere.foxglove._inbound import ClientPublishing, Parameters
-from belvedere.graph import Graph, GraphError, Subscription, ZenohTransport
+from belvedere.graph import Graph, GraphError, GraphTopics, Subscription
 from belvedere.msgs import MessageTypeError, types
 
 if TYPE_CHECKING:
@@ -126,7 +126,6 @@ class FoxgloveBridge:
         self._lock = threading.Lock()
         self._channels: dict[str, _Channel] = {}
         self._by_id: dict[int, _Channel] = {}
-        self._remote: dict[str, set[tuple[str, str]]] = {}
         """Other processes' publishers: topic → {(type, node)}."""
         self._skipped: set[tuple[str, str]] = set()
         self._outbox: deque[tuple[_Channel, int, Any]] = deque()
@@ -156,10 +155,7 @@ class FoxgloveBridge:
         self._publishing.status = self.server.publish_status
         self.host = host
         self.port = self.server.port
-        self._watch: Any = None
-        transport = graph.transport
-        if isinstance(transport, ZenohTransport):
-            self._watch = transport.watch_publishers(self._publisher_seen)
+        self._topics = GraphTopics(graph, on_change=self._publishers_changed)
         self._refresh()
         self._thread = threading.Thread(target=self._run, name="belvedere-foxglove", daemon=True)
         self._thread.start()
@@ -182,9 +178,7 @@ class FoxgloveBridge:
         self._stop.set()
         self._wake.set()
         self._thread.join(timeout=5.0)
-        if self._watch is not None:
-            self._watch.undeclare()
-            self._watch = None
+        self._topics.close()
         self.server.stop()
         with self._lock:
             channels = list(self._channels.values())
@@ -204,31 +198,15 @@ class FoxgloveBridge:
             graph.executor.post(node.shutdown)
 
     # --- the graph's topics ----------------------------------------------------------------
-    def _publisher_seen(self, topic: str, type_name: str, node: str, alive: bool) -> None:
+    def _publishers_changed(self) -> None:
         """Zenoh's thread: another process's publisher came or went."""
-        with self._lock:
-            kinds = self._remote.setdefault(topic, set())
-            if alive:
-                kinds.add((type_name, node))
-            else:
-                kinds.discard((type_name, node))
-                if not kinds:
-                    del self._remote[topic]
         self._dirty.set()
         self._wake.set()
 
     def _wanted(self) -> dict[str, str]:
         """Every topic someone publishes now, with its type."""
-        found = {
-            name: topic.type
-            for name, topic in list(self.graph.topics.items())
-            if list(topic.publishers)
-        }
-        with self._lock:
-            remote = [(name, min(kinds)[0]) for name, kinds in self._remote.items()]
-        for name, type_name in remote:
-            if name in found:
-                continue
+        found: dict[str, str] = {}
+        for name, type_name in self._topics.published().items():
             try:
                 found[name] = types().resolve(type_name)
             except MessageTypeError:

@@ -23,6 +23,7 @@ from belvedere.graph._graph import (
 )
 from belvedere.graph._names import RosArgs, parse_ros_args, resolve_name
 from belvedere.graph._params import ParamError, ParamTree
+from belvedere.graph._topics import GraphTopics
 from belvedere.graph._zenoh import (
     DEFAULT_ENDPOINT,
     MAX_DOMAIN,
@@ -46,6 +47,7 @@ __all__ = [
     "Graph",
     "GraphError",
     "GraphInfo",
+    "GraphTopics",
     "Node",
     "ParamError",
     "ParamTree",

@@ -84,7 +84,6 @@ class UnsupportedDisplay(Display):
     def __init__(self, *args: Any, rviz_class: str, **kwargs: Any) -> None:
         self.rviz_class_name = rviz_class
         super().__init__(*args, **kwargs)
-        self.values.pop("Topic", None)
         self.status.set(
             "Plugin",
             Level.ERROR,

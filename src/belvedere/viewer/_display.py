@@ -13,7 +13,7 @@ from __future__ import annotations
 import threading
 from collections import deque
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, ClassVar, Literal
 
 import numpy as np
@@ -59,7 +59,6 @@ class DisplayContext:
     """The type of a topic on the graph (here or in another process), None if unknown."""
     model: RobotModel | None = None
     packages: PackageIndex | None = None
-    clocks: list[Callable[[], int]] = field(default_factory=list)
 
     def now_ns(self) -> int:
         return self.node.now_ns()
@@ -318,15 +317,21 @@ class Display:
             self._waiting(keep[0], fixed)
         return ready
 
-    def _failure(self, msg: Any, fixed: str | None) -> str:
-        """Why ``msg`` could not be transformed, in rviz's words."""
-        frame = str(msg.header.frame_id).lstrip("/")
-        fixed = fixed or self.fixed
+    def _unreachable(self, frame: str, fixed: str) -> str | None:
+        """Why ``frame`` has no transform to ``fixed`` now, in rviz's words (None: it has)."""
         buffer = self.ctx.buffer
-        if not buffer.frame_exists(frame):
-            return f"For frame [{frame}]: Frame [{frame}] does not exist"
+        if frame != fixed and not buffer.frame_exists(frame):
+            return f"Frame [{frame}] does not exist"
         if fixed and not buffer.can_transform(fixed, frame):
-            return f"For frame [{frame}]: No transform to fixed frame [{fixed}]"
+            return f"No transform from [{frame}] to [{fixed}]"
+        return None
+
+    def _failure(self, msg: Any, fixed: str | None) -> str:
+        """Why ``msg`` was dropped, in rviz's words."""
+        frame = str(msg.header.frame_id).lstrip("/")
+        reason = self._unreachable(frame, fixed or self.fixed)
+        if reason is not None:
+            return f"For frame [{frame}]: {reason}"
         return self._too_old(msg)
 
     @staticmethod
@@ -339,13 +344,9 @@ class Display:
 
     def _waiting(self, msg: Any, fixed: str) -> None:
         frame = str(msg.header.frame_id).lstrip("/")
-        buffer = self.ctx.buffer
-        if not buffer.frame_exists(frame):
-            self.status.set(
-                "Transform", Level.ERROR, f"For frame [{frame}]: Frame [{frame}] does not exist"
-            )
-        elif not buffer.can_transform(fixed, frame):
-            self.status.set("Transform", Level.ERROR, f"No transform from [{frame}] to [{fixed}]")
+        reason = self._unreachable(frame, fixed)
+        if reason is not None:
+            self.status.set("Transform", Level.ERROR, f"For frame [{frame}]: {reason}")
 
     def latest_pose(self, frame_id: str, fixed: str) -> Transform | None:
         """The frame's latest pose in the fixed frame (status says why when there is none)."""
@@ -353,11 +354,8 @@ class Display:
         try:
             pose = self.ctx.buffer.lookup_transform(fixed, frame)
         except TFError:
-            if not self.ctx.buffer.frame_exists(frame) and frame != fixed:
-                text = f"Frame [{frame}] does not exist"
-            else:
-                text = f"No transform from [{frame}] to [{fixed}]"
-            self.status.set("Transform", Level.ERROR, text)
+            reason = self._unreachable(frame, fixed) or f"No transform from [{frame}] to [{fixed}]"
+            self.status.set("Transform", Level.ERROR, reason)
             return None
         self.status.set("Transform", Level.OK, "Transform OK")
         return pose

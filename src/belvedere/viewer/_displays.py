@@ -262,7 +262,10 @@ class MapDisplay(Display):
             return
         origin = msg_pose(info.origin)
         w, h = info.width * info.resolution, info.height * info.resolution
-        center = origin @ Transform((w / 2, h / 2, -0.003 if self.values["Draw Behind"] else 0.0))
+        # Just under the plane z = 0, where the Grid display's (depth-writing) plane lies:
+        # at the same height the two fight over each pixel.
+        below = -0.004 if self.values["Draw Behind"] else -0.002
+        center = origin @ Transform((w / 2, h / 2, below))
         if msg is not self.drawn or "grid" not in self.handles:
             cells = np.asarray(msg.data, dtype=np.int16).reshape(info.height, info.width)
             rgba = _palette(self.values["Color Scheme"])[cells.astype(np.uint8)]

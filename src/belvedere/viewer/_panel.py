@@ -137,6 +137,6 @@ def global_status_markdown(status: Status, displays: list[Display]) -> str:
     lines = [status.markdown()]
     for d in displays:
         if d.enabled and d.level is not Level.OK:
-            worst = max((e for e in d.status.entries() if e[1] is d.level), key=lambda e: e[1])
+            worst = next(e for e in d.status.entries() if e[1] is d.level)
             lines.append(f"- {d.level.label} · {d.name}: {worst[0]}: {worst[2]}")
     return "\n".join(lines)

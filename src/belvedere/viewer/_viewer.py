@@ -21,7 +21,7 @@ import numpy as np
 
 from belvedere.description.urdf import RobotModel
 from belvedere.errors import BelvedereError
-from belvedere.graph import NS, Graph, Node
+from belvedere.graph import NS, Graph, GraphTopics, Node
 from belvedere.msgs import short
 from belvedere.packages import PackageIndex
 from belvedere.tf import JointStatePublisher, Transform, TransformListener, quat_xyzw_from_rpy
@@ -31,7 +31,6 @@ from belvedere.viewer._display import Display, DisplayContext, color_tuple
 from belvedere.viewer._panel import DisplayPanel, global_status_markdown, set_handle
 from belvedere.viewer._rviz import RvizConfig, RvizDisplay, RvizView, format_color, write_rviz
 from belvedere.viewer._status import Level, Status
-from belvedere.viewer._topics import GraphTopics
 from belvedere.viewer._views import VIEW_TYPES, ViewState
 from belvedere.viewer._world import WorldDrawing
 from belvedere.world import WorldModel

@@ -168,7 +168,8 @@ class ViewState:
         eye, look_at = np.asarray(camera.position), np.asarray(camera.look_at)
         if self.cls == "rviz/TopDownOrtho":
             height = max(float(eye[2] - look_at[2]), 1e-6)
-            props["Scale"] = 700 / (2 * height * math.tan(ORTHO_FOV / 2))
+            pixels = int(getattr(camera, "image_height", 0) or 700)
+            props["Scale"] = pixels / (2 * height * math.tan(ORTHO_FOV / 2))
             props["X"] = float(look_at[0] - target.translation[0])
             props["Y"] = float(look_at[1] - target.translation[1])
             return props
