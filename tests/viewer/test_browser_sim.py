@@ -86,7 +86,7 @@ def test_physics_world_and_robot_in_the_viewer() -> None:
 
             def orange(rgb: RGB) -> bool:
                 r, g, b = rgb
-                return r > 180 and 60 < g < 200 and b < 80
+                return r > 150 and 0.25 * r < g < 0.8 * r and b < 60  # lit from any side
 
             post_2 = project((-1.0, 2.0, 0.5))
             wait_for_pixel(page, post_2, orange, what="post_2 (Gazebo/Orange)")

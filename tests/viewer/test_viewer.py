@@ -65,14 +65,95 @@ def test_display_of_a_broken_model_is_an_error(
     assert err.startswith(f"{bad}:1:1: error: two root links found")
 
 
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port: int = s.getsockname()[1]
+    return port
+
+
+@pytest.mark.parametrize(
+    ("values", "lines", "normal_axis"),
+    [
+        ({}, 22, 2),  # rviz's default: 10 x 10 cells of 1 m in XY
+        ({"Plane Cell Count": 4, "Cell Size": 0.5, "Plane": "XZ"}, 10, 1),
+        ({"Plane Cell Count": 2, "Normal Cell Count": 2, "Plane": "YZ"}, 3 * 6 + 9, 0),
+    ],
+)
+def test_grid_is_rviz_lines(values: dict[str, object], lines: int, normal_axis: int) -> None:
+    """The Grid display draws rviz's lines (cell count + 1 each way, a level per normal cell,
+    verticals joining them) in the chosen plane, centred on the offset."""
+    graph = Graph(sim_time=False)
+    viewer = Viewer(graph, port=_free_port(), fixed_frame="map")
+    try:
+        grid = viewer.add_display("Grid", values={**values, "X": 1.0, "Y": -2.0, "Z": 0.5})
+        segs = grid.segments()  # type: ignore[attr-defined]
+        assert segs.shape == (lines, 2, 3)
+        cells = int(values.get("Plane Cell Count", 10))  # type: ignore[call-overload]
+        size = float(values.get("Cell Size", 1.0))  # type: ignore[arg-type]
+        offset = np.array([1.0, -2.0, 0.5])
+        spread = segs.reshape(-1, 3) - offset
+        in_plane = [a for a in range(3) if a != normal_axis]
+        for axis in in_plane:
+            assert spread[:, axis].min() == pytest.approx(-cells * size / 2)
+            assert spread[:, axis].max() == pytest.approx(cells * size / 2)
+        normal = int(values.get("Normal Cell Count", 0))  # type: ignore[call-overload]
+        assert np.abs(spread[:, normal_axis]).max() == pytest.approx(normal * size / 2)
+        viewer.render_once()
+        assert grid.handles["grid"].points.shape == (lines, 2, 3)
+    finally:
+        viewer.close()
+        graph.shutdown()
+
+
+def test_a_new_scan_moves_the_points_of_the_same_cloud() -> None:
+    """Each scan's points go into the one point cloud the display made (a new scene node per
+    scan makes the browser build a new material each time); a style change makes a new one."""
+    graph = Graph(sim_time=False)
+    viewer = Viewer(graph, port=_free_port(), fixed_frame="laser")
+    try:
+        display = viewer.add_display("LaserScan", "/scan")
+        pub = graph.create_node("lidar").publisher("/scan", "sensor_msgs/LaserScan")
+        graph.start(rtf=None)
+
+        def scan(r: float) -> None:
+            graph.executor.post(
+                lambda: pub.publish_data(
+                    {
+                        "header": {"frame_id": "laser"},
+                        "angle_min": 0.0,
+                        "angle_increment": 0.5,
+                        "range_max": 10.0,
+                        "ranges": [r] * 4,
+                    }
+                )
+            )
+
+        def drawn_x() -> float:
+            handle = display.handles.get("points")
+            return float(handle.points[0, 0]) if handle is not None else 0.0
+
+        scan(1.0)
+        wait_until(lambda: drawn_x() == 1.0, what="the first scan drawn")
+        handle = display.handles["points"]
+        scan(2.0)
+        wait_until(lambda: drawn_x() == 2.0, what="the second scan drawn")
+        assert display.handles["points"] is handle
+        assert handle.points.shape == (4, 3)
+        display.set_value("Style", "Points")
+        scan(3.0)
+        wait_until(lambda: drawn_x() == 3.0, what="the third scan drawn")
+        assert display.handles["points"] is not handle
+    finally:
+        viewer.close()
+        graph.shutdown()
+
+
 def test_a_growing_map_is_redrawn_as_it_grows() -> None:
     """The Map display shows the latest /map: a SLAM map that grows is drawn again (and a
     map that does not change is not rebuilt every frame)."""
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
     graph = Graph(sim_time=False)
-    viewer = Viewer(graph, port=port, fixed_frame="map")
+    viewer = Viewer(graph, port=_free_port(), fixed_frame="map")
     try:
         display = viewer.add_display("OccupancyGrid", "/map")
         pub = graph.create_node("slam").publisher("/map", "nav_msgs/OccupancyGrid", latch=True)

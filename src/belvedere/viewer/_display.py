@@ -64,6 +64,14 @@ class DisplayContext:
         return self.node.now_ns()
 
 
+def line_style(values: Mapping[str, Any]) -> dict[str, Any]:
+    """viser's line thickness for rviz's Line Style: "Lines" are one pixel wide whatever the
+    distance, "Billboards" are ``Line Width`` metres wide."""
+    if values.get("Line Style", "Lines") == "Billboards":
+        return {"thickness": float(values.get("Line Width", 0.03)), "thickness_units": "world"}
+    return {"thickness": 1.5, "thickness_units": "screen"}
+
+
 def color_tuple(value: Any) -> RGB:
     """A colour as rviz writes it (``"255; 0; 0"``) or as a sequence of three numbers."""
     try:

@@ -135,6 +135,12 @@ class _CloudDisplay(Display):
             if style == "Points"
             else float(self.values["Size (m)"])
         )
+        handle = self.handles.get("points")
+        if handle is not None:  # new points into the same node: a new node costs the browser
+            handle.points = pts.astype(np.float32)  # a material, and a software GL its shader
+            handle.colors = colors
+            self.keep("points", handle)
+            return
         handle = self.ctx.scene.add_point_cloud(
             f"{self.base}/points",
             pts.astype(np.float32),
@@ -148,6 +154,7 @@ class _CloudDisplay(Display):
 
     def changed(self, key: str) -> None:
         if key in ("Style", "Size (m)", "Size (Pixels)"):
+            self.forget("points")
             self.changed_since_drawn = True
 
     def reset(self) -> None:

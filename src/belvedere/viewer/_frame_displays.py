@@ -7,12 +7,13 @@ import math
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from belvedere.description.urdf import RobotModel
 from belvedere.errors import BelvedereError
 from belvedere.graph import NS
 from belvedere.tf import TFError, Transform, wxyz_from_xyzw
-from belvedere.viewer._display import Display, Prop
+from belvedere.viewer._display import Display, Prop, line_style
 from belvedere.viewer._robot import RobotDrawing
 from belvedere.viewer._status import Level
 
@@ -30,15 +31,24 @@ class _Unstamped(Display):
 
 
 class GridDisplay(_Unstamped):
+    """rviz's grid: lines, not a shader plane (a full-screen grid shader costs a software
+    renderer most of its frame rate)."""
+
     cls = "rviz/Grid"
     type_name = "Grid"
     props = (
         Prop("Reference Frame", FIXED, "frame"),
         Prop("Plane Cell Count", 10, "int", low=1, high=1000, step=1),
+        Prop("Normal Cell Count", 0, "int", low=0, high=1000, step=1),
         Prop("Cell Size", 1.0, "float", low=0.01, high=100.0, step=0.01),
+        Prop("Line Style", "Lines", "choice", ("Lines", "Billboards")),
+        Prop("Line Width", 0.03, "float", low=0.001, high=1.0),
         Prop("Color", (160, 160, 164), "color"),
         Prop("Alpha", 0.5, "float"),
         Prop("Plane", "XY", "choice", ("XY", "XZ", "YZ")),
+        Prop("X", 0.0, "float", low=-100.0, high=100.0),
+        Prop("Y", 0.0, "float", low=-100.0, high=100.0),
+        Prop("Z", 0.0, "float", low=-100.0, high=100.0),
     )
 
     def update(self, msg: Any, fixed: str) -> None:
@@ -47,23 +57,46 @@ class GridDisplay(_Unstamped):
             return
         handle = self.handles.get("grid")
         if handle is None:
-            size = float(self.values["Cell Size"]) * int(self.values["Plane Cell Count"])
-            color = tuple(self.values["Color"])
-            handle = self.ctx.scene.add_grid(
+            handle = self.ctx.scene.add_line_segments(
                 f"{self.base}/grid",
-                width=size,
-                height=size,
-                plane=str(self.values["Plane"]).lower(),
-                cell_size=float(self.values["Cell Size"]),
-                section_size=float(self.values["Cell Size"]),
-                cell_color=color,
-                section_color=color,
-                shadow_opacity=0.0,
+                self.segments(),
+                tuple(self.values["Color"]),
+                **line_style(self.values),
             )
         self.keep("grid", handle, pose)
 
+    def segments(self) -> npt.NDArray[np.float32]:
+        """The grid's lines (N, 2, 3) in its reference frame: ``Plane Cell Count`` cells each
+        way in the plane, stacked ``Normal Cell Count`` cells along its normal, as rviz's
+        ``rviz::Grid`` lays them out around the offset."""
+        cells, normal = int(self.values["Plane Cell Count"]), int(self.values["Normal Cell Count"])
+        size = float(self.values["Cell Size"])
+        half, depth = cells * size / 2, normal * size / 2
+        ticks = np.linspace(-half, half, cells + 1)
+        levels = np.linspace(-depth, depth, normal + 1)
+        lines: list[list[list[float]]] = []
+        for h in levels.tolist():
+            for t in ticks.tolist():
+                lines.append([[t, -half, h], [t, half, h]])
+                lines.append([[-half, t, h], [half, t, h]])
+        if normal > 0:  # the verticals joining the levels at every crossing
+            for a in ticks.tolist():
+                for b in ticks.tolist():
+                    lines.append([[a, b, -depth], [a, b, depth]])
+        segs = np.asarray(lines, dtype=np.float64)
+        axes = {"XY": (0, 1, 2), "XZ": (0, 2, 1), "YZ": (1, 2, 0)}[str(self.values["Plane"])]
+        placed = np.empty_like(segs)
+        placed[..., axes[0]], placed[..., axes[1]], placed[..., axes[2]] = (
+            segs[..., 0],
+            segs[..., 1],
+            segs[..., 2],
+        )
+        offset = np.array([float(self.values[k]) for k in ("X", "Y", "Z")])
+        placed_at: npt.NDArray[np.float32] = (placed + offset).astype(np.float32)
+        return placed_at
+
     def changed(self, key: str) -> None:
-        self.forget("grid")  # rebuilt with the new size or colour
+        self.forget("grid")  # rebuilt with the new size, style or colour
 
 
 class RobotModelDisplay(_Unstamped):

@@ -112,6 +112,12 @@ class Viewer:
             )
             raise ViewerError(msg)
         self.scene, self.gui = self.server.scene, self.server.gui
+        # rviz lights the scene with plain lights and draws no shadows; viser's image-based
+        # lighting and shadow pass cost a software renderer (no GPU) half its frame rate.
+        self.scene.configure_environment_map(None)
+        self.scene.configure_default_lights(True, cast_shadow=False)
+        # In their place, light every side a little, as rviz's ambient light does.
+        self.scene.add_light_ambient("/ambient_light", intensity=1.2)
         self.node: Node = graph.create_node("belvedere_viewer")
         self.tf = TransformListener(self.node)
         self.topics = GraphTopics(graph)
