@@ -469,7 +469,9 @@ class SubmapSlam:
         index = len(self.submaps)
         self.submaps.append(
             _Submap(
-                grid=FieldGrid(self.resolution, *self._field, saturation=self.tuning.field_saturation),
+                grid=FieldGrid(
+                    self.resolution, *self._field, saturation=self.tuning.field_saturation
+                ),
                 anchor=anchor,
                 free=FreeGrid(self.resolution * self.tuning.free_cells),
             )
