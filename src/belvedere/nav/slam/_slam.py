@@ -420,10 +420,10 @@ class SubmapSlam:
 
     def _covered(self, sub: _Submap, points: Array) -> npt.NDArray[np.bool_]:
         """Which points (submap frame) lie within the range the submap's keyframes mapped
-        to, less the field's reach: a wall seen on past the submap's edge ends there in the
-        field, and its tail would pull the scan's points back along the wall — with a short
-        ``maxUrange`` that pull, uneven between the two sides of a corridor, turns the
-        match a little every time."""
+        to: a wall seen on past that range ends there in the field, and the field's fading
+        tail pulls the points beyond back along the wall — with a short ``maxUrange`` that
+        pull, uneven between the two sides of a corridor, turned the match a little every
+        time (0.5° a metre at 2 m)."""
         reach = min(self.max_urange, self.max_range)
         if not len(sub.sensors):
             return np.ones(len(points), dtype=bool)
