@@ -37,6 +37,11 @@ def cloister() -> Recording:
 
 
 @pytest.fixture(scope="module")
+def cloister_default() -> Recording:
+    return simulated.record()
+
+
+@pytest.fixture(scope="module")
 def corridors() -> Recording:
     return corridor_loop.record(travel=TRAVEL, turn=TURN, creep=CREEP)
 
@@ -85,6 +90,20 @@ def test_look_alike_places_are_refused(cloister: Recording, max_urange: float) -
         # first submap's pillars better than their own place, which it barely saw
         assert slam.refused_closures >= 2
         assert _end_error(slam, cloister) < 0.5
+
+
+@pytest.mark.parametrize("max_urange", [2.0, 2.5, 3.0])
+def test_short_range_matching_keeps_its_heading(
+    cloister_default: Recording, max_urange: float
+) -> None:
+    # With the default drift (2 %, 3 %, 0.4°/m) and a 2 m maxUrange the matcher used to turn
+    # ~0.5° a metre on its own: the points past the range the submap had mapped fell on the
+    # fading ends of its walls and were dragged back along them (0.46 m, 4.6° mean error).
+    slam = _slam(cloister_default, maxUrange=max_urange)
+    assert slam.loop_closures == 0
+    xy, yaw = simulated.errors(slam.trajectory()[1], cloister_default.truth)
+    assert xy < 0.15
+    assert yaw < math.radians(1.5)
 
 
 def test_a_wrong_closure_past_the_gate_cannot_drag_the_trajectory(cloister: Recording) -> None:
