@@ -3,10 +3,13 @@ says so, and the viewer's Reset button brings it back."""
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import pytest
 
 from belvedere.description.urdf import RobotModel
-from belvedere.graph import Graph
+from belvedere.graph import Graph, graph_running
 from belvedere.packages import PackageIndex
 from belvedere.sim.kinematic import KinematicSimulation
 from belvedere.sim.physics import PhysicsSimulation
@@ -24,9 +27,11 @@ from tests.viewer.test_browser import (
     project,
     wait_for_pixel,
 )
-from tests.waiting import wait_until
+from tests.waiting import DEADLINE, wait_until
 
 pytestmark = pytest.mark.browser
+
+BELVEDERE = [sys.executable, "-m", "belvedere"]
 
 
 def test_robot_drives_in_the_viewer_and_resets() -> None:
@@ -94,3 +99,44 @@ def test_physics_world_and_robot_in_the_viewer() -> None:
     finally:
         viewer.close()
         graph.shutdown()
+
+
+def test_rosrun_rviz_beside_a_running_launch_shows_its_robot() -> None:
+    """``rosrun rviz rviz -d FILE`` while the course's ArbotiX launch runs (with its own
+    /rviz node) joins that launch's graph, under an anonymous name as rviz takes one: the
+    launch keeps running, and the new viewer draws the launch's robot_description and its
+    stamped odometry, in the launch's simulated time."""
+    arbotix = EXAMPLES / "mbot_description/launch/arbotix_mbot_with_laser_xacro.launch"
+    launch = [*BELVEDERE, "launch", "--headless", str(arbotix)]
+    config = EXAMPLES / "mbot_description/config/mbot_arbotix.rviz"
+    with subprocess.Popen(launch, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL) as running:
+        try:
+            wait_until(
+                lambda: graph_running() or running.poll() is not None, what="the launch's graph"
+            )
+            rviz = [
+                *BELVEDERE,
+                "run",
+                "--port",
+                str(_free_port()),
+                "rviz",
+                "rviz",
+                "-d",
+                str(config),
+            ]
+            with subprocess.Popen(rviz, stderr=subprocess.PIPE, text=True) as viewer:
+                try:
+                    assert viewer.stderr is not None
+                    lines = [viewer.stderr.readline() for _ in range(2)]
+                    assert "connected" in lines[0], lines  # joined, no graph of its own
+                    url = lines[1].removeprefix("viewer: ").strip()
+                    with browser_page(url) as page:
+                        page.get_by_text("✓ RobotModel (RobotModel)").wait_for()
+                        page.get_by_text("✓ Odometry (Odometry)").wait_for()  # /odom, stamped
+                    assert running.poll() is None, "the launch's /rviz was replaced"
+                finally:
+                    viewer.terminate()
+                    viewer.wait(timeout=DEADLINE)
+        finally:
+            running.terminate()
+            running.wait(timeout=DEADLINE)

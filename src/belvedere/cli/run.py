@@ -14,6 +14,7 @@ import argparse
 import os
 import shlex
 import subprocess
+import time
 from pathlib import Path
 
 import yaml
@@ -113,10 +114,14 @@ def run(args: argparse.Namespace) -> int:
             msg = f"package {package!r} has no executable {executable!r}"
             raise BelvedereError(msg, hint=f"belvedere has for {package}: {have}")
     plain, remaps, params, name, namespace = split_ros_args(words)
+    if name is None:
+        name = executable.removesuffix(".py")
+        if nodes.anonymous(package, executable):
+            name += f"_{time.time_ns()}"  # rosrun rviz rviz beside a launch's /rviz
     spec = LaunchNode(
         pkg=package,
         type=executable,
-        name=name or executable.removesuffix(".py"),
+        name=name,
         namespace="/" + (namespace or "").strip("/"),
         args=shlex.join(plain),
         output="screen",

@@ -21,6 +21,7 @@ __all__ = [
     "StartError",
     "Starter",
     "TransformClaim",
+    "anonymous",
     "end_node",
     "end_when",
     "executables",
@@ -167,12 +168,24 @@ def find(package: str, executable: str) -> Starter | None:
 def joins_running_graph(package: str, executable: str) -> bool:
     """Whether ``run`` starts ``executable`` on a graph that is already running (as a ROS
     client joins the master), rather than on a graph of its own: true for the nodes whose
-    module lists it in ``JOINING`` (map_saver, map_server…), not for simulators."""
+    module lists it in ``JOINING`` (rviz, map_saver, robot_state_publisher…), not for the
+    simulators, which make the graph's clock."""
+    return executable in _module_set(package, "JOINING")
+
+
+def anonymous(package: str, executable: str) -> bool:
+    """Whether ``executable`` names itself anonymously when nothing renames it (roscpp's
+    ``AnonymousName``: ``rosrun rviz rviz`` is ``/rviz_<nanoseconds>``), as the module's
+    ``ANONYMOUS`` says."""
+    return executable in _module_set(package, "ANONYMOUS")
+
+
+def _module_set(package: str, attribute: str) -> frozenset[str]:
     if package not in MODULES:
-        return False
+        return frozenset()
     module = importlib.import_module(f"belvedere.nodes.{MODULES[package]}")
-    joining: frozenset[str] = getattr(module, "JOINING", frozenset())
-    return executable in joining
+    found: frozenset[str] = getattr(module, attribute, frozenset())
+    return found
 
 
 def transforms(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:

@@ -43,6 +43,7 @@ from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster
 
 __all__ = [
     "EXECUTABLES",
+    "JOINING",
     "NODE_PARAMETERS",
     "PACKAGE",
     "TRANSFORMS",
@@ -530,4 +531,6 @@ def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
 EXECUTABLES: dict[str, Starter] = {
     "amcl": stopping_on_bad_values(lambda session, spec, node: _AmclNode(node))
 }
+JOINING = frozenset(EXECUTABLES)
+"""A client of the graph: ``run`` starts it on the graph that runs, as rosrun joins the master."""
 TRANSFORMS: dict[str, TransformClaim] = {"amcl": _claim}

@@ -27,7 +27,7 @@ from belvedere.nodes._registry import (
 )
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster, quat_xyzw_from_rpy
 
-__all__ = ["EXECUTABLES", "PACKAGE", "PARAMETERS", "TRANSFORMS"]
+__all__ = ["EXECUTABLES", "JOINING", "PACKAGE", "PARAMETERS", "TRANSFORMS"]
 
 PACKAGE = "fake_localization"
 
@@ -211,4 +211,6 @@ def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
 EXECUTABLES: dict[str, Starter] = {
     "fake_localization": stopping_on_bad_values(lambda session, spec, node: _FakeLocalization(node))
 }
+JOINING = frozenset(EXECUTABLES)
+"""A client of the graph: ``run`` starts it on the graph that runs, as rosrun joins the master."""
 TRANSFORMS: dict[str, TransformClaim] = {"fake_localization": _claim}

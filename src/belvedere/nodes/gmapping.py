@@ -40,6 +40,7 @@ from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster
 
 __all__ = [
     "EXECUTABLES",
+    "JOINING",
     "NODE_PARAMETERS",
     "PACKAGE",
     "TRANSFORMS",
@@ -296,4 +297,6 @@ def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
 EXECUTABLES: dict[str, Starter] = {
     "slam_gmapping": stopping_on_bad_values(lambda session, spec, node: _GMappingNode(node))
 }
+JOINING = frozenset(EXECUTABLES)
+"""A client of the graph: ``run`` starts it on the graph that runs, as rosrun joins the master."""
 TRANSFORMS: dict[str, TransformClaim] = {"slam_gmapping": _claim}

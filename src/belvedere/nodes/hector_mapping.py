@@ -32,7 +32,7 @@ from belvedere.nodes._registry import (
 from belvedere.nodes._slam import Processed, planar, stamp_ns
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster, TransformListener
 
-__all__ = ["EXECUTABLES", "PACKAGE", "PARAMETERS", "TRANSFORMS", "HectorCore"]
+__all__ = ["EXECUTABLES", "JOINING", "PACKAGE", "PARAMETERS", "TRANSFORMS", "HectorCore"]
 
 PACKAGE = "hector_mapping"
 
@@ -317,4 +317,6 @@ def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
 EXECUTABLES: dict[str, Starter] = {
     "hector_mapping": stopping_on_bad_values(lambda session, spec, node: _HectorNode(node))
 }
+JOINING = frozenset(EXECUTABLES)
+"""A client of the graph: ``run`` starts it on the graph that runs, as rosrun joins the master."""
 TRANSFORMS: dict[str, TransformClaim] = {"hector_mapping": _claim}

@@ -6,7 +6,7 @@ from belvedere.graph import Node
 from belvedere.nodes._registry import NodeSpec, Session, Starter
 from belvedere.tf import JointStatePublisher
 
-__all__ = ["EXECUTABLES", "PACKAGE", "start"]
+__all__ = ["EXECUTABLES", "JOINING", "PACKAGE", "start"]
 
 PACKAGE = "joint_state_publisher"
 
@@ -20,3 +20,5 @@ def start(session: Session, spec: NodeSpec, node: Node) -> None:
 
 
 EXECUTABLES: dict[str, Starter] = {"joint_state_publisher": start}
+JOINING = frozenset(EXECUTABLES)
+"""A client of the graph: ``run`` starts it on the graph that runs, as rosrun joins the master."""

@@ -63,7 +63,7 @@ from belvedere.nodes._registry import (
 )
 from belvedere.tf import TFBuffer, TFError, TransformListener
 
-__all__ = ["EXECUTABLES", "PACKAGE", "MoveBaseParams"]
+__all__ = ["EXECUTABLES", "JOINING", "PACKAGE", "MoveBaseParams"]
 
 PACKAGE = "move_base"
 
@@ -618,3 +618,5 @@ class _MoveBase:
 EXECUTABLES: dict[str, Starter] = {
     "move_base": stopping_on_bad_values(lambda session, spec, node: _MoveBase(node, session, spec))
 }
+JOINING = frozenset(EXECUTABLES)
+"""A client of the graph: ``run`` starts it on the graph that runs, as rosrun joins the master."""

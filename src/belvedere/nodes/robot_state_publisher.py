@@ -8,7 +8,7 @@ from belvedere.graph import Node
 from belvedere.nodes._registry import NodeSpec, Session, Starter
 from belvedere.tf import RobotStatePublisher
 
-__all__ = ["EXECUTABLES", "PACKAGE"]
+__all__ = ["EXECUTABLES", "JOINING", "PACKAGE"]
 
 PACKAGE = "robot_state_publisher"
 logger = logging.getLogger("belvedere.launch")
@@ -25,3 +25,5 @@ def _start(session: Session, spec: NodeSpec, node: Node) -> None:
 
 
 EXECUTABLES: dict[str, Starter] = {"robot_state_publisher": _start, "state_publisher": _start}
+JOINING = frozenset(EXECUTABLES)
+"""A client of the graph: ``run`` starts it on the graph that runs, as rosrun joins the master."""

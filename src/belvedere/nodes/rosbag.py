@@ -29,7 +29,7 @@ from belvedere.bags import (
 from belvedere.graph import Node
 from belvedere.nodes._registry import NodeSpec, Session, Starter, StartError, end_when
 
-__all__ = ["EXECUTABLES", "PACKAGE"]
+__all__ = ["ANONYMOUS", "EXECUTABLES", "JOINING", "PACKAGE"]
 
 PACKAGE = "rosbag"
 
@@ -72,3 +72,7 @@ def _play(session: Session, spec: NodeSpec, node: Node) -> None:
 
 
 EXECUTABLES: dict[str, Starter] = {"record": _record, "play": _play}
+JOINING = frozenset(EXECUTABLES)
+"""A client of the graph: ``run`` starts it on the graph that runs, as rosrun joins the master."""
+ANONYMOUS = frozenset({"record", "play"})
+"""Named as roscpp's ``AnonymousName`` names it when run without ``__name:=``."""

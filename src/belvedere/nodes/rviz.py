@@ -7,7 +7,7 @@ import shlex
 from belvedere.graph import Node
 from belvedere.nodes._registry import NodeSpec, Session, Starter
 
-__all__ = ["EXECUTABLES", "PACKAGE"]
+__all__ = ["ANONYMOUS", "EXECUTABLES", "JOINING", "PACKAGE"]
 
 PACKAGE = "rviz"
 
@@ -21,3 +21,7 @@ def _start(session: Session, spec: NodeSpec, node: Node) -> None:
 
 
 EXECUTABLES: dict[str, Starter] = {"rviz": _start}
+JOINING = frozenset(EXECUTABLES)
+"""A client of the graph: ``run`` starts it on the graph that runs, as rosrun joins the master."""
+ANONYMOUS = frozenset({"rviz"})
+"""Named as roscpp's ``AnonymousName`` names it when run without ``__name:=``."""

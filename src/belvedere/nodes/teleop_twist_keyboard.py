@@ -10,7 +10,7 @@ from belvedere.graph import Node
 from belvedere.msgs import types
 from belvedere.nodes._registry import NodeSpec, Session, Starter
 
-__all__ = ["EXECUTABLES", "PACKAGE"]
+__all__ = ["EXECUTABLES", "JOINING", "PACKAGE"]
 
 PACKAGE = "teleop_twist_keyboard"
 logger = logging.getLogger("belvedere.launch")
@@ -42,3 +42,5 @@ def _start(session: Session, spec: NodeSpec, node: Node) -> None:
 
 
 EXECUTABLES: dict[str, Starter] = {"teleop_twist_keyboard.py": _start}
+JOINING = frozenset(EXECUTABLES)
+"""A client of the graph: ``run`` starts it on the graph that runs, as rosrun joins the master."""

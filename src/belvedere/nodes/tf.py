@@ -8,7 +8,15 @@ from belvedere.graph import Node
 from belvedere.nodes._registry import NodeSpec, ParamLookup, Session, Starter, TransformClaim
 from belvedere.tf import parse_static_transform_args, static_transform_publisher
 
-__all__ = ["EXECUTABLES", "PACKAGE", "TRANSFORMS", "static_claim", "static_publisher"]
+__all__ = [
+    "ANONYMOUS",
+    "EXECUTABLES",
+    "JOINING",
+    "PACKAGE",
+    "TRANSFORMS",
+    "static_claim",
+    "static_publisher",
+]
 
 PACKAGE = "tf"
 
@@ -18,6 +26,10 @@ def static_publisher(session: Session, spec: NodeSpec, node: Node) -> None:
 
 
 EXECUTABLES: dict[str, Starter] = {"static_transform_publisher": static_publisher}
+JOINING = frozenset(EXECUTABLES)
+"""A client of the graph: ``run`` starts it on the graph that runs, as rosrun joins the master."""
+ANONYMOUS = frozenset({"static_transform_publisher"})
+"""Named as roscpp's ``AnonymousName`` names it when run without ``__name:=``."""
 
 
 def static_claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
