@@ -140,6 +140,8 @@ def test_a_new_scan_moves_the_points_of_the_same_cloud() -> None:
         wait_until(lambda: drawn_x() == 2.0, what="the second scan drawn")
         assert display.handles["points"] is handle
         assert handle.points.shape == (4, 3)
+        # rviz's 0.01 m default squares: viser draws a point of size s about 2 s wide
+        assert handle.point_size == pytest.approx(0.01 / 2)
         display.set_value("Style", "Points")
         scan(3.0)
         wait_until(lambda: drawn_x() == 3.0, what="the third scan drawn")

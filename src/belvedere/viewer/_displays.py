@@ -130,11 +130,13 @@ class _CloudDisplay(Display):
         if len(pts) == 0:
             pts, colors = np.zeros((1, 3)), np.zeros((1, 3), dtype=np.uint8)
         style = self.values["Style"]
+        # viser draws a point of size s about 2 s wide on screen (its scale lacks the frustum's
+        # factor 2): half of rviz's width gives rviz's squares.
         size = (
             float(self.values["Size (Pixels)"]) * 0.005
             if style == "Points"
             else float(self.values["Size (m)"])
-        )
+        ) / 2
         handle = self.handles.get("points")
         if handle is not None:  # new points into the same node: a new node costs the browser
             handle.points = pts.astype(np.float32)  # a material, and a software GL its shader
