@@ -221,3 +221,22 @@ def test_output_on_a_full_disk_keeps_the_old_file(
     assert err == (f"error: cannot write {out}: No space left on device; {out} is unchanged\n")
     assert out.read_text() == "previous"
     assert sorted(p.name for p in full_disk.iterdir()) == ["robot.urdf"]
+
+
+def test_a_thread_that_never_ends_does_not_hang_the_command() -> None:
+    """Once the verb is done, a thread still running (a library's, a bug's) does not keep
+    the command alive: after SHUTDOWN_S it prints every thread's stack and exits 1."""
+    code = (
+        "import sys, threading, time\n"
+        "import belvedere.cli as cli\n"
+        "cli.SHUTDOWN_S = 0.5\n"
+        "threading.Thread(target=time.sleep, args=(600,), name='stuck').start()\n"
+        "sys.argv = ['belvedere', '--version']\n"
+        "cli.console()\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=60, check=False
+    )
+    assert done.returncode == 1
+    assert "Timeout (0:00:00.500000)!" in done.stderr
+    assert "most recent call first" in done.stderr

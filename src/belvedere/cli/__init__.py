@@ -10,10 +10,12 @@ from __future__ import annotations
 import argparse
 import atexit
 import contextlib
+import faulthandler
 import gc
 import importlib
 import logging
 import os
+import signal
 import sys
 import threading
 from collections.abc import Iterator, Sequence
@@ -148,14 +150,28 @@ def console() -> NoReturn:
     freeing the process at once), and a Zenoh thread still delivering a sample (another
     graph's ``/clock``) when it starts aborts the process ("FATAL: exception not
     rethrown")."""
+    signal.signal(signal.SIGINT, _interrupted)
     code = main()
     gc.freeze()
+    # Nothing hangs: a thread that does not end is named (its stack) and the process ends.
+    faulthandler.dump_traceback_later(SHUTDOWN_S, exit=True)
     threading._shutdown()  # type: ignore[attr-defined]
     atexit._run_exitfuncs()
     for stream in (sys.stdout, sys.stderr):
         with contextlib.suppress(OSError, ValueError):  # a closed pipe, a closed stream
             stream.flush()
     os._exit(code)
+
+
+SHUTDOWN_S = 20.0
+"""How long ending may take once asked to (Ctrl-C, or the verb is done) before the process
+prints every thread's stack and exits."""
+
+
+def _interrupted(signum: int, frame: object) -> None:
+    """Ctrl-C: end as Python would (KeyboardInterrupt), but never wait forever for it."""
+    faulthandler.dump_traceback_later(SHUTDOWN_S, exit=True)
+    raise KeyboardInterrupt
 
 
 def main(argv: Sequence[str] | None = None) -> int:
