@@ -188,3 +188,71 @@ def test_a_growing_map_is_redrawn_as_it_grows() -> None:
     finally:
         viewer.close()
         graph.shutdown()
+
+
+def test_markers_expire_follow_locked_frames_and_are_deleted() -> None:
+    """A Marker with a lifetime goes when it is over (graph time, from its arrival); a
+    frame_locked one moves with its frame; DELETE removes one (rviz's rules)."""
+    graph = Graph(sim_time=True)
+    viewer = Viewer(graph, port=_free_port(), fixed_frame="map")
+    try:
+        display = viewer.add_display("Marker", "/visualization_marker")
+        node = graph.create_node("markers")
+        pub = node.publisher("/visualization_marker", "visualization_msgs/Marker")
+        tf = node.publisher("/tf", "tf2_msgs/TFMessage")
+
+        def base_at(x: float) -> None:
+            now = node.now_ns()
+            tf.publish_data(
+                {
+                    "transforms": [
+                        {
+                            "header": {"frame_id": "map", "stamp": [now // 10**9, now % 10**9]},
+                            "child_frame_id": "base",
+                            "transform": {"translation": {"x": x}, "rotation": {"w": 1.0}},
+                        }
+                    ]
+                }
+            )
+
+        def marker(ident: int, **fields: object) -> None:
+            now = node.now_ns()
+            pub.publish_data(
+                {
+                    "header": {"frame_id": "base", "stamp": [now // 10**9, now % 10**9]},
+                    "ns": "n",
+                    "id": ident,
+                    "type": 1,
+                    "scale": {"x": 0.1, "y": 0.1, "z": 0.1},
+                    "color": {"r": 1.0, "a": 1.0},
+                    "pose": {"position": {"y": 0.5}, "orientation": {"w": 1.0}},
+                    **fields,
+                }
+            )
+
+        def at(key: str) -> tuple[float, ...]:
+            handle = display.handles.get(key)
+            return tuple(handle.position) if handle is not None else ()
+
+        base_at(1.0)
+        graph.run(duration=0.1)
+        marker(1, lifetime={"sec": 1})
+        marker(2, frame_locked=True)
+        marker(3)
+        base_at(1.0)  # a transform after their stamp: the message filter lets them through
+        graph.run(duration=0.1)
+        # (the viewer's render thread draws them)
+        wait_until(lambda: {"n/1", "n/2", "n/3"} <= set(display.handles), what="3 markers")
+        wait_until(lambda: at("n/2") == pytest.approx((1.0, 0.5, 0.0)), what="n/2 at x = 1")
+        base_at(3.0)
+        graph.run(duration=1.2)
+        base_at(3.0)  # past the first marker's lifetime
+        wait_until(lambda: "n/1" not in display.handles, what="n/1 gone after its lifetime")
+        wait_until(lambda: at("n/2") == pytest.approx((3.0, 0.5, 0.0)), what="n/2 moved along")
+        assert at("n/3") == pytest.approx((1.0, 0.5, 0.0))  # not locked: stays
+        marker(3, action=2)
+        graph.run(duration=0.1)
+        wait_until(lambda: "n/3" not in display.handles, what="n/3 deleted")
+    finally:
+        viewer.close()
+        graph.shutdown()

@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from belvedere.graph import NS
 from belvedere.tf import Transform
 from belvedere.viewer._display import Display, Prop, transform_points
 from belvedere.viewer._displays import msg_pose
@@ -208,7 +209,7 @@ class PointStampedDisplay(Display):
             f"{self.base}/points",
             np.array(self.history, dtype=np.float32),
             tuple(self.values["Color"]),
-            point_size=2 * float(self.values["Radius"]),
+            point_size=float(self.values["Radius"]),  # viser: about 2 s wide
             point_shape="circle",
             precision="float32",
         )
@@ -223,19 +224,51 @@ class MarkerDisplay(Display):
     msg_type = "visualization_msgs/Marker"
     default_topic = "/visualization_marker"
 
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        self.expiry: dict[str, int] = {}
+        """Markers with a lifetime: when (graph time, ns) they go, as rviz drops them."""
+        self.locked: dict[str, tuple[str, Transform]] = {}
+        """frame_locked markers: their frame and pose in it, moved with the frame each frame."""
+        super().__init__(*args, **kwargs)
+
     def draw(self, msg: Any, pose: Transform) -> None:
         self.draw_marker(msg, pose)
+
+    def tick(self, fixed: str) -> None:
+        now = self.ctx.now_ns()
+        for key, when in list(self.expiry.items()):
+            if now >= when:
+                self.drop(key)
+        for key, (frame, in_frame) in list(self.locked.items()):
+            pose = self.latest_pose(frame, fixed)
+            handle = self.handles.get(key)
+            if pose is not None and handle is not None:
+                self.keep(key, handle, pose @ in_frame)
+
+    def drop(self, key: str) -> None:
+        self.forget(key)
+        self.expiry.pop(key, None)
+        self.locked.pop(key, None)
 
     def draw_marker(self, m: Any, pose: Transform) -> None:
         key = f"{m.ns}/{m.id}"
         if m.action == 3:  # DELETEALL
             for k in list(self.handles):
-                self.forget(k)
+                self.drop(k)
             return
         if m.action == 2:  # DELETE
-            self.forget(key)
+            self.drop(key)
             return
         where = pose @ msg_pose(m.pose)
+        lifetime = int(m.lifetime.sec) * NS + int(m.lifetime.nanosec)
+        if lifetime > 0:  # from when it came, as rviz counts it
+            self.expiry[key] = self.ctx.now_ns() + lifetime
+        else:
+            self.expiry.pop(key, None)
+        if m.frame_locked:
+            self.locked[key] = (str(m.header.frame_id), msg_pose(m.pose))
+        else:
+            self.locked.pop(key, None)
         color = (round(m.color.r * 255), round(m.color.g * 255), round(m.color.b * 255))
         opacity = m.color.a if m.color.a < 1 else None
         name = f"{self.base}/{key}"
@@ -251,8 +284,8 @@ class MarkerDisplay(Display):
             pts = np.array([[p.x, p.y, p.z] for p in m.points], dtype=np.float32)
             if m.type in (6, 7, 8):  # cubes, spheres, points: as points of the scale's size
                 h = scene.add_point_cloud(
-                    name, pts, color, point_size=max(s[0], 0.01), precision="float32"
-                )
+                    name, pts, color, point_size=max(s[0], 0.01) / 2, precision="float32"
+                )  # viser draws a point of size s about 2 s wide
             else:
                 segs = (
                     np.stack([pts[:-1], pts[1:]], axis=1)
