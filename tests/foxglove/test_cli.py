@@ -95,6 +95,25 @@ def test_sim_serves_its_topics_and_takes_cmd_vel_from_foxglove(
         served.stop()
 
 
+def test_display_serves_the_joint_states_its_sliders_publish(endpoint: str) -> None:
+    """``belvedere display MODEL --foxglove 0``: the model's joint states and transforms
+    (what its sliders and robot_state_publisher publish) reach Foxglove."""
+    served = Served("display", MBOT, "--port", "0", "--foxglove", "0")
+    try:
+        client = FoxgloveClient(served.url)
+        joints = client.channel("/joint_states")
+        assert joints["schemaName"] == "sensor_msgs/JointState"
+        assert client.channel("/tf_static")["schemaName"] == "tf2_msgs/TFMessage"
+        sub = client.subscribe("/joint_states")
+        decode = ros1_decoder(joints)
+        first = client.wait(lambda: client.received(sub), what="joint states")[0]
+        names = plain(decode(first.data))["name"]
+        assert {"left_wheel_joint", "right_wheel_joint"} <= set(names)
+        client.close()
+    finally:
+        served.stop()
+
+
 def test_the_foxglove_verb_serves_a_running_simulation(endpoint: str) -> None:
     graph = Graph(sim_time=True, transport=ZenohTransport())
     node = graph.create_node("laser")
