@@ -142,6 +142,7 @@ def test_a_new_scan_moves_the_points_of_the_same_cloud() -> None:
         assert handle.points.shape == (4, 3)
         # rviz's 0.01 m default squares: viser draws a point of size s about 2 s wide
         assert handle.point_size == pytest.approx(0.01 / 2)
+        assert np.asarray(handle.colors).reshape(-1).tolist() == [255, 0, 0]  # rviz's flat red
         display.set_value("Style", "Points")
         scan(3.0)
         wait_until(lambda: drawn_x() == 3.0, what="the third scan drawn")
@@ -253,6 +254,43 @@ def test_markers_expire_follow_locked_frames_and_are_deleted() -> None:
         marker(3, action=2)
         graph.run(duration=0.1)
         wait_until(lambda: "n/3" not in display.handles, what="n/3 deleted")
+    finally:
+        viewer.close()
+        graph.shutdown()
+
+
+def test_tf_hides_a_frame_that_stopped_after_frame_timeout() -> None:
+    """rviz's Frame Timeout: a frame whose transform stopped coming is not drawn once the
+    timeout has passed; a static frame stays."""
+    graph = Graph(sim_time=True)
+    viewer = Viewer(graph, port=_free_port(), fixed_frame="map")
+    try:
+        tf_display = viewer.add_display("TF", values={"Frame Timeout": 2.0})
+        node = graph.create_node("frames")
+        tf = node.publisher("/tf", "tf2_msgs/TFMessage")
+        static = node.publisher("/tf_static", "tf2_msgs/TFMessage", latch=True)
+
+        def transform(child: str) -> dict[str, object]:
+            now = node.now_ns()
+            return {
+                "header": {"frame_id": "map", "stamp": [now // 10**9, now % 10**9]},
+                "child_frame_id": child,
+                "transform": {"translation": {"x": 1.0}, "rotation": {"w": 1.0}},
+            }
+
+        static.publish_data({"transforms": [transform("fixed")]})
+        ticker = node.timer(0.1, lambda: tf.publish_data({"transforms": [transform("moving")]}))
+        graph.run(duration=1.0)
+
+        def shown(frame: str) -> bool:
+            handle = tf_display.handles.get(f"frame:{frame}")
+            return handle is not None and bool(handle.visible)
+
+        wait_until(lambda: shown("moving") and shown("fixed"), what="both frames drawn")
+        ticker.cancel()
+        graph.run(duration=3.0)  # past the timeout
+        wait_until(lambda: not shown("moving"), what="the stopped frame hidden")
+        assert shown("fixed")
     finally:
         viewer.close()
         graph.shutdown()

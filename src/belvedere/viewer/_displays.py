@@ -76,6 +76,8 @@ class _CloudDisplay(Display):
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         self.clouds: deque[tuple[int, F64, U8]] = deque()
         self.changed_since_drawn = False
+        self.painted: tuple[int, ...] | None = None
+        """The one colour the drawn cloud has (None: a colour per point)."""
         super().__init__(*args, **kwargs)
 
     def points(self, msg: Any) -> tuple[F64, F64 | None, U8 | None]:
@@ -137,16 +139,25 @@ class _CloudDisplay(Display):
             if style == "Points"
             else float(self.values["Size (m)"])
         ) / 2
+        # One colour for all (FlatColor) is the material's, not a colour per point: the
+        # browser then keeps its material while the points change.
+        flat = bool((colors == colors[0]).all())
+        paint: Any = tuple(int(c) for c in colors[0]) if flat else colors
         handle = self.handles.get("points")
-        if handle is not None:  # new points into the same node: a new node costs the browser
-            handle.points = pts.astype(np.float32)  # a material, and a software GL its shader
-            handle.colors = colors
+        if handle is not None and (
+            (flat and paint == self.painted)
+            or (not flat and self.painted is None and len(pts) == len(handle.points))
+        ):  # new points into the same node (points and colours always of one length)
+            if not flat:
+                handle.colors = colors
+            handle.points = pts.astype(np.float32)
             self.keep("points", handle)
             return
+        self.painted = paint if flat else None
         handle = self.ctx.scene.add_point_cloud(
             f"{self.base}/points",
             pts.astype(np.float32),
-            colors,
+            paint,
             point_size=size,
             point_shape="circle" if style in ("Points", "Spheres") else "square",
             point_shading="gradient" if style == "Spheres" else "flat",

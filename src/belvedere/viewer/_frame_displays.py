@@ -216,7 +216,23 @@ class TFDisplay(_Unstamped):
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         self.frames: dict[str, tuple[Any, Any]] = {}
+        self.updated: dict[str, tuple[int, int]] = {}
+        """frame → (its latest time to the fixed frame, when (graph ns) that last changed)"""
         super().__init__(*args, **kwargs)
+
+    def alive(self, frame: str, fixed: str) -> bool:
+        """rviz's Frame Timeout: a frame whose transform to the fixed frame has not moved on
+        for that long is dead and not drawn (static ones never die)."""
+        now = self.ctx.now_ns()
+        try:
+            latest = self.ctx.buffer.latest_common_time(fixed, frame)
+        except TFError:
+            return False
+        seen, since = self.updated.get(frame, (-1, now))
+        if latest != seen or latest == 0:
+            since = now
+        self.updated[frame] = (latest, since)
+        return now - since <= float(self.values["Frame Timeout"]) * NS
 
     def update(self, msg: Any, fixed: str) -> None:
         buffer = self.ctx.buffer
@@ -228,6 +244,11 @@ class TFDisplay(_Unstamped):
             try:
                 t = buffer.lookup_transform(fixed, frame)
             except TFError:
+                continue
+            if frame != fixed and not self.alive(frame, fixed):
+                pair = self.frames.get(frame)
+                if pair is not None:
+                    pair[0].visible = pair[1].visible = False
                 continue
             where[frame] = t
             pair = self.frames.get(frame)
@@ -244,6 +265,7 @@ class TFDisplay(_Unstamped):
             axes.wxyz = wxyz_from_xyzw(t.quat_xyzw)
             axes.scale = scale
             axes.show_axes = show_axes
+            axes.visible = True
             label.visible = show_names
         if self.values["Show Arrows"]:
             for frame, t in where.items():
@@ -252,13 +274,21 @@ class TFDisplay(_Unstamped):
                     arrows.append((t.translation, where[parent].translation))
         if arrows:
             segs = np.array(arrows, dtype=np.float32)
-            handle = self.ctx.scene.add_line_segments(
-                f"{self.base}/arrows", segs, (255, 220, 0), thickness=0.004 * math.sqrt(scale)
-            )
+            handle = self.handles.get("arrows")
+            if handle is not None and handle.points.shape == segs.shape:
+                handle.points = segs  # moved in place: a new node each frame costs the browser
+            else:
+                handle = self.ctx.scene.add_line_segments(
+                    f"{self.base}/arrows", segs, (255, 220, 0), thickness=0.004 * math.sqrt(scale)
+                )
             self.keep("arrows", handle)
         else:
             self.forget("arrows")
         self.status.set("Frames", Level.OK, f"{len(where)} frames")
+
+    def changed(self, key: str) -> None:
+        if key == "Marker Scale":
+            self.forget("arrows")  # rebuilt with the new thickness
 
     def remove(self) -> None:
         super().remove()
