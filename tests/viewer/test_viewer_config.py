@@ -145,27 +145,59 @@ def test_saved_config_reads_back_the_same(viewer: Viewer, tmp_path: Path) -> Non
     entries = list(config.walk())
     assert [(d.cls, d.name, d.enabled) for d in entries] == [
         ("rviz/Grid", "Grid", True),
+        ("rviz/Group", "Navigation", True),
         ("rviz/Map", "Costmap", True),
         ("rviz/Path", "Plan", True),
         ("rviz/LaserScan", "Front laser", True),
         ("rviz/Image", "Camera view", True),
         ("rviz_plugins/Fancy", "Fancy", True),
     ]
-    laser = entries[3]
+    laser = entries[4]
     assert (laser.topic, laser.number("Decay Time"), laser.number("Size (m)")) == (
         "/scan",
         5.0,
         0.05,
     )
-    plan = entries[2]
+    plan = entries[3]
     assert plan.get("Line Style/Line Width") == pytest.approx(0.1)
     assert plan.get("Line Style") == "Billboards"
     assert plan.color() == (0, 0, 255)
-    assert entries[4].topic == "/camera/image_raw"
-    assert entries[5].properties["Whatever"] == 3
+    assert entries[5].topic == "/camera/image_raw"
+    assert entries[6].properties["Whatever"] == 3
     assert (config.fixed_frame, config.background, config.frame_rate) == ("map", (10, 20, 30), 20)
     assert config.view.cls == "rviz/TopDownOrtho"
     assert config.document["Panels"][0]["Class"] == "rviz/Displays"  # kept as it was
+    # the group is written again, around the displays it had
+    group = config.displays[1]
+    assert (group.cls, group.name, group.enabled) == ("rviz/Group", "Navigation", True)
+    assert [d.name for d in group.children] == ["Costmap", "Plan"]
+    assert [d.name for d in config.displays] == [
+        "Grid",
+        "Navigation",
+        "Front laser",
+        "Camera view",
+        "Fancy",
+    ]
+
+
+def test_a_disabled_group_keeps_its_displays_own_flags(tmp_path: Path) -> None:
+    """Displays inside a disabled group are off, and saved with their own Enabled flags."""
+    path = tmp_path / "group.rviz"
+    on, off = (f"      Enabled: {flag}\n      Name: Navigation" for flag in ("true", "false"))
+    path.write_text(CONFIG.replace(on, off))
+    graph = Graph(sim_time=False)
+    v = Viewer(graph, port=_port(), rviz=read_rviz(path), rviz_path=path)
+    try:
+        assert [d.enabled for d in v.displays if d.name in ("Costmap", "Plan")] == [False, False]
+        group = read_rviz(v.save_config(tmp_path / "saved.rviz")).displays[1]
+        assert (group.name, group.enabled) == ("Navigation", False)
+        assert [(d.name, d.enabled) for d in group.children] == [
+            ("Costmap", True),
+            ("Plan", False),
+        ]
+    finally:
+        v.close()
+        graph.shutdown()
 
 
 @pytest.fixture(scope="module")

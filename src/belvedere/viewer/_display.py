@@ -141,6 +141,8 @@ class Display:
         self.subscription: Subscription | None = None
         self.source: Any = None
         """The ``.rviz`` entry it was read from (kept when the config is saved again)."""
+        self.groups: tuple[Any, ...] = ()
+        """The ``rviz/Group`` entries (outermost first) the display was read inside."""
         self.fixed = ""
         """The fixed frame of the last frame drawn."""
         if self.msg_type:

@@ -408,15 +408,19 @@ class Viewer:
         if rviz.background is not None:
             self.set_background(rviz.background)
 
-    def add_config_display(self, d: RvizDisplay, *, enabled: bool = True) -> list[Display]:
+    def add_config_display(
+        self, d: RvizDisplay, *, enabled: bool = True, groups: tuple[RvizDisplay, ...] = ()
+    ) -> list[Display]:
         """The displays of an ``.rviz`` config entry (a group's, in order): class, name,
         Enabled flag and values; a class we do not draw is listed with an Error status
-        naming it."""
+        naming it. Each remembers its groups, so a saved config has them again."""
         if d.cls == "rviz/Group":
             return [
                 shown
                 for child in d.children
-                for shown in self.add_config_display(child, enabled=enabled and d.enabled)
+                for shown in self.add_config_display(
+                    child, enabled=enabled and d.enabled, groups=(*groups, d)
+                )
             ]
         found = display_type(d.cls)
         values = _flat(d.properties)
@@ -437,6 +441,7 @@ class Viewer:
                 enabled=enabled and d.enabled,
             )
         display.source = d
+        display.groups = groups
         self._register(display)
         return [display]
 
@@ -449,7 +454,7 @@ class Viewer:
             background=color_tuple(self.background.value),
             frame_rate=round(self.rate_hz),
             default_light=base.default_light,
-            displays=[_config_display(d) for d in self.displays],
+            displays=_grouped(self.displays),
             view=base.view,
             saved_views=base.saved_views,
             document=base.document,
@@ -660,15 +665,40 @@ def _flat(properties: Mapping[str, Any]) -> dict[str, Any]:
     return flat
 
 
+def _grouped(displays: list[Display]) -> list[RvizDisplay]:
+    """The displays' config entries, inside the groups they were read in (a group is written
+    where its first remaining display is; one emptied by removals is left out)."""
+    top: list[RvizDisplay] = []
+    made: dict[int, RvizDisplay] = {}
+    for display in displays:
+        siblings = top
+        for group in display.groups:
+            entry = made.get(id(group))
+            if entry is None:
+                entry = made[id(group)] = RvizDisplay(
+                    cls=group.cls,
+                    name=group.name,
+                    enabled=group.enabled,
+                    properties=dict(group.properties),
+                    children=[],
+                )
+                siblings.append(entry)
+            siblings = entry.children
+        siblings.append(_config_display(display))
+    return top
+
+
 def _config_display(display: Display) -> RvizDisplay:
     """A display as its config entry: the one it was read from (keeping what we do not
     model, and where nested values sit), updated with the values it has now."""
     source: RvizDisplay | None = display.source
     cls = display.rviz_class
+    # Inside a disabled group a display is off whatever its own flag: keep the file's flag.
+    off_by_group = not all(g.enabled for g in display.groups)
     entry = RvizDisplay(
         cls=cls,
         name=display.name,
-        enabled=display.enabled,
+        enabled=source.enabled if off_by_group and source is not None else display.enabled,
         properties=dict(source.properties) if source is not None else {},
         children=[],
     )
