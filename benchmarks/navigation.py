@@ -176,13 +176,38 @@ def _run(name: str, count: int, seed: int, tmp: Path) -> dict[str, Any]:
             and turn <= float(local["yaw_goal_tolerance"]) * 1.5
         )
         rows.append((ok and within, took, driven, shortest, clearance, error, turn))
+        status = GoalStatus(client.status.get(goal, GoalStatus.LOST)).name
+        print(
+            f"  goal {len(rows):2d} ({x:6.2f}, {y:6.2f}, {math.degrees(yaw):6.1f} deg): "
+            f"{'reached' if ok and within else 'MISSED '} {status:<9} {took:6.1f} s, "
+            f"off {error:.3f} m / {math.degrees(turn):5.1f} deg",
+            flush=True,
+        )
     wall = time.perf_counter() - wall_started
     graph.shutdown()
     return {"rows": rows, "wall": wall, "sim": graph.now_ns() / 1e9, "local": local, "grid": grid}
 
 
+def _config(setup: dict[str, Any], name: str) -> dict[str, Any]:
+    folder = (EXAMPLES / setup["params"]).parent
+    data = load_yaml_file(folder / f"{name}.yaml").data
+    return data if isinstance(data, dict) else {}
+
+
+def _footprint(setup: dict[str, Any]) -> npt.NDArray[np.float64]:
+    """The costmaps' footprint: ``footprint`` when given, else a circle of ``robot_radius``."""
+    common = _config(setup, "costmap_common_params")
+    if "footprint" in common:
+        return np.array(common["footprint"], dtype=np.float64)
+    radius = float(common.get("robot_radius", 0.46))
+    angles = np.linspace(0, math.tau, 16, endpoint=False)
+    return radius * np.column_stack([np.cos(angles), np.sin(angles)])
+
+
 def _planner_timing(setup: dict[str, Any], local_params: dict[str, Any]) -> tuple[float, float]:
-    """Median wall seconds of a global plan across the map and of a local planner cycle."""
+    """Median wall seconds of a global plan across the map and of a local planner cycle (on
+    the map's grid when the local costmap holds the static map, as the course's does, else on
+    a free window of its size)."""
     grid_map = load_map(EXAMPLES / setup["map"])
     costs = np.where(grid_map.data == 100, 254, np.where(grid_map.data < 0, 255, 0)).astype(
         np.uint8
@@ -200,17 +225,21 @@ def _planner_timing(setup: dict[str, Any], local_params: dict[str, Any]) -> tupl
         plan = planner.plan(grid, start, far)
         times.append(time.perf_counter() - t)
     assert plan is not None
+    frequency = float(_config(setup, "base_local_planner_params").get("controller_frequency", 20))
     controller = make_local_planner(
-        "base_local_planner/TrajectoryPlannerROS", {"controller_frequency": 5.0, **local_params}
+        "base_local_planner/TrajectoryPlannerROS",
+        {"controller_frequency": frequency, **local_params},
     )
     controller.set_plan(plan)
-    window = CostGrid(np.zeros((120, 120), dtype=np.uint8), 0.05, start[0] - 3.0, start[1] - 3.0)
-    footprint = np.array(
-        [
-            [0.2 * math.cos(a), 0.2 * math.sin(a)]
-            for a in np.linspace(0, math.tau, 16, endpoint=False)
-        ]
-    )
+    local = _config(setup, "local_costmap_params").get("local_costmap", {})
+    if local.get("static_map") and not local.get("rolling_window"):
+        window = grid
+    else:
+        side = round(float(local.get("width", 6.0)) / 0.05)
+        window = CostGrid(
+            np.zeros((side, side), dtype=np.uint8), 0.05, start[0] - 3.0, start[1] - 3.0
+        )
+    footprint = _footprint(setup)
     cycles = []
     for _ in range(20):
         t = time.perf_counter()
@@ -252,15 +281,17 @@ def main() -> int:
                 least = min(r[4] for r in rows)
                 radius = SETUPS[name]["radius"]
                 print(
-                    f"  least clearance from the map's walls: {least:.3f} m "
-                    f"(robot radius {radius} m): {'no contact' if least > radius else 'CONTACT'}"
+                    f"  least clearance from the map's wall cells (centres): {least:.3f} m "
+                    f"(the body's radius {radius} m): "
+                    f"{'no contact' if least > radius else 'CONTACT'}"
                 )
             print(
                 f"  {result['sim']:.0f} s simulated in {result['wall']:.0f} s wall "
                 f"(real-time factor {result['sim'] / result['wall']:.1f})"
             )
             plan_s, cycle_s = _planner_timing(SETUPS[name], result["local"])
-            frequency = 5.0 if name == "physics" else 3.0
+            params = _config(SETUPS[name], "base_local_planner_params")
+            frequency = float(params.get("controller_frequency", 20.0))
             print(
                 f"  global plan across the map: {plan_s * 1000:.1f} ms "
                 f"= {plan_s:.3f} of a 1 s planning period"

@@ -144,23 +144,46 @@ class YamlDocument:
         node = self.root
         best = self._mark(node)
         for key in keys:
-            child: yaml.Node | None = None
-            if isinstance(node, yaml.MappingNode):
-                for key_node, value_node in node.value:
-                    if isinstance(key_node, yaml.ScalarNode) and key_node.value == str(key):
-                        child = value_node
-                        break
-            elif (
-                isinstance(node, yaml.SequenceNode)
-                and isinstance(key, int)
-                and 0 <= key < len(node.value)
-            ):
-                child = node.value[key]
+            child = None if node is None else self._child(node, key)
             if child is None:
                 break
             node = child
             best = self._mark(node)
         return best
+
+    def location_within(self, start: SourceLocation, *keys: str | int) -> SourceLocation:
+        """Where the value at ``keys`` inside the value written at ``start`` (a line and
+        column of this document, as a parameter's source gives them) starts; ``start`` when
+        no value starts there, the nearest enclosing value when ``keys`` lead nowhere."""
+        stack = [self.root]
+        while stack:
+            node = stack.pop()
+            if node is None:
+                continue
+            here = self._mark(node)
+            if (here.line, here.col) == (start.line, start.col) and not isinstance(
+                node, yaml.ScalarNode
+            ):
+                for key in keys:
+                    child = self._child(node, key)
+                    if child is None:
+                        break
+                    node = child
+                return self._mark(node)
+            stack.extend(_children(node))
+        return start
+
+    @staticmethod
+    def _child(node: yaml.Node, key: str | int) -> yaml.Node | None:
+        if isinstance(node, yaml.MappingNode):
+            pairs: list[tuple[yaml.Node, yaml.Node]] = node.value
+            for key_node, value_node in pairs:
+                if isinstance(key_node, yaml.ScalarNode) and key_node.value == str(key):
+                    return value_node
+        elif isinstance(node, yaml.SequenceNode) and isinstance(key, int):
+            items: list[yaml.Node] = node.value
+            return items[key] if 0 <= key < len(items) else None
+        return None
 
     def _mark(self, node: yaml.Node | None) -> SourceLocation:
         if node is None:

@@ -6,6 +6,7 @@ move_base goals through actionlib, as the book's demos do."""
 from __future__ import annotations
 
 import math
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -94,3 +95,32 @@ def test_a_rospy_script_sends_actionlib_goals(tmp_path: Path) -> None:
     out = proc.stdout + proc.stderr
     assert "Goal ended: SUCCEEDED" in out, out[-2000:]
     assert "Reached 2 of 2 goals" in out, out[-2000:]
+
+
+def test_exploring_while_mapping_in_the_cloister(tmp_path: Path) -> None:
+    """The course's exploring_slam demo: the physics cloister, gmapping and move_base on its
+    growing map, and a rospy script sending actionlib goals along the south walk."""
+    launch = tmp_path / "exploring.launch"
+    launch.write_text(
+        "<launch>\n"
+        f'  <include file="{EXAMPLES}/mbot_gazebo/launch/mbot_laser_nav_gazebo.launch">\n'
+        '    <arg name="gui" value="false"/>\n'
+        "  </include>\n"
+        f'  <include file="{EXAMPLES}/mbot_navigation/launch/exploring_slam_demo.launch"/>\n'
+        '  <node pkg="mbot_navigation" type="exploring_slam.py" name="exploring_slam"\n'
+        '        output="screen" required="true"/>\n'
+        "</launch>\n"
+    )
+    proc = subprocess.run(
+        [*BELVEDERE, "launch", "--package-path", str(EXAMPLES), str(launch), "--headless"],
+        capture_output=True,
+        text=True,
+        timeout=DEADLINE * 6,
+        check=False,
+    )
+    out = proc.stdout + proc.stderr
+    assert "Reached 2 of 2 goals" in out, out[-3000:]
+    areas = [float(a) for a in re.findall(r"the map knows ([0-9.]+) m\^2", out)]
+    assert len(areas) == 2, out[-3000:]
+    # the map grew on the way from the first goal to the second
+    assert 0 < areas[0] < areas[1], areas

@@ -11,6 +11,7 @@ import math
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
 
 from belvedere.graph import ActionClient, GoalStatus, Graph
@@ -251,3 +252,89 @@ def test_oscillation_runs_the_recoveries_in_turn_then_aborts(
     assert len(recoveries) == 2
     assert "the robot is oscillating; recovery: conservative_reset" in recoveries[0]
     assert "the robot is oscillating; recovery: aggressive_reset" in recoveries[1]
+
+
+CUSTOM_RECOVERIES = """\
+recovery_behaviors:
+  - {name: conservative_reset, type: clear_costmap_recovery/ClearCostmapRecovery}
+  - {name: spin, type: rotate_recovery/RotateRecovery}
+  - name: last_reset
+    type: ClearCostmapRecovery
+conservative_reset: {layer_names: [obstacle_layer], reset_distance: 1.5}
+spin: {frequency: 10.0}
+"""
+
+
+def test_a_custom_recovery_list_runs_in_its_order_with_its_own_parameters(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    # clearing_rotation_allowed is false: it only prunes move_base's default list
+    graph = _recovering(tmp_path, CUSTOM_RECOVERIES)
+    try:
+        probe = graph.create_node("probe")
+        yaws: list[float] = []
+        probe.subscribe(
+            "/odom", "nav_msgs/Odometry", lambda m: yaws.append(_yaw(m.pose.pose.orientation))
+        )
+        client = ActionClient(probe, "/move_base", "move_base_msgs/MoveBase")
+        graph.run(duration=1.0)
+        with caplog.at_level(logging.INFO, logger="belvedere"):
+            goal = client.send_goal(_goal(20.0, 0.0, 0.0))  # off the map: no plan, ever
+            graph.run(duration=120.0, until=lambda: client.done(goal))
+    finally:
+        graph.shutdown()
+    assert client.status[goal] == GoalStatus.ABORTED
+    recoveries = [
+        line.split("; recovery: ")[1] for line in caplog.text.splitlines() if "; recovery: " in line
+    ]
+    assert recoveries == ["conservative_reset", "spin", "last_reset"]
+    # the spin turned the robot once around: its heading went through every quadrant
+    turned = np.unwrap(np.array(yaws))
+    assert turned.max() - turned.min() > 1.9 * math.pi
+    # conservative_reset names the pre-Hydro obstacle layer; last_reset keeps the default
+    # ["obstacles"], which no layer here is called
+    missing = [line for line in caplog.text.splitlines() if "cannot clear layer obstacles" in line]
+    assert missing
+    assert "cannot clear layer obstacle_layer" not in caplog.text
+
+
+def test_a_recovery_of_an_unknown_type_is_one_error_at_its_yaml_line(tmp_path: Path) -> None:
+    bad = CUSTOM_RECOVERIES.replace(
+        "type: ClearCostmapRecovery", "type: move_slow_and_clear/MoveSlowAndClear"
+    )
+    with pytest.raises(LaunchError) as caught:
+        _recovering(tmp_path, bad)
+    text = str(caught.value)
+    # the recoveries file has two lines of its own before the list (_recovering)
+    assert text.startswith(f"{tmp_path / 'recoveries.yaml'}:7:11: error: /move_base: parameter ")
+    assert "recovery_behaviors[2]: unknown recovery behavior type " in text
+    assert "'move_slow_and_clear/MoveSlowAndClear'" in text
+    assert (
+        "(supported: clear_costmap_recovery/ClearCostmapRecovery, rotate_recovery/RotateRecovery)"
+        in text
+    )
+    assert text.count("error:") == 1
+
+
+@pytest.mark.parametrize(
+    ("yaml_text", "where", "expected"),
+    [
+        ("recovery_behaviors: spin\n", ":3:21:", r"recovery_behaviors must be a list of"),
+        (
+            "recovery_behaviors:\n  - {name: a, type: rotate_recovery/RotateRecovery}\n"
+            "  - {name: a, type: rotate_recovery/RotateRecovery}\n",
+            ":5:12:",
+            r"recovery_behaviors\[1\]: the name 'a' is used twice",
+        ),
+        (
+            "recovery_behaviors:\n  - {name: a}\n",
+            ":4:5:",
+            r"recovery_behaviors\[0\] needs a type \(a string\), got None",
+        ),
+    ],
+)
+def test_a_malformed_recovery_list_is_one_error_at_its_line(
+    tmp_path: Path, yaml_text: str, where: str, expected: str
+) -> None:
+    with pytest.raises(LaunchError, match=rf"recoveries\.yaml{where} error: .*{expected}"):
+        _recovering(tmp_path, yaml_text)

@@ -3,13 +3,18 @@ says so, and the viewer's Reset button brings it back."""
 
 from __future__ import annotations
 
+import math
 import subprocess
 import sys
+from pathlib import Path
+from typing import Any
 
 import pytest
 
 from belvedere.description.urdf import RobotModel
 from belvedere.graph import Graph, graph_running
+from belvedere.launch import load_launch
+from belvedere.launch._runtime import LaunchRuntime
 from belvedere.packages import PackageIndex
 from belvedere.sim.kinematic import KinematicSimulation
 from belvedere.sim.physics import PhysicsSimulation
@@ -140,3 +145,52 @@ def test_rosrun_rviz_beside_a_running_launch_shows_its_robot() -> None:
         finally:
             running.terminate()
             running.wait(timeout=DEADLINE)
+
+
+def test_a_2d_nav_goal_clicked_in_the_browser_drives_move_base_there(tmp_path: Path) -> None:
+    """rbx1's fake TurtleBot with move_base on the blank map: the 2D Nav Goal tool, a click
+    on the floor for the position and a shift+click for the heading, and the robot drives
+    there in simulated time."""
+    launch = tmp_path / "fake_nav.launch"
+    launch.write_text(
+        "<launch>\n"
+        f'  <include file="{EXAMPLES}/rbx1_bringup/launch/fake_turtlebot.launch"/>\n'
+        f'  <include file="{EXAMPLES}/rbx1_nav/launch/fake_move_base_blank_map.launch"/>\n'
+        "</launch>\n"
+    )
+    packages = PackageIndex.from_environment(near=EXAMPLES / "rbx1_nav/package.xml")
+    graph = Graph()
+    LaunchRuntime(load_launch(launch, packages=packages), graph, packages, headless=True).start()
+    odom: list[Any] = []
+    graph.create_node("probe").subscribe(
+        "/odom", "nav_msgs/Odometry", lambda m: odom.append(m.pose.pose)
+    )
+    viewer = Viewer(graph, port=_free_port(), fixed_frame="map")
+    graph.start(rtf=4.0)
+    target, towards = (-0.6, -0.9), (-0.6, -0.4)  # facing +y: a quarter turn from the start
+
+    def arrived() -> bool:
+        if not odom:
+            return False
+        p, q = odom[-1].position, odom[-1].orientation
+        yaw = 2 * math.atan2(q.z, q.w)
+        return (
+            math.hypot(p.x - target[0], p.y - target[1]) < 0.15
+            and abs(math.remainder(yaw - math.pi / 2, math.tau)) < 0.15
+        )
+
+    try:
+        with browser_page(viewer.url) as page:
+            page.get_by_role("button", name="2D Nav Goal").click()
+            page.mouse.click(*project((*target, 0.0)))
+            page.keyboard.down("Shift")
+            page.mouse.click(*project((*towards, 0.0)))
+            page.keyboard.up("Shift")
+            wait_until(
+                arrived,
+                what="the robot at the clicked goal, facing the shift+click",
+                detail=lambda: odom[-1] if odom else None,
+            )
+    finally:
+        viewer.close()
+        graph.shutdown()

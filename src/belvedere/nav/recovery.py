@@ -1,5 +1,5 @@
-"""move_base's recovery behaviours over plain arrays: clear_costmap_recovery's parameters and
-rotate_recovery's decisions.
+"""move_base's recovery behaviours over plain arrays: the ``recovery_behaviors`` list,
+clear_costmap_recovery's parameters and rotate_recovery's decisions.
 
 rotate_recovery's decisions: move_base drives the turn, this says which
 way and how fast, and when the turn is done or blocked.
@@ -19,7 +19,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from enum import Enum
-from typing import Any
+from typing import Any, Final
 
 import numpy as np
 import numpy.typing as npt
@@ -29,15 +29,90 @@ from belvedere.nav.costmap import CostGrid
 from belvedere.nav.local import FootprintModel
 
 __all__ = [
+    "RECOVERY_TYPES",
     "ClearCostmapParams",
+    "RecoveryBehavior",
+    "RecoveryListError",
     "RotateOutcome",
     "RotateRecovery",
     "RotateRecoveryParams",
     "RotateStep",
     "first_collision",
+    "recovery_behaviors",
 ]
 
 Floats = npt.NDArray[np.float64]
+
+CLEAR_COSTMAP: Final = "clear_costmap_recovery/ClearCostmapRecovery"
+ROTATE: Final = "rotate_recovery/RotateRecovery"
+RECOVERY_TYPES: Final = (CLEAR_COSTMAP, ROTATE)
+"""The recovery behaviour plugins belvedere's move_base runs."""
+
+
+class RecoveryListError(ValueError):
+    """A bad ``recovery_behaviors`` list; ``keys`` lead from the list to the bad value
+    (entry index, then ``name`` or ``type``) so the caller can say its line."""
+
+    def __init__(self, message: str, *keys: str | int) -> None:
+        super().__init__(message)
+        self.keys = keys
+
+
+@dataclass(frozen=True)
+class RecoveryBehavior:
+    """One entry of move_base's ``recovery_behaviors``: its parameters live in ``~<name>/``."""
+
+    name: str
+    type: str
+    """A full plugin name, one of :data:`RECOVERY_TYPES`."""
+
+
+def _plugin_type(kind: str, index: int) -> str:
+    if kind in RECOVERY_TYPES:
+        return kind
+    # pluginlib accepts a bare class name when one declared class has it, as move_base does
+    matches = [full for full in RECOVERY_TYPES if full.rsplit("/", 1)[-1] == kind]
+    if len(matches) == 1:
+        return matches[0]
+    message = (
+        f"recovery_behaviors[{index}]: unknown recovery behavior type {kind!r} "
+        f"(supported: {', '.join(RECOVERY_TYPES)})"
+    )
+    raise RecoveryListError(message, index, "type")
+
+
+def recovery_behaviors(value: Any) -> tuple[RecoveryBehavior, ...]:
+    """move_base's ``recovery_behaviors`` parameter: a list of ``{name, type}`` maps with
+    distinct names and supported types (where ROS logs an error and falls back to its default
+    list, this is one error).
+
+    Raises:
+        RecoveryListError: naming the bad entry and what was expected."""
+    if not isinstance(value, list):
+        message = (
+            "recovery_behaviors must be a list of {name: ..., type: ...} maps, "
+            f"got {type(value).__name__} {value!r}"
+        )
+        raise RecoveryListError(message)
+    out: list[RecoveryBehavior] = []
+    for index, entry in enumerate(value):
+        if not isinstance(entry, dict):
+            message = (
+                f"recovery_behaviors[{index}] must be a map with a name and a type, got {entry!r}"
+            )
+            raise RecoveryListError(message, index)
+        for key in ("name", "type"):
+            if not isinstance(entry.get(key), str) or not entry[key]:
+                message = (
+                    f"recovery_behaviors[{index}] needs a {key} (a string), got {entry.get(key)!r}"
+                )
+                raise RecoveryListError(message, index, key if key in entry else "")
+        name = str(entry["name"])
+        if any(b.name == name for b in out):
+            message = f"recovery_behaviors[{index}]: the name {name!r} is used twice"
+            raise RecoveryListError(message, index, "name")
+        out.append(RecoveryBehavior(name, _plugin_type(str(entry["type"]), index)))
+    return tuple(out)
 
 
 @dataclass(frozen=True)
@@ -57,10 +132,16 @@ class ClearCostmapParams:
 
     @classmethod
     def from_mapping(
-        cls, name: str, own: Mapping[str, Any], reset_distance: float
+        cls, name: str, own: Mapping[str, Any], reset_distance: float | None = None
     ) -> ClearCostmapParams:
         """From the recovery's namespace ``name``; ``reset_distance`` is the one move_base
-        sets there for its default recoveries (over any value given)."""
+        sets there for its default recoveries (over any value given), else the namespace's
+        own (3 m by default)."""
+        if reset_distance is None:
+            reset_distance = ParamReader(own).number(3.0, "reset_distance")
+            if reset_distance < 0:
+                message = f"parameter {name}/reset_distance must not be negative"
+                raise ValueError(message)
         layers = own.get("layer_names", ["obstacles"])
         if not isinstance(layers, list) or not all(isinstance(n, str) for n in layers):
             message = f"parameter {name}/layer_names must be a list of layer names, got {layers!r}"

@@ -12,9 +12,10 @@ Each control cycle (``controller_frequency``, graph time) follows move_base's st
 planning (a plan from the robot to the goal; none for ``planner_patience`` → recoveries),
 controlling (the local planner's command, the goal reached within its tolerances → succeeded;
 no command for ``controller_patience`` or no progress of ``oscillation_distance`` in
-``oscillation_timeout`` → recoveries) and clearing (conservative reset, rotate_recovery's
-turn in place if ``clearing_rotation_allowed``, aggressive reset, the turn again; all tried
-→ aborted). With
+``oscillation_timeout`` → recoveries) and clearing (``~recovery_behaviors``, a list of
+``{name, type}`` with each behaviour's parameters under ``~<name>/``; by default conservative
+reset, rotate_recovery's turn in place if ``clearing_rotation_allowed``, aggressive reset,
+the turn again; all tried → aborted). With
 ``planner_frequency`` > 0 the plan is remade that often while controlling. The planners run on
 the graph's executor thread: in simulated time nothing moves while they think, so runs are
 deterministic.
@@ -22,6 +23,7 @@ deterministic.
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import math
 from collections.abc import Mapping
@@ -32,6 +34,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from belvedere.errors import BelvedereError
 from belvedere.graph import NS, ActionServer, GoalHandle, Node
 from belvedere.msgs import build, message_from_data, types
 from belvedere.nav.local import (
@@ -48,10 +51,13 @@ from belvedere.nav.planners import (
     make_global_planner,
 )
 from belvedere.nav.recovery import (
+    ROTATE,
     ClearCostmapParams,
+    RecoveryListError,
     RotateOutcome,
     RotateRecovery,
     RotateRecoveryParams,
+    recovery_behaviors,
 )
 from belvedere.nodes._costmap import Costmap2DROS
 from belvedere.nodes._registry import (
@@ -62,6 +68,7 @@ from belvedere.nodes._registry import (
     stopping_on_bad_values,
 )
 from belvedere.tf import TFBuffer, TFError, TransformListener
+from belvedere.yamlfile import load_yaml_file
 
 __all__ = ["EXECUTABLES", "JOINING", "PACKAGE", "MoveBaseParams"]
 
@@ -204,12 +211,10 @@ class _MoveBase:
         self.oscillation_pose: Floats | None = None
         self.oscillation_since = 0
         self.rotation: RotateRecovery | None = None
-        own = private.get("rotate_recovery", {}) if isinstance(private, dict) else {}
-        blp = private.get("TrajectoryPlannerROS", {}) if isinstance(private, dict) else {}
-        self.rotate_params = RotateRecoveryParams.from_mapping(
-            own if isinstance(own, dict) else {}, blp if isinstance(blp, dict) else {}
+        self.rotating = ""
+        self.recoveries = self._recoveries(
+            session, spec, private if isinstance(private, dict) else {}
         )
-        self.clearing = self._clearing_params(private if isinstance(private, dict) else {})
         self._warned: set[str] = set()
         self.global_costmap.start()
         self.local_costmap.start()
@@ -235,9 +240,60 @@ class _MoveBase:
             raise StartError(message, where) from None
         return planner
 
+    def _recoveries(
+        self, session: Session, spec: NodeSpec, private: Mapping[str, Any]
+    ) -> list[tuple[str, ClearCostmapParams | RotateRecoveryParams]]:
+        """The recovery behaviours in the order move_base runs them, each with its
+        parameters (``~<name>/``): ``~recovery_behaviors`` when given, else move_base's
+        defaults (conservative reset, a turn if ``clearing_rotation_allowed``, aggressive
+        reset, the turn again)."""
+        blp = private.get("TrajectoryPlannerROS", {})
+        blp = blp if isinstance(blp, dict) else {}
+
+        def own(name: str) -> dict[str, Any]:
+            values = private.get(name, {})
+            return values if isinstance(values, dict) else {}
+
+        if "recovery_behaviors" not in private:
+            rotate = RotateRecoveryParams.from_mapping(own("rotate_recovery"), blp)
+            clearing = self._clearing_params(private)
+            turn: list[tuple[str, ClearCostmapParams | RotateRecoveryParams]] = (
+                [("rotate_recovery", rotate)] if self.params.clearing_rotation_allowed else []
+            )
+            return [
+                ("conservative_reset", clearing["conservative_reset"]),
+                *turn,
+                ("aggressive_reset", clearing["aggressive_reset"]),
+                *turn,
+            ]
+        try:
+            listed = recovery_behaviors(private["recovery_behaviors"])
+        except RecoveryListError as err:
+            where = session.param_source(f"{spec.full_name}/recovery_behaviors") or spec.source
+            if where is not None and where.path.endswith((".yaml", ".yml")) and err.keys:
+                # (a file changed since the launch read it keeps the list's line)
+                with contextlib.suppress(BelvedereError):
+                    where = load_yaml_file(where.path).location_within(where, *err.keys)
+            message = f"{spec.full_name}: parameter {err}"
+            raise StartError(message, where) from None
+        out: list[tuple[str, ClearCostmapParams | RotateRecoveryParams]] = []
+        for behaviour in listed:
+            if behaviour.type == ROTATE:
+                out.append(
+                    (behaviour.name, RotateRecoveryParams.from_mapping(own(behaviour.name), blp))
+                )
+            else:
+                out.append(
+                    (
+                        behaviour.name,
+                        ClearCostmapParams.from_mapping(behaviour.name, own(behaviour.name)),
+                    )
+                )
+        return out
+
     def _clearing_params(self, private: Mapping[str, Any]) -> dict[str, ClearCostmapParams]:
-        """The two clearing recoveries' parameters. As move_base does for its default
-        recoveries, their ``reset_distance`` is ``conservative_reset_dist`` and four times
+        """The two default clearing recoveries' parameters. As move_base does for its
+        defaults, their ``reset_distance`` is ``conservative_reset_dist`` and four times
         ``~local_costmap/circumscribed_radius`` (a parameter of its own, default 0.46 m, not
         the costmap's radius)."""
         local = private.get("local_costmap", {})
@@ -493,11 +549,8 @@ class _MoveBase:
             self.recovery_index = 0
 
     # --- recoveries ----------------------------------------------------------------------------
-    def _behaviours(self) -> list[str]:
-        if not self.params.recovery_behavior_enabled:
-            return []
-        rotate = ["rotate_recovery"] if self.params.clearing_rotation_allowed else []
-        return ["conservative_reset", *rotate, "aggressive_reset", *rotate]
+    def _behaviours(self) -> list[tuple[str, ClearCostmapParams | RotateRecoveryParams]]:
+        return self.recoveries if self.params.recovery_behavior_enabled else []
 
     def _recover(self, why: str, trigger: _Trigger) -> None:
         """The next recovery behaviour (after a recovery the oscillation clock restarts but
@@ -510,14 +563,14 @@ class _MoveBase:
             after = " even after executing recovery behaviors" if behaviours else ""
             self._end(lambda: handle.abort(text=f"Aborting: {why}{after}."))
             return
-        name = behaviours[self.recovery_index]
+        name, clearing = behaviours[self.recovery_index]
         self.recovery_index += 1
         logger.info("%s: %s; recovery: %s", self.node.full_name, why, name)
-        if name == "rotate_recovery":
+        if isinstance(clearing, RotateRecoveryParams):
             self.state = _State.CLEARING
             self.rotation = None
+            self.rotating = name
             return
-        clearing = self.clearing[name]
         for which, costmap in (("global", self.global_costmap), ("local", self.local_costmap)):
             if not clearing.affects(which):
                 continue
@@ -540,7 +593,9 @@ class _MoveBase:
             return
         here = (float(pose[0]), float(pose[1]), float(pose[2]))
         if self.rotation is None:
-            self.rotation = RotateRecovery(self.rotate_params, here[2])
+            params = dict(self.recoveries)[self.rotating]
+            assert isinstance(params, RotateRecoveryParams)
+            self.rotation = RotateRecovery(params, here[2])
         step = self.rotation.step(self.local_costmap.grid(), here, self.local_costmap.footprint())
         if step.outcome is not RotateOutcome.ROTATING:
             if step.outcome is RotateOutcome.BLOCKED:
