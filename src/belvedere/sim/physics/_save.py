@@ -1,0 +1,159 @@
+"""Saving the simulated world as Gazebo's ``File > Save World As`` does: the world as it is
+now, as an SDF 1.6 ``.world``.
+
+The state is copied on the simulation's thread between two physics steps (poses only: a few
+microseconds a model); the file is made and written on the caller's thread, atomically, while
+the simulation runs on at its pace. World models keep their origin (an ``<include>`` of
+``model://`` when they came from the model path); a robot spawned from URDF is written inline
+as Gazebo converts it.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import TypeVar
+
+import numpy as np
+import numpy.typing as npt
+
+from belvedere.description.meshes import resolve_mesh_path
+from belvedere.description.urdf import Mesh, RobotModel
+from belvedere.errors import BelvedereError, SourceLocation
+from belvedere.graph import Graph
+from belvedere.packages import PackageIndex
+from belvedere.sim.physics._simulation import PhysicsSimulation
+from belvedere.world import WorldModel, WorldState, robot_entry, write_world
+from belvedere.world._poses import from_matrix
+
+__all__ = ["SNAPSHOT_TIMEOUT_S", "WorldSnapshot", "save_world", "snapshot"]
+
+Matrix4 = npt.NDArray[np.float64]
+T = TypeVar("T")
+
+SNAPSHOT_TIMEOUT_S = 30.0
+"""How long a save waits for the simulation's thread to copy the state."""
+
+
+@dataclass(frozen=True)
+class _RobotState:
+    name: str
+    model: RobotModel
+    world_from_root: Matrix4
+    world_from_links: dict[str, Matrix4]
+    packages: PackageIndex | None
+
+
+@dataclass(frozen=True)
+class WorldSnapshot:
+    """The world at one instant: its models where they were, the robots' links, the time."""
+
+    world: WorldModel
+    """The loaded world with each model at its pose of the instant (and the models added
+    since, without those deleted)."""
+    robots: tuple[_RobotState, ...]
+    state: WorldState
+
+    def world_model(self) -> WorldModel:
+        """The world with the robots in it, as SDF models (meshes resolved: slow, off the
+        simulation's thread)."""
+        models = [*self.world.models]
+        for robot in self.robots:
+            root_from_world = np.linalg.inv(robot.world_from_root)
+            models.append(
+                robot_entry(
+                    robot.model,
+                    name=robot.name,
+                    pose=from_matrix(robot.world_from_root),
+                    link_poses={k: root_from_world @ v for k, v in robot.world_from_links.items()},
+                    mesh_path=_mesh_path(robot.model, robot.packages),
+                )
+            )
+        return replace(self.world, models=tuple(models))
+
+
+def _mesh_path(
+    model: RobotModel, packages: PackageIndex | None
+) -> Callable[[Mesh, SourceLocation | None], Path]:
+    def resolve(mesh: Mesh, at: SourceLocation | None) -> Path:
+        return resolve_mesh_path(
+            mesh.filename, relative_to=model.path, packages=packages, requested_at=at
+        )
+
+    return resolve
+
+
+def snapshot(sim: PhysicsSimulation) -> WorldSnapshot:
+    """Copy what a saved world needs (call on the simulation's thread, between steps)."""
+    world = sim.world
+    models = tuple(
+        entry
+        if sim.world_roots.get(entry.name, "world") == "world"
+        else replace(entry, pose=from_matrix(sim.model_pose(entry.name)))
+        for entry in world.models
+    )
+    robots = tuple(
+        _RobotState(
+            name,
+            robot.model,
+            sim.model_pose(name),
+            {link: sim.engine.link_pose(robot.build, link) for link in robot.build.link_body},
+            robot.packages,
+        )
+        for name, robot in sim.robots.items()
+    )
+    state = WorldState(
+        sim_time_ns=sim.graph.now_ns(), wall_time_ns=time.time_ns(), iterations=sim.steps
+    )
+    return WorldSnapshot(replace(world, models=models), robots, state)
+
+
+def save_world(
+    sim: PhysicsSimulation, path: str | os.PathLike[str], *, timeout: float = SNAPSHOT_TIMEOUT_S
+) -> Path:
+    """Write the simulation's world as it is now to ``path`` (``~`` expanded), whole or not at
+    all. Returns the file written (absolute).
+
+    Raises:
+        BelvedereError: no path, or the simulation did not answer; FileWriteError: the file
+            cannot be written (what was there is unchanged).
+    """
+    text = os.fspath(path).strip()
+    if not text:
+        msg = "save world: give the path of the .world file to write"
+        raise BelvedereError(msg)
+    target = Path(os.path.expanduser(text))
+    shot = _on_sim_thread(sim.graph, lambda: snapshot(sim), timeout)
+    return write_world(target, shot.world_model(), shot.state)
+
+
+def _on_sim_thread(graph: Graph, fn: Callable[[], T], timeout: float) -> T:
+    """``fn()`` on the executor's thread, between callbacks; here when this is that thread or
+    no thread runs the executor."""
+    executor = graph.executor
+    thread = executor.thread
+    if graph.on_executor_thread() or executor.stopped or thread is None or not thread.is_alive():
+        return fn()
+    done = threading.Event()
+    result: list[T] = []
+    failure: list[BaseException] = []
+
+    def run() -> None:
+        try:
+            result.append(fn())
+        except BaseException as err:  # noqa: BLE001 (raised again on the caller's thread)
+            failure.append(err)
+        finally:
+            done.set()
+
+    executor.post(run)
+    if not done.wait(timeout):
+        msg = f"the simulation did not answer within {timeout:g} s; nothing was saved"
+        raise BelvedereError(msg)
+    if failure:
+        raise failure[0]
+    return result[0]
