@@ -12,6 +12,9 @@ import pytest
 from belvedere.description.urdf import Pose, RobotModel
 from belvedere.fileio import FileWriteError
 from belvedere.graph import Graph
+from belvedere.launch import load_launch
+from belvedere.launch._runtime import LaunchRuntime
+from belvedere.packages import PackageIndex
 from belvedere.sim.physics import (
     SAVE_WORLD,
     SAVE_WORLD_TYPE,
@@ -294,3 +297,43 @@ def test_the_service_saves_while_the_simulation_runs(tmp_path: Path) -> None:
         yard.graph.shutdown()
     saved = read_world(response.path, model_paths=yard.paths)
     assert {m.name for m in saved.models} == set(yard.sim.model_names())
+
+
+def test_a_course_launch_file_runs_the_saved_world(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """As the course does: empty_world.launch with ``world_name`` set to the saved world,
+    then the robot spawned into it."""
+    yard = Yard(tmp_path)
+    saved = save_world(yard.sim, tmp_path / "saved.world")
+    now = {name: yard.sim.model_pose(name) for name in yard.sim.model_names()}
+    monkeypatch.setenv("GAZEBO_MODEL_PATH", str(tmp_path / "models"))
+    launch = tmp_path / "yard.launch"
+    launch.write_text(
+        f"""<launch>
+  <include file="$(find gazebo_ros)/launch/empty_world.launch">
+    <arg name="world_name" value="{saved}"/>
+    <arg name="gui" value="false"/>
+  </include>
+  <param name="robot_description" textfile="$(find mbot_description)/urdf/urdf/mbot_base.urdf"/>
+  <node name="urdf_spawner" pkg="gazebo_ros" type="spawn_model"
+        args="-urdf -model mrobot -param robot_description -x 2 -y -2"/>
+</launch>
+"""
+    )
+    packages = PackageIndex([EXAMPLES])
+    graph = Graph()
+    runtime = LaunchRuntime(load_launch(launch, packages=packages), graph, packages, headless=True)
+    try:
+        runtime.start()
+        assert not runtime.missing
+        sim = runtime.sim
+        assert isinstance(sim, PhysicsSimulation)
+        assert set(sim.model_names()) == {*now, "mrobot"}
+        for name, pose in now.items():
+            np.testing.assert_allclose(sim.model_pose(name), pose, atol=1e-6, err_msg=name)
+        graph.run(duration=0.2)
+        assert abs(sim.model_pose("mrobot")[0, 3] - 2.0) < 1e-3
+    finally:
+        runtime.close()
+        graph.shutdown()
