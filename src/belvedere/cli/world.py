@@ -14,13 +14,9 @@ import sys
 
 from belvedere.cli._tool import action_parsers, open_tool
 from belvedere.errors import BelvedereError
+from belvedere.sim import SAVE_WORLD, SAVE_WORLD_TYPE
 
 __all__ = ["add_parser", "run"]
-
-SAVE_WORLD = "/gazebo/save_world"
-"""gazebo_ros's namespace (``belvedere.sim.physics.SAVE_WORLD``, not imported: this verb
-need not load the physics)."""
-SAVE_WORLD_TYPE = "belvedere_msgs/SaveWorld"
 
 
 def add_parser(

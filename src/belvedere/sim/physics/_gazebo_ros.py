@@ -20,6 +20,7 @@ from belvedere.errors import BelvedereError
 from belvedere.graph import Node
 from belvedere.msgs import message_from_data
 from belvedere.packages import PackageIndex
+from belvedere.sim import SAVE_WORLD, SAVE_WORLD_TYPE
 from belvedere.sim.physics._engine import quat_xyzw
 from belvedere.sim.physics._save import save_world
 from belvedere.sim.physics._simulation import PhysicsSimulation
@@ -28,9 +29,6 @@ from belvedere.world import read_world_string
 from belvedere.world._poses import quat_xyzw_to_rpy
 
 __all__ = ["SAVE_WORLD", "SAVE_WORLD_TYPE", "GazeboRos", "parse_spawn_args", "spawn_model"]
-
-SAVE_WORLD = "/gazebo/save_world"
-SAVE_WORLD_TYPE = "belvedere_msgs/SaveWorld"
 
 logger = logging.getLogger("belvedere.physics")
 
