@@ -12,9 +12,11 @@ rounded to 1e-12.
 from __future__ import annotations
 
 import os
-from collections.abc import Iterable
+import time
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
@@ -64,34 +66,71 @@ def write_world(path: str | os.PathLike[str], world: WorldModel, state: WorldSta
     return write_file(path, world_sdf(world, state))
 
 
+class Courtesy:
+    """Lets other threads run every ``period_s`` of work: a simulation saving its world runs
+    on beside the save, and CPython runs one thread's Python at a time (a thread that asks
+    for it waits up to 5 ms; a simulation stepping at 1 kHz asks often)."""
+
+    def __init__(self, period_s: float = 0.001) -> None:
+        self.period_s = period_s
+        self.last = time.perf_counter()
+
+    def __call__(self) -> None:
+        now = time.perf_counter()
+        if now - self.last >= self.period_s:
+            time.sleep(0)
+            self.last = time.perf_counter()
+
+
 def world_sdf(world: WorldModel, state: WorldState | None = None) -> str:
-    """``world`` as the text of an SDF 1.6 ``.world`` file."""
-    root = Element("sdf", {"version": SDF_VERSION})
-    world_el = _add(root, "world", name=world.name)
+    """``world`` as the text of an SDF 1.6 ``.world`` file (made a model at a time, letting
+    other threads run in between: see :class:`Courtesy`)."""
+    courtesy = Courtesy()
+    out = [
+        '<?xml version="1.0" ?>\n',
+        f'<sdf version="{SDF_VERSION}">\n',
+        f"  <world name={quoteattr(world.name)}>\n",
+    ]
+    out += [_indented(el, 2) for el in _settings(world)]
+    for light in world.lights:
+        out.append(_indented(_light(light), 2))
+    for model in world.models:
+        out.append(_indented(_include(model) if _included(model) else _model(model), 2))
+        courtesy()
+    if state is not None:
+        out.append(f"    <state world_name={quoteattr(world.name)}>\n")
+        for el in _state(world, state):
+            out.append(_indented(el, 3))
+            courtesy()
+        out.append("    </state>\n")
+    out.append("  </world>\n</sdf>\n")
+    return "".join(out)
+
+
+def _indented(el: Element, depth: int) -> str:
+    pad = "  " * depth
+    return "".join(pad + line for line in write_pretty(el).splitlines(keepends=True))
+
+
+def _settings(world: WorldModel) -> list[Element]:
+    """Gravity, physics and scene, then what the world kept as it wrote it."""
     kept = [
         parse_string(text, "<kept>", namespaces=False, keep_blank=False).root for text in world.kept
     ]
     tags = {el.tag for el in kept}
-    _add(world_el, "gravity", _nums(world.physics.gravity))
+    holder = Element("world")
+    _add(holder, "gravity", _nums(world.physics.gravity))
     if "physics" not in tags:
-        physics = _add(world_el, "physics", type="ode")
+        physics = _add(holder, "physics", type="ode")
         _add(physics, "max_step_size", _num(world.physics.max_step_size))
         _add(physics, "real_time_factor", _num(world.physics.real_time_factor))
         _add(physics, "real_time_update_rate", _num(world.physics.real_time_update_rate))
     if "scene" not in tags:
-        scene = _add(world_el, "scene")
+        scene = _add(holder, "scene")
         _add(scene, "ambient", _nums(world.scene.ambient))
         _add(scene, "background", _nums(world.scene.background))
         _add(scene, "shadows", _flag(world.scene.shadows))
-    for el in kept:  # as the loaded world wrote them
-        world_el.append(el)
-    for light in world.lights:
-        world_el.append(_light(light))
-    for model in world.models:
-        world_el.append(_include(model) if _included(model) else _model(model))
-    if state is not None:
-        world_el.append(_state(world, state))
-    return '<?xml version="1.0" ?>\n' + write_pretty(root)
+    return [*holder.elements(), *kept]
 
 
 def _included(model: WorldModelEntry) -> bool:
@@ -314,21 +353,25 @@ def _light(light: Light) -> Element:
     return el
 
 
-def _state(world: WorldModel, state: WorldState) -> Element:
-    """Gazebo's ``<state>``: the time, and each model's and link's pose in the world."""
-    el = Element("state", {"world_name": world.name})
-    _add(el, "sim_time", _ns(state.sim_time_ns))
+def _state(world: WorldModel, state: WorldState) -> Iterator[Element]:
+    """What Gazebo's ``<state>`` holds: the time, and each model's and link's pose in the
+    world."""
+    holder = Element("state")
+    _add(holder, "sim_time", _ns(state.sim_time_ns))
     if state.real_time_ns is not None:
-        _add(el, "real_time", _ns(state.real_time_ns))
-    _add(el, "wall_time", _ns(state.wall_time_ns))
-    _add(el, "iterations", str(state.iterations))
+        _add(holder, "real_time", _ns(state.real_time_ns))
+    _add(holder, "wall_time", _ns(state.wall_time_ns))
+    _add(holder, "iterations", str(state.iterations))
+    yield from list(holder.elements())
     for model in world.models:
-        model_el = _add(el, "model", name=model.name)
+        model_el = Element("model", {"name": model.name})
         _add(model_el, "pose", _pose(model.pose))
         _add(model_el, "scale", "1 1 1")
         for link in model.links:
             link_el = _add(model_el, "link", name=link.name)
             _add(link_el, "pose", _pose(compose(model.pose, link.pose)))
+        yield model_el
     for light in world.lights:
-        _add(_add(el, "light", name=light.name), "pose", _pose(light.pose))
-    return el
+        light_el = Element("light", {"name": light.name})
+        _add(light_el, "pose", _pose(light.pose))
+        yield light_el

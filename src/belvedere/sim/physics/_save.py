@@ -1,11 +1,11 @@
 """Saving the simulated world as Gazebo's ``File > Save World As`` does: the world as it is
 now, as an SDF 1.6 ``.world``.
 
-The state is copied on the simulation's thread between two physics steps (poses only: a few
-microseconds a model); the file is made and written on the caller's thread, atomically, while
-the simulation runs on at its pace. World models keep their origin (an ``<include>`` of
-``model://`` when they came from the model path); a robot spawned from URDF is written inline
-as Gazebo converts it.
+The state is copied on the simulation's thread between two physics steps (every body's pose,
+one array copy); the poses are worked out, the file made and written on the caller's thread,
+atomically, while the simulation runs on at its pace. World models keep their origin (an
+``<include>`` of ``model://`` when they came from the model path); a robot spawned from URDF
+is written inline as Gazebo converts it.
 """
 
 from __future__ import annotations
@@ -26,9 +26,11 @@ from belvedere.description.urdf import Mesh, RobotModel
 from belvedere.errors import BelvedereError, SourceLocation
 from belvedere.graph import Graph
 from belvedere.packages import PackageIndex
+from belvedere.sim.physics._builder import RobotBuild
 from belvedere.sim.physics._simulation import PhysicsSimulation
 from belvedere.world import WorldModel, WorldState, robot_entry, write_world
-from belvedere.world._poses import from_matrix
+from belvedere.world._poses import from_matrix, matrix
+from belvedere.world._writer import Courtesy
 
 __all__ = ["SNAPSHOT_TIMEOUT_S", "WorldSnapshot", "save_world", "snapshot"]
 
@@ -40,36 +42,60 @@ SNAPSHOT_TIMEOUT_S = 30.0
 
 
 @dataclass(frozen=True)
-class _RobotState:
+class _Robot:
     name: str
     model: RobotModel
-    world_from_root: Matrix4
-    world_from_links: dict[str, Matrix4]
+    build: RobotBuild
     packages: PackageIndex | None
 
 
 @dataclass(frozen=True)
 class WorldSnapshot:
-    """The world at one instant: its models where they were, the robots' links, the time."""
+    """The world at one instant: its models and robots, every body's pose, the time."""
 
     world: WorldModel
-    """The loaded world with each model at its pose of the instant (and the models added
-    since, without those deleted)."""
-    robots: tuple[_RobotState, ...]
+    """The loaded world with the models added since, without those deleted."""
+    roots: dict[str, str]
+    """World model → its root body (``world``: welded, where the world file put it)."""
+    robots: tuple[_Robot, ...]
+    body_ids: dict[str, int]
+    xpos: npt.NDArray[np.float64]
+    """(nbody, 3): each body's position in the world."""
+    xmat: npt.NDArray[np.float64]
+    """(nbody, 9): each body's orientation in the world, row-major."""
     state: WorldState
 
+    def body_pose(self, body: str) -> Matrix4:
+        i = self.body_ids[body]
+        pose = np.eye(4)
+        pose[:3, :3] = self.xmat[i].reshape(3, 3)
+        pose[:3, 3] = self.xpos[i]
+        return pose
+
     def world_model(self) -> WorldModel:
-        """The world with the robots in it, as SDF models (meshes resolved: slow, off the
-        simulation's thread)."""
-        models = [*self.world.models]
+        """The world as it was, the robots in it as SDF models (Gazebo's conversion)."""
+        models = []
+        courtesy = Courtesy()
+        for entry in self.world.models:
+            root = self.roots.get(entry.name, "world")
+            if root != "world" and entry.links:
+                world_from_model = self.body_pose(root) @ np.linalg.inv(matrix(entry.links[0].pose))
+                entry = replace(entry, pose=from_matrix(world_from_model))
+            models.append(entry)
+            courtesy()
         for robot in self.robots:
-            root_from_world = np.linalg.inv(robot.world_from_root)
+            links = {
+                link: self.body_pose(body) @ offset
+                for link, (body, offset) in robot.build.link_body.items()
+            }
+            world_from_root = links[robot.model.root_link.name]
+            root_from_world = np.linalg.inv(world_from_root)
             models.append(
                 robot_entry(
                     robot.model,
                     name=robot.name,
-                    pose=from_matrix(robot.world_from_root),
-                    link_poses={k: root_from_world @ v for k, v in robot.world_from_links.items()},
+                    pose=from_matrix(world_from_root),
+                    link_poses={k: root_from_world @ v for k, v in links.items()},
                     mesh_path=_mesh_path(robot.model, robot.packages),
                 )
             )
@@ -88,28 +114,24 @@ def _mesh_path(
 
 
 def snapshot(sim: PhysicsSimulation) -> WorldSnapshot:
-    """Copy what a saved world needs (call on the simulation's thread, between steps)."""
-    world = sim.world
-    models = tuple(
-        entry
-        if sim.world_roots.get(entry.name, "world") == "world"
-        else replace(entry, pose=from_matrix(sim.model_pose(entry.name)))
-        for entry in world.models
+    """Copy what a saved world needs: references to the (immutable) models and the bodies'
+    poses, tens of microseconds (call on the simulation's thread, between steps)."""
+    engine = sim.engine
+    roots = dict(sim.world_roots)
+    robots = tuple(_Robot(n, r.model, r.build, r.packages) for n, r in sim.robots.items())
+    bodies = [root for root in roots.values() if root != "world"]
+    bodies += [body for r in robots for body, _ in r.build.link_body.values()]
+    return WorldSnapshot(
+        world=sim.world,
+        roots=roots,
+        robots=robots,
+        body_ids={body: engine.body_id(body) for body in bodies},
+        xpos=engine.d.xpos.copy(),
+        xmat=engine.d.xmat.copy(),
+        state=WorldState(
+            sim_time_ns=sim.graph.now_ns(), wall_time_ns=time.time_ns(), iterations=sim.steps
+        ),
     )
-    robots = tuple(
-        _RobotState(
-            name,
-            robot.model,
-            sim.model_pose(name),
-            {link: sim.engine.link_pose(robot.build, link) for link in robot.build.link_body},
-            robot.packages,
-        )
-        for name, robot in sim.robots.items()
-    )
-    state = WorldState(
-        sim_time_ns=sim.graph.now_ns(), wall_time_ns=time.time_ns(), iterations=sim.steps
-    )
-    return WorldSnapshot(replace(world, models=models), robots, state)
 
 
 def save_world(
