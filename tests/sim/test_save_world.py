@@ -4,7 +4,9 @@ nothing."""
 
 from __future__ import annotations
 
+import threading
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -26,6 +28,7 @@ from belvedere.world import ModelPaths, read_world
 from belvedere.world._poses import matrix
 from belvedere.xmldom import Element, parse_file
 from tests.conftest import EXAMPLES
+from tests.waiting import DEADLINE
 
 MBOT = EXAMPLES / "mbot_description/urdf/xacro/gazebo/mbot_gazebo.xacro"
 
@@ -337,3 +340,33 @@ def test_a_course_launch_file_runs_the_saved_world(
     finally:
         runtime.close()
         graph.shutdown()
+
+
+def test_a_call_before_the_simulation_starts_waits_for_it(tmp_path: Path) -> None:
+    """A call from another process can come while the world is still being built (the
+    service is offered before the robot is spawned): the snapshot waits for the executor."""
+    world_file, paths = _yard(tmp_path)
+    graph = Graph()
+    sim = PhysicsSimulation(graph, read_world(world_file, model_paths=paths))
+    GazeboRos(sim)
+    caller = graph.create_node("caller")
+    responses: list[Any] = []
+    target = str(tmp_path / "early.world")
+    call = threading.Thread(
+        target=lambda: responses.append(
+            caller.call_service(SAVE_WORLD, SAVE_WORLD_TYPE, {"path": target})
+        )
+    )
+    call.start()
+    call.join(0.2)
+    assert call.is_alive()  # waiting for the executor
+    sim.spawn(RobotModel.from_path(MBOT), name="mbot")
+    graph.start(rtf=None)
+    try:
+        call.join(DEADLINE)
+    finally:
+        graph.shutdown()
+    (response,) = responses
+    assert response.success, response.status_message
+    saved = read_world(response.path, model_paths=paths)
+    assert saved.model("mbot") is not None

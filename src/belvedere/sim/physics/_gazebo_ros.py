@@ -187,7 +187,7 @@ class GazeboRos:
 
     def _save_world(self, req: Any) -> dict[str, Any]:
         try:
-            written = save_world(self.sim, req.path)
+            written = save_world(self.sim, req.path, wait_for_start=True)
         except BelvedereError as err:
             why = err.describe().removeprefix("error: ")
             return {"success": False, "status_message": f"SaveWorld: {why}", "path": ""}

@@ -135,7 +135,11 @@ def snapshot(sim: PhysicsSimulation) -> WorldSnapshot:
 
 
 def save_world(
-    sim: PhysicsSimulation, path: str | os.PathLike[str], *, timeout: float = SNAPSHOT_TIMEOUT_S
+    sim: PhysicsSimulation,
+    path: str | os.PathLike[str],
+    *,
+    timeout: float = SNAPSHOT_TIMEOUT_S,
+    wait_for_start: bool = False,
 ) -> Path:
     """Write the simulation's world as it is now to ``path`` (``~`` expanded), whole or not at
     all. Returns the file written (absolute).
@@ -143,22 +147,31 @@ def save_world(
     Raises:
         BelvedereError: no path, or the simulation did not answer; FileWriteError: the file
             cannot be written (what was there is unchanged).
+
+    ``wait_for_start``: if the simulation's executor has not started, wait for it to take the
+    snapshot (rather than take it here).
     """
     text = os.fspath(path).strip()
     if not text:
         msg = "save world: give the path of the .world file to write"
         raise BelvedereError(msg)
     target = Path(os.path.expanduser(text))
-    shot = _on_sim_thread(sim.graph, lambda: snapshot(sim), timeout)
+    shot = _on_sim_thread(sim.graph, lambda: snapshot(sim), timeout, wait_for_start)
     return write_world(target, shot.world_model(), shot.state)
 
 
-def _on_sim_thread(graph: Graph, fn: Callable[[], T], timeout: float) -> T:
-    """``fn()`` on the executor's thread, between callbacks; here when this is that thread or
-    no thread runs the executor."""
+def _on_sim_thread(graph: Graph, fn: Callable[[], T], timeout: float, wait_for_start: bool) -> T:
+    """``fn()`` on the executor's thread, between callbacks; here when this is that thread,
+    the executor has stopped, or it has not started and ``wait_for_start`` is false (a
+    service call from another process, which may come while the world is being built on the
+    thread that will run the executor, waits for it to start)."""
     executor = graph.executor
     thread = executor.thread
-    if graph.on_executor_thread() or executor.stopped or thread is None or not thread.is_alive():
+    if thread is threading.current_thread() or executor.stopped:
+        return fn()
+    if thread is None and not wait_for_start:
+        return fn()
+    if thread is not None and not thread.is_alive():
         return fn()
     done = threading.Event()
     result: list[T] = []
