@@ -44,6 +44,7 @@ _VERBS = (
     "rospack",
     "map",
     "slam",
+    "world",
 )
 """The verbs, in the order ``--help`` lists them; each is the module ``belvedere.cli.VERB``.
 Only the verb being run is imported (``xacro`` need not load the simulator)."""

@@ -151,6 +151,11 @@ _EXTRA_SERVICES: Final = {
         "geometry_msgs/Vector3 gravity\ngazebo_msgs/ODEPhysics ode_config\n"
         "bool success\nstring status_message",
     ),
+    # belvedere's own: gazebo_ros has no service that saves the world (gzclient's menu does)
+    "belvedere_msgs/srv/SaveWorld": (
+        "string path",
+        "bool success\nstring status_message\nstring path",
+    ),
     "arbotix_msgs/srv/Relax": ("", ""),
     "arbotix_msgs/srv/Enable": ("bool enable", "bool state"),
     "arbotix_msgs/srv/SetSpeed": ("float64 speed", ""),

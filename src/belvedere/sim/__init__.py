@@ -12,11 +12,14 @@ from belvedere.sim._commands import (
     MAX_TURN_RATE_PARAM,
     CommandGate,
 )
+from belvedere.sim._services import SAVE_WORLD, SAVE_WORLD_TYPE
 
 __all__ = [
     "DEFAULT_MAX_SPEED",
     "DEFAULT_MAX_TURN_RATE",
     "MAX_SPEED_PARAM",
     "MAX_TURN_RATE_PARAM",
+    "SAVE_WORLD",
+    "SAVE_WORLD_TYPE",
     "CommandGate",
 ]

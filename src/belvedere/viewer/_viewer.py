@@ -11,6 +11,7 @@ from __future__ import annotations
 import contextlib
 import io
 import math
+import os
 import threading
 import time
 from collections.abc import Callable, Mapping, Sequence
@@ -24,6 +25,7 @@ from belvedere.errors import BelvedereError
 from belvedere.graph import NS, Graph, GraphTopics, Node
 from belvedere.msgs import short
 from belvedere.packages import PackageIndex
+from belvedere.sim import SAVE_WORLD, SAVE_WORLD_TYPE
 from belvedere.tf import JointStatePublisher, Transform, TransformListener, quat_xyzw_from_rpy
 from belvedere.viewer._access import ViewerAccess, ViewerError, guard_viser
 from belvedere.viewer._catalog import DISPLAYS, UnsupportedDisplay, display_type
@@ -247,6 +249,20 @@ class Viewer:
                 self.node.logger.info("saved the rviz config %s", written)
 
             gui.add_button("Save Config").on_click(save)
+            if self.world is not None:  # a simulated world: Gazebo's File > Save World As
+                world_path = gui.add_text("World file", "saved.world")
+                self.world_note = gui.add_markdown("")
+
+                def save_world(_: Any) -> None:
+                    self.world_note.content = "Saving…"
+                    try:
+                        written = self.save_world(world_path.value)
+                    except BelvedereError as err:
+                        self.world_note.content = f"**Not saved:** {err.describe()}"
+                        return
+                    self.world_note.content = f"Saved `{written}`."
+
+                gui.add_button("Save World As").on_click(save_world)
         with gui.add_folder("Time", expand_by_default=False):
             self.time_texts = {
                 label: gui.add_text(label, "0.00", disabled=True)
@@ -473,6 +489,19 @@ class Viewer:
         view, camera = (entry[1], entry[0].camera) if entry is not None else (None, None)
         write_rviz(self.config(view, camera), path)
         return Path(path)
+
+    def save_world(self, path: str | Path, *, timeout: float = 60.0) -> Path:
+        """Have the simulation write its world, as it is now, to ``path`` (its
+        ``/gazebo/save_world`` service: written off its thread, atomically)."""
+        text = os.fspath(path).strip()
+        target = os.path.abspath(os.path.expanduser(text)) if text else ""
+        response = self.node.call_service(
+            SAVE_WORLD, SAVE_WORLD_TYPE, {"path": target}, timeout=timeout
+        )
+        if not response.success:
+            raise ViewerError(response.status_message.removeprefix("SaveWorld: "))
+        self.node.logger.info("saved the world to %s", response.path)
+        return Path(response.path)
 
     def add_display(
         self,

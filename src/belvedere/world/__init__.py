@@ -1,4 +1,5 @@
-"""Worlds: ``WorldModel`` read from Gazebo ``.world`` files and ``model://`` models.
+"""Worlds: ``WorldModel`` read from Gazebo ``.world`` files and ``model://`` models, and
+written back as SDF 1.6 (a simulation's current world, saved).
 
 Models are found as Gazebo finds them (``GAZEBO_MODEL_PATH``, ``~/.gazebo/models``, ROS
 packages' exported model paths), never downloaded; a missing one is an error naming it, the
@@ -29,12 +30,15 @@ from belvedere.world._sdf import (
     read_world,
     read_world_string,
 )
+from belvedere.world._urdf import MeshPath, robot_entry
+from belvedere.world._writer import WorldState, world_sdf, write_world
 
 __all__ = [
     "BUILTIN_MODELS",
     "Attenuation",
     "Light",
     "Material",
+    "MeshPath",
     "ModelPaths",
     "Physics",
     "Plane",
@@ -49,8 +53,12 @@ __all__ = [
     "WorldLink",
     "WorldModel",
     "WorldModelEntry",
+    "WorldState",
     "empty_world",
     "model_sdf_file",
     "read_world",
     "read_world_string",
+    "robot_entry",
+    "world_sdf",
+    "write_world",
 ]

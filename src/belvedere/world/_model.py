@@ -223,6 +223,9 @@ class WorldModel:
     path: str | None = None
     sdf_version: str = "1.6"
     warnings: tuple[str, ...] = field(default=(), compare=False)
+    kept: tuple[str, ...] = field(default=(), compare=False)
+    """The world's elements a saved world writes back as they were (``<gui>``'s camera,
+    ``<physics>``'s solver settings, ``<scene>``'s sky, world plugins…), as XML text."""
 
     def model(self, name: str) -> WorldModelEntry | None:
         return next((m for m in self.models if m.name == name), None)

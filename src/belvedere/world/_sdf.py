@@ -52,7 +52,7 @@ from belvedere.world._model import (
 )
 from belvedere.world._paths import BUILTIN_MODELS, ModelPaths, model_sdf_file
 from belvedere.world._poses import from_matrix, inverse, matrix, quat_xyzw_to_rpy
-from belvedere.xmldom import Element, parse_file, parse_string
+from belvedere.xmldom import Element, parse_file, parse_string, write_pretty
 
 __all__ = ["SDFError", "empty_world", "read_world", "read_world_string"]
 
@@ -64,6 +64,10 @@ EMPTY_WORLD = """<sdf version="1.6"><world name="default">
 _IGNORED_WORLD = {"scene", "gui", "spherical_coordinates", "magnetic_field", "atmosphere", "wind"}
 _IGNORED_WORLD |= {"audio", "gravity", "physics", "model", "include", "light", "state", "plugin"}
 _UNSUPPORTED = {"actor", "population", "road"}
+_KEPT = {"gui", "physics", "scene", "spherical_coordinates", "atmosphere", "magnetic_field"}
+_KEPT |= {"wind", "audio", "plugin"}
+"""World elements a saved world keeps as written (what the simulation reads of them is
+written from the model)."""
 
 
 def read_world(
@@ -101,6 +105,15 @@ def _version(text: str) -> tuple[int, int]:
     parts = [int(p) for p in text.strip().split(".")[:2] if p.isdigit()]
     major, minor = [*parts, 0, 0][:2]
     return major, minor
+
+
+def _kept(el: Element) -> str:
+    """An element as XML text; SDF 1.4's ``<gravity>`` inside ``<physics>`` left out (the
+    world's own ``<gravity>`` is written in its place)."""
+    copy = el.clone()
+    for c in [c for c in copy.elements() if el.tag == "physics" and c.tag == "gravity"]:
+        c.detach()
+    return write_pretty(copy)
 
 
 def _pose_at(el: Element) -> SourceLocation | None:
@@ -261,6 +274,7 @@ class _Reader:
             path=self.path,
             sdf_version=self.version,
             warnings=tuple(self.warnings),
+            kept=tuple(_kept(el) for el in world_el.elements() if el.tag in _KEPT),
         )
 
     def _place_models(

@@ -8,14 +8,23 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 
 from belvedere.sim.physics._builder import ModelError, RobotBuild, add_robot, add_world, new_spec
 from belvedere.sim.physics._engine import Engine
-from belvedere.sim.physics._gazebo_ros import GazeboRos, parse_spawn_args, spawn_model
+from belvedere.sim.physics._gazebo_ros import (
+    SAVE_WORLD,
+    SAVE_WORLD_TYPE,
+    GazeboRos,
+    parse_spawn_args,
+    spawn_model,
+)
 from belvedere.sim.physics._ros_control import CONTROLLER_TYPES, RosControl, spawner
+from belvedere.sim.physics._save import WorldSnapshot, save_world, snapshot
 from belvedere.sim.physics._sensors import CameraSensor, DepthCamera, ImuSensor, LaserSensor
 from belvedere.sim.physics._simulation import PLUGINS, PhysicsSimulation, SpawnedRobot
 
 __all__ = [
     "CONTROLLER_TYPES",
     "PLUGINS",
+    "SAVE_WORLD",
+    "SAVE_WORLD_TYPE",
     "CameraSensor",
     "DepthCamera",
     "Engine",
@@ -27,10 +36,13 @@ __all__ = [
     "RobotBuild",
     "RosControl",
     "SpawnedRobot",
+    "WorldSnapshot",
     "add_robot",
     "add_world",
     "new_spec",
     "parse_spawn_args",
+    "save_world",
+    "snapshot",
     "spawn_model",
     "spawner",
 ]

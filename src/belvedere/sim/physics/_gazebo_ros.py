@@ -2,7 +2,8 @@
 ``/gazebo/link_states`` (every physics step, while someone listens), and the services
 ``spawn_urdf_model``, ``spawn_sdf_model``, ``delete_model``, ``get_model_state``,
 ``set_model_state``, ``reset_world``, ``reset_simulation``, ``pause_physics``,
-``unpause_physics`` and ``get_physics_properties`` — plus the ``spawn_model`` tool.
+``unpause_physics`` and ``get_physics_properties`` — plus the ``spawn_model`` tool — and
+``save_world`` (belvedere's: gzclient's File > Save World As as a service).
 """
 
 from __future__ import annotations
@@ -19,13 +20,15 @@ from belvedere.errors import BelvedereError
 from belvedere.graph import Node
 from belvedere.msgs import message_from_data
 from belvedere.packages import PackageIndex
+from belvedere.sim import SAVE_WORLD, SAVE_WORLD_TYPE
 from belvedere.sim.physics._engine import quat_xyzw
+from belvedere.sim.physics._save import save_world
 from belvedere.sim.physics._simulation import PhysicsSimulation
 from belvedere.tf import quat_xyzw_from_rpy
 from belvedere.world import read_world_string
 from belvedere.world._poses import quat_xyzw_to_rpy
 
-__all__ = ["GazeboRos", "parse_spawn_args", "spawn_model"]
+__all__ = ["SAVE_WORLD", "SAVE_WORLD_TYPE", "GazeboRos", "parse_spawn_args", "spawn_model"]
 
 logger = logging.getLogger("belvedere.physics")
 
@@ -74,6 +77,8 @@ class GazeboRos:
             ("get_physics_properties", "gazebo_msgs/GetPhysicsProperties", self._physics),
         ):
             node.service(f"/gazebo/{name}", srv, handler)
+        # On a thread of its own: the file is written while the simulation steps on.
+        node.service(SAVE_WORLD, SAVE_WORLD_TYPE, self._save_world, threaded=True)
         sim.after_step.append(self._publish_states)
         sim.every_step.append(lambda: self.model_pub.wanted or self.link_pub.wanted)
 
@@ -179,6 +184,19 @@ class GazeboRos:
         except KeyError as err:
             return {"success": False, "status_message": f"SetModelState: {err.args[0]}"}
         return {"success": True, "status_message": "SetModelState: set model state done"}
+
+    def _save_world(self, req: Any) -> dict[str, Any]:
+        try:
+            written = save_world(self.sim, req.path, wait_for_start=True)
+        except BelvedereError as err:
+            why = err.describe().removeprefix("error: ")
+            return {"success": False, "status_message": f"SaveWorld: {why}", "path": ""}
+        logger.info("saved the world to %s", written)
+        return {
+            "success": True,
+            "status_message": f"SaveWorld: saved {written}",
+            "path": str(written),
+        }
 
     def _reset_world(self, _: Any) -> dict[str, Any]:
         self.sim.reset_world()

@@ -75,6 +75,8 @@ class SpawnedRobot:
     model: RobotModel
     build: RobotBuild
     plugins: list[Plugin] = field(default_factory=list)
+    packages: PackageIndex | None = None
+    """Where its ``package://`` meshes were found (for a saved world to name the files)."""
 
     def published_joints(self) -> set[str]:
         """Joints some plugin reports on joint_states."""
@@ -144,7 +146,7 @@ class PhysicsSimulation:
         build = add_robot(
             spec, model, name=name, pose=pose, packages=packages, scene=self.world.scene
         )
-        robot = SpawnedRobot(name, model, build)
+        robot = SpawnedRobot(name, model, build, packages=packages)
         try:
             robot.plugins = self._make_plugins(robot)
             for plugin in robot.plugins:
@@ -401,13 +403,17 @@ class PhysicsSimulation:
         msg = f"model {name!r} is static or fixed to the world; it cannot be moved"
         raise KeyError(msg)
 
-    def add_model(self, entry: WorldModelEntry, *, name: str, pose: Pose) -> None:
-        """Add an SDF model to the world (spawn_sdf_model)."""
+    def add_model(
+        self, entry: WorldModelEntry, *, name: str, pose: Pose, origin: str | None = None
+    ) -> None:
+        """Add an SDF model to the world (spawn_sdf_model). ``origin``: the ``model://NAME``
+        it came from, if it came from the model path (a saved world includes it from
+        there); by default the entry's own ``uri``."""
         name = name or entry.name
         if name in self.robots or name in self.world_roots:
             msg = f"a model named {name!r} already exists in the simulation"
             raise ModelError(msg)
-        placed = replace(entry, name=name, pose=pose)
+        placed = replace(entry, name=name, pose=pose, uri=origin or entry.uri)
         try:
             roots = add_world(
                 self.engine.spec, WorldModel(models=(placed,)), scene=self.world.scene
