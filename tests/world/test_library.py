@@ -58,6 +58,7 @@ def test_models_of_every_directory_with_their_config_names(tmp_path: Path) -> No
         ("Ground Plane", "model://ground_plane", True),
         ("Sun", "model://sun", True),
     ]
+    assert [m.light for m in library] == [False, False, False, True]
     assert library[0].directory == first / "shelf"
     assert library[0].description == "A test model."
     shelf = load_model(library[0], paths)

@@ -55,6 +55,8 @@ class LibraryModel:
     error: str | None = None
     """Why it cannot be inserted (``file:line: error: …``); None when it can."""
     problem: BelvedereError | None = field(default=None, compare=False, repr=False)
+    light: bool = False
+    """A light (the built-in sun), which Gazebo lists with the models."""
     """The error itself (raised again by :func:`load_model`)."""
 
     @property
@@ -81,7 +83,8 @@ def model_library(paths: ModelPaths) -> list[LibraryModel]:
                 found.append(model)
     for name in BUILTIN_MODELS:
         if name not in seen:
-            found.append(LibraryModel(_BUILTIN_NAMES[name], f"model://{name}", None, "built in"))
+            builtin = LibraryModel(_BUILTIN_NAMES[name], f"model://{name}", None, "built in")
+            found.append(replace(builtin, light=name == "sun"))
     return found
 
 
