@@ -43,6 +43,7 @@ from belvedere.world import (
 
 if TYPE_CHECKING:
     from belvedere.sim.physics import PhysicsSimulation
+    from belvedere.viewer._building_editor import BuildingEditor
     from belvedere.viewer._viewer import Viewer
 
 __all__ = ["InsertPanel", "world_editing"]
@@ -88,6 +89,7 @@ class InsertPanel:
         self.selected: str | None = None
         self.dragging = False
         self._gizmo_at: Transform | None = None
+        self.editor: BuildingEditor | None = None
         self._build_gui()
         self.refresh_library()
         viewer.scene.on_click()(self._on_click)
@@ -360,4 +362,8 @@ def world_editing(viewer: Viewer, sim: object) -> InsertPanel | None:
 
     if not isinstance(sim, PhysicsSimulation):
         return None
-    return InsertPanel(viewer, sim)
+    from belvedere.viewer._building_editor import BuildingEditor
+
+    panel = InsertPanel(viewer, sim)
+    panel.editor = BuildingEditor(panel)
+    return panel
