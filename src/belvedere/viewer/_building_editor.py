@@ -78,7 +78,7 @@ class BuildingEditor:
             gui.add_button("Undo").on_click(lambda _: self.undo())
             self.name = gui.add_text("Model name", "building")
             self.folder = gui.add_text("Save in", "~/.gazebo/models")
-            gui.add_button("Done (save and insert)").on_click(lambda _: (self.done(), None)[1])
+            gui.add_button("Done (save and insert)").on_click(self._done_clicked)
             gui.add_button("Discard").on_click(lambda _: self.discard())
             self.note = gui.add_markdown("")
 
@@ -176,6 +176,9 @@ class BuildingEditor:
             )
 
     # --- saving --------------------------------------------------------------------------------
+    def _done_clicked(self, _: Any) -> None:
+        self.done()
+
     def done(self) -> str | None:
         """Write the model directory and insert the model; the name it was inserted under
         (None when it could not be written: the drawing is kept)."""
