@@ -92,6 +92,7 @@ class InsertPanel:
         self.editor: BuildingEditor | None = None
         self._build_gui()
         self.refresh_library()
+        self._refresh_selection()  # the world's own models can be moved too
         viewer.scene.on_click()(self._on_click)
 
     # --- GUI -----------------------------------------------------------------------------------
