@@ -174,6 +174,9 @@ class Viewer:
         camera.fov = CAMERA_FOV
         self._build_gui(joint_publisher, sim)
         self._add_initial_displays(rviz)
+        from belvedere.viewer._insert import world_editing  # it builds on this module
+
+        self.insert = world_editing(self, sim)
         self.server.on_client_connect(self._client_connected)
         self.server.on_client_disconnect(self._client_left)
         self.node.timer(0.1, self._teleop_tick)

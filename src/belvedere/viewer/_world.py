@@ -14,7 +14,7 @@ from belvedere.description.meshes import load_mesh
 from belvedere.description.urdf import Box, Cylinder, Mesh, Pose, Sphere
 from belvedere.errors import BelvedereError
 from belvedere.tf import Transform, quat_xyzw_from_rpy, wxyz_from_xyzw
-from belvedere.world import Plane, Polyline, Shape, WorldModel
+from belvedere.world import Plane, Polyline, Shape, WorldModel, WorldModelEntry
 
 __all__ = ["WorldDrawing"]
 
@@ -34,23 +34,34 @@ class WorldDrawing:
     """Scene nodes for a :class:`WorldModel` under ``root``."""
 
     def __init__(self, scene: Any, world: WorldModel, *, root: str = "/world") -> None:
+        self.scene = scene
+        self.root = root
         self.frames: dict[str, Any] = {}
         for model in world.models:
-            frame = scene.add_frame(
-                f"{root}/{model.name}",
-                show_axes=False,
-                position=model.pose.xyz,
-                wxyz=_wxyz(model.pose),
-            )
-            self.frames[model.name] = frame
-            for link in model.links:
-                base = f"{root}/{model.name}/{link.name}"
-                scene.add_frame(
-                    base, show_axes=False, position=link.pose.xyz, wxyz=_wxyz(link.pose)
-                )
-                shapes = link.visuals or link.collisions
-                for i, shape in enumerate(shapes):
-                    self._shape(scene, f"{base}/shape_{i}", shape)
+            self.add(model)
+
+    def add(self, model: WorldModelEntry) -> None:
+        """Draw ``model`` at its pose (a model inserted while the simulation runs)."""
+        scene, root = self.scene, self.root
+        frame = scene.add_frame(
+            f"{root}/{model.name}",
+            show_axes=False,
+            position=model.pose.xyz,
+            wxyz=_wxyz(model.pose),
+        )
+        self.frames[model.name] = frame
+        for link in model.links:
+            base = f"{root}/{model.name}/{link.name}"
+            scene.add_frame(base, show_axes=False, position=link.pose.xyz, wxyz=_wxyz(link.pose))
+            shapes = link.visuals or link.collisions
+            for i, shape in enumerate(shapes):
+                self._shape(scene, f"{base}/shape_{i}", shape)
+
+    def remove(self, name: str) -> None:
+        """Stop drawing model ``name`` (its links and shapes go with its frame)."""
+        frame = self.frames.pop(name, None)
+        if frame is not None:
+            frame.remove()
 
     def _shape(self, scene: Any, name: str, shape: Shape) -> None:
         g = shape.geometry
