@@ -12,9 +12,9 @@ import pytest
 
 from belvedere.graph import Graph
 from belvedere.packages import PackageIndex
-from belvedere.sim.physics import PhysicsSimulation
+from belvedere.sim.physics import GazeboRos, PhysicsSimulation
 from belvedere.viewer import Viewer
-from belvedere.world import read_world
+from belvedere.world import ModelPaths, empty_world, read_world
 from tests.conftest import EXAMPLES
 from tests.viewer.test_browser import (
     BROWSER_DEADLINE,
@@ -27,8 +27,11 @@ from tests.viewer.test_browser import (
     wait_for_pixel,
 )
 from tests.waiting import wait_until
+from tests.world.test_building import X0, assert_a_laser_in_the_middle_sees_the_room
 
 pytestmark = pytest.mark.browser
+
+PACKAGES = PackageIndex([EXAMPLES])
 
 
 class World:
@@ -37,12 +40,18 @@ class World:
 
     def __init__(self, home: Path) -> None:
         self.graph = Graph()
-        self.sim = PhysicsSimulation(self.graph)
+        packages = PACKAGES
+        # as `belvedere sim --engine physics` makes it
+        world = empty_world(model_paths=ModelPaths.from_environment(packages=packages))
+        self.sim = PhysicsSimulation(self.graph, world)
+        GazeboRos(self.sim, packages=packages)
         self.viewer = Viewer(
             self.graph,
             port=_free_port(),
             sim=self.sim,
-            packages=PackageIndex([EXAMPLES]),
+            packages=packages,
+            world=world,
+            world_poses=self.sim.model_poses,
             fixed_frame="world",
         )
         panel = self.viewer.insert
@@ -91,7 +100,7 @@ BOX, POST, MOVED = (-1.5, 1.5), (-0.3, 0.6), (-1.5, -0.5)
 """Floor points in the initial view, left of the panel."""
 
 
-def test_insert_two_models_and_move_one(world: World) -> None:
+def test_insert_two_models_and_move_one(world: World, tmp_path: Path) -> None:
     sim = world.sim
     with browser_page(world.viewer.url) as page:
         # a unit box (dynamic) where the ground is clicked
@@ -115,12 +124,25 @@ def test_insert_two_models_and_move_one(world: World) -> None:
         wait_for_pixel(page, project((*POST, 0.5)), orange, what="the post")
         # move the box: select it, type its new place, apply
         _choose(page, "Selected", "unit_box")
-        x_field = page.get_by_label("X (m)", exact=True)
-        x_field.fill(str(MOVED[0]))
-        x_field.press("Enter")
-        y_field = page.get_by_label("Y (m)", exact=True)
-        y_field.fill(str(MOVED[1]))
-        y_field.press("Enter")
+        fields = world.panel.fields
+        # the fields show the selected box's pose first: typing before that lands is overwritten
+        wait_until(
+            lambda: fields["Y (m)"].value == pytest.approx(BOX[1], abs=0.03),
+            what="the fields showing the box's pose",
+            detail=lambda: {k: h.value for k, h in fields.items()},
+        )
+        for label, value in (("X (m)", MOVED[0]), ("Y (m)", MOVED[1])):
+            field = page.get_by_label(label, exact=True)
+            # typing "-1.5" over a negative number flips its sign in viser's number box:
+            # empty it first, as a user would
+            field.fill("")
+            field.fill(str(value))
+            field.press("Enter")
+            wait_until(
+                lambda: fields[label].value == value,  # noqa: B023
+                what=f"{label} = {value} in the panel",
+                detail=lambda: fields[label].value,  # noqa: B023
+            )
         page.get_by_role("button", name="Apply pose").click()
         wait_until(
             lambda: math.dist(_position(sim, "unit_box")[:2], MOVED) < 0.02,
@@ -133,6 +155,17 @@ def test_insert_two_models_and_move_one(world: World) -> None:
         wait_for_pixel(page, project((*MOVED, 0.5)), grey, what="the moved box")
         assert not grey(_pixel(page, project((*BOX, 0.5))))
         assert _position(sim, "belvedere_post")[:2] == pytest.approx(POST, abs=0.03)
+    # saved and read back: the post from the model path by include, the box inline, both
+    # where they are now
+    saved = read_world(world.viewer.save_world(tmp_path / "two.world"), packages=PACKAGES)
+    models = {m.name: m for m in saved.models}
+    assert (models["belvedere_post"].uri, models["unit_box"].uri) == (
+        "model://belvedere_post",
+        None,
+    )
+    fresh = PhysicsSimulation(Graph(), saved)
+    assert _position(fresh, "unit_box")[:2] == pytest.approx(MOVED, abs=0.02)
+    assert _position(fresh, "belvedere_post")[:2] == pytest.approx(POST, abs=0.03)
 
 
 SCALE = 50.0
@@ -145,6 +178,9 @@ def _top(xy: tuple[float, float]) -> tuple[float, float]:
 
 
 def test_draw_a_room_with_a_door(world: World, tmp_path: Path) -> None:
+    """Four walls and a door drawn in the top view, saved as a model and inserted; the world
+    saved with File > Save World As, reloaded into a fresh simulation, and a laser robot in
+    the room's middle sees the walls and the door where they were drawn."""
     sim = world.sim
     world.viewer.set_background((0, 0, 0))
     with browser_page(world.viewer.url) as page:
@@ -186,6 +222,10 @@ def test_draw_a_room_with_a_door(world: World, tmp_path: Path) -> None:
         _choose(page, "Draw", "Door")
         page.mouse.click(*_top((1.0, -1.62)))
         wait_until(lambda: world.editor.building.openings, what="the door")
+        door = world.editor.building.openings[0]
+        assert door.wall == 0  # the wall from (-2, -1.5) towards +x
+        door_x = (X0 + door.offset - door.width / 2, X0 + door.offset + door.width / 2)
+        assert door_x[0] < 1.0 < door_x[1]  # where it was clicked
         page.get_by_role("button", name="Done (save and insert)").click()
         wait_until(lambda: "building" in sim.world_roots, what="the room in the simulation")
         directory = tmp_path / ".gazebo" / "models" / "building"
@@ -206,3 +246,21 @@ def test_draw_a_room_with_a_door(world: World, tmp_path: Path) -> None:
         for x, y in [(0.0, -1.5), (2.0, 0.0), (0.0, 1.5), (-2.0, 0.0)]:
             wait_for_pixel(page, _top((x, y)), lit, what=f"the wall at ({x}, {y})")
         assert max(_pixel(page, _top((0.25, 0.25)))) < 60  # between grid lines
+
+        # File > Save World As, and the saved world in a fresh simulation
+        page.get_by_text("File", exact=True).click()
+        # viser's text boxes are not tied to their labels (label for= names another id)
+        box = page.locator("xpath=//label[normalize-space()='World file']/following::input[1]")
+        box.fill(str(tmp_path / "room.world"))
+        box.press("Enter")
+        page.get_by_role("button", name="Save World As").click()
+        saved = tmp_path / "room.world"
+        wait_until(
+            lambda: world.viewer.world_note.content == f"Saved `{saved}`.",
+            what="the viewer to say it saved the world",
+            detail=lambda: world.viewer.world_note.content,
+        )
+    reloaded = read_world(saved, packages=PACKAGES)
+    uris = {m.name: m.uri for m in reloaded.models}
+    assert uris == {"ground_plane": "model://ground_plane", "building": "model://building"}
+    assert_a_laser_in_the_middle_sees_the_room(reloaded, thickness=0.15, door=door_x)

@@ -24,6 +24,7 @@ from belvedere.world import (
     ModelPaths,
     Piece,
     Wall,
+    WorldModel,
     load_model,
     model_library,
     opening_at,
@@ -160,6 +161,16 @@ def test_a_laser_inside_sees_the_drawn_walls_and_the_door(tmp_path: Path) -> Non
         "<include><uri>model://room</uri></include></world></sdf>",
         model_paths=ModelPaths((tmp_path,)),
     )
+    assert_a_laser_in_the_middle_sees_the_room(world, thickness=T, door=(0.55, 1.45))
+
+
+def assert_a_laser_in_the_middle_sees_the_room(
+    world: WorldModel, *, thickness: float, door: tuple[float, float]
+) -> None:
+    """A laser robot at the world's origin, in a room whose walls' centre lines are the
+    rectangle X0..X1 by Y0..Y1 (``thickness`` thick) with a door from x = door[0] to door[1]
+    in the wall y = Y0: every beam ends on a wall's inner face (to a few cm), except through
+    the door, where it reaches its maximum range."""
     model = _model(
         "mbot_with_laser_gazebo.xacro", **{"<stddev>0.01</stddev>": "<stddev>0</stddev>"}
     )
@@ -173,18 +184,18 @@ def test_a_laser_inside_sees_the_drawn_walls_and_the_door(tmp_path: Path) -> Non
     ranges = np.asarray(scan.ranges)  # type: ignore[attr-defined]
     angles = scan.angle_min + scan.angle_increment * np.arange(len(ranges))  # type: ignore[attr-defined]
     # the inner faces: half a thickness inside the drawn lines
-    fx, fy = X1 - T / 2, Y1 - T / 2
+    fx, fy = X1 - thickness / 2, Y1 - thickness / 2
     c, s = np.abs(np.cos(angles)), np.abs(np.sin(angles))
     with np.errstate(divide="ignore"):
         expected = np.minimum(
             np.where(c > 1e-12, fx / c, np.inf), np.where(s > 1e-12, fy / s, np.inf)
         )
-    # where each beam meets the wall line y = -fy (the door is between x = 0.55 and 1.45)
+    # where each beam meets the wall line y = -fy
     hits_bottom = (np.sin(angles) < 0) & (expected == np.where(s > 1e-12, fy / s, np.inf))
     x_at = np.where(hits_bottom, fy * np.cos(angles) / np.maximum(s, 1e-12), np.nan)
-    x_out = x_at * (fy + T) / fy  # where it leaves the wall's outer face
-    through = hits_bottom & (x_at > 0.55 + 0.02) & (x_out < 1.45 - 0.02)
-    jamb = hits_bottom & ~through & (x_at > 0.55 - 0.1) & (x_out < 1.45 + 0.1)
+    x_out = x_at * (fy + thickness) / fy  # where it leaves the wall's outer face
+    through = hits_bottom & (x_at > door[0] + 0.02) & (x_out < door[1] - 0.02)
+    jamb = hits_bottom & ~through & (x_at > door[0] - 0.1) & (x_out < door[1] + 0.1)
     on_walls = ~through & ~jamb
     assert through.sum() >= 10  # the door spans ~14 degrees seen from the middle
     assert np.max(np.abs(ranges[on_walls] - expected[on_walls])) < 0.03
