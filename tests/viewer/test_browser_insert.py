@@ -236,8 +236,8 @@ def test_draw_a_room_with_a_door(world: World, tmp_path: Path) -> None:
         written = read_world(directory / "model.sdf").models[0]
         assert [link.pose for link in written.links] == [link.pose for link in room.links]
         assert not world.editor.building.walls  # the editor starts afresh
-        door = [s.geometry for s in room.links[0].collisions]
-        assert len(door) == 3  # beside, above and beside the door
+        pieces = [s.geometry for s in room.links[0].collisions]
+        assert len(pieces) == 3  # beside, above and beside the door
 
         # from above: the walls' tops on the black background, the room's inside black
         def lit(rgb: RGB) -> bool:
