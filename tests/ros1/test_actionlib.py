@@ -9,6 +9,7 @@ import os
 import re
 import subprocess
 import sys
+import time
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -300,19 +301,25 @@ def test_a_graph_action_server_serves_a_rospy_client(endpoint: str, tmp_path: Pa
     graph = _graph(endpoint)
     node = graph.create_node("move_base")
     held: list[GoalHandle] = []
+    fed: list[tuple[float, GoalHandle]] = []
 
     def execute(handle: GoalHandle) -> None:
         label = handle.goal.target_pose.header.frame_id
         if label == "ok":
             handle.publish_feedback({"base_position": {"pose": {"position": {"x": 0.5}}}})
-            handle.succeed(text="there")
+            fed.append((time.monotonic(), handle))
         elif label == "no":
             handle.abort(text="no way")
         else:
             held.append(handle)
 
-    def release() -> None:  # the held goal ends once its client asks
-        for handle in held:
+    def release() -> None:
+        # feedback and result are two topics: as with ROS's actionlib, a result sent right
+        # after a feedback may be taken first (and the feedback then dropped), so it waits
+        for at, handle in fed:
+            if handle.active and time.monotonic() > at + 0.5:
+                handle.succeed(text="there")
+        for handle in held:  # the held goal ends once its client asks
             if handle.cancel_requested and handle.active:
                 handle.preempted(text="canceled")
 
