@@ -143,3 +143,26 @@ def test_a_planned_batch_holds_when_something_arrives_meanwhile() -> None:
     ex.add_timer(0.001, physics, oneshot=True)
     ex.run(duration=0.05, rtf=None)
     assert ends == [MS + MAX_BATCH_NS]
+
+
+def test_a_call_from_another_thread_runs_on_the_executor_thread() -> None:
+    import threading
+
+    ex = Executor(sim_time=True)
+    ex.add_timer(0.001, lambda: None)
+    with pytest.raises(TimeoutError, match=r"did not run the call within 0\.05 s"):
+        ex.call(lambda: 1, timeout=0.05)  # nothing runs the executor yet
+    runner = threading.Thread(target=ex.run, kwargs={"rtf": 1.0})
+    runner.start()
+    try:
+        assert ex.call(lambda: threading.current_thread(), timeout=30.0) is runner
+
+        def fail() -> None:
+            msg = "raised on the executor thread"
+            raise ValueError(msg)
+
+        with pytest.raises(ValueError, match="raised on the executor thread"):
+            ex.call(fail, timeout=30.0)
+    finally:
+        ex.stop()
+        runner.join(timeout=30.0)

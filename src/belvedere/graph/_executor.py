@@ -16,9 +16,11 @@ import threading
 import time
 from collections import deque
 from collections.abc import Callable
-from typing import Final, Protocol
+from typing import Final, Protocol, TypeVar
 
 __all__ = ["Executor", "Timer"]
+
+T = TypeVar("T")
 
 NS: Final = 1_000_000_000
 
@@ -137,6 +139,32 @@ class Executor:
     def post(self, fn: Callable[[], object]) -> None:
         """Run ``fn`` on the executor thread (safe from any thread)."""
         self._inbox.put(fn)
+
+    def call(self, fn: Callable[[], T], timeout: float) -> T:
+        """``fn()`` run on the executor thread between callbacks (here, when this is that
+        thread), its result returned and its error raised here. A barrier too: what was
+        posted before it has run when it returns. TimeoutError when not done in ``timeout``."""
+        if self.thread is threading.current_thread():
+            return fn()
+        done = threading.Event()
+        result: list[T] = []
+        failure: list[BaseException] = []
+
+        def run() -> None:
+            try:
+                result.append(fn())
+            except BaseException as err:  # noqa: BLE001 (raised again on the caller's thread)
+                failure.append(err)
+            finally:
+                done.set()
+
+        self.post(run)
+        if not done.wait(timeout):
+            msg = f"the executor did not run the call within {timeout:g} s"
+            raise TimeoutError(msg)
+        if failure:
+            raise failure[0]
+        return result[0]
 
     def stop(self) -> None:
         self._stop.set()

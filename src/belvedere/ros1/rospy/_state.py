@@ -80,25 +80,12 @@ class Runtime:
         None if the executor has stopped or did not get to it in time."""
         if self.graph.on_executor_thread():
             return fn()
-        done = threading.Event()
-        result: list[T] = []
-        failure: list[BaseException] = []
-
-        def run() -> None:
-            try:
-                result.append(fn())
-            except BaseException as err:  # noqa: BLE001 (raised again in the caller)
-                failure.append(err)
-            finally:
-                done.set()
-
         if self.graph.executor.stopped:
             return None
-        self.graph.executor.post(run)
-        done.wait(timeout)
-        if failure:
-            raise failure[0]
-        return result[0] if result else None
+        try:
+            return self.graph.executor.call(fn, timeout)
+        except TimeoutError:
+            return None
 
 
 _runtime: Runtime | None = None

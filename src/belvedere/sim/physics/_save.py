@@ -173,22 +173,8 @@ def _on_sim_thread(graph: Graph, fn: Callable[[], T], timeout: float, wait_for_s
         return fn()
     if thread is not None and not thread.is_alive():
         return fn()
-    done = threading.Event()
-    result: list[T] = []
-    failure: list[BaseException] = []
-
-    def run() -> None:
-        try:
-            result.append(fn())
-        except BaseException as err:  # noqa: BLE001 (raised again on the caller's thread)
-            failure.append(err)
-        finally:
-            done.set()
-
-    executor.post(run)
-    if not done.wait(timeout):
+    try:
+        return executor.call(fn, timeout)
+    except TimeoutError:
         msg = f"the simulation did not answer within {timeout:g} s; nothing was saved"
-        raise BelvedereError(msg)
-    if failure:
-        raise failure[0]
-    return result[0]
+        raise BelvedereError(msg) from None
