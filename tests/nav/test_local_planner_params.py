@@ -215,3 +215,29 @@ def test_an_unknown_plugin_names_the_supported_ones() -> None:
     assert isinstance(caught.value, ValueError)
     assert caught.value.kind == "local planner"
     assert caught.value.supported == LOCAL_PLANNERS
+
+
+@pytest.mark.parametrize("cls", [TrajectoryPlannerParams, DWAPlannerParams])
+def test_every_field_is_read_under_its_own_name(cls: Any) -> None:
+    """Each parameter set to a value of its kind other than its default comes back."""
+    import dataclasses
+
+    derived = {"sim_period"}  # worked out from controller_frequency
+    values: dict[str, Any] = {}
+    for i, field in enumerate(dataclasses.fields(cls)):
+        default = field.default
+        if field.name in derived:
+            continue
+        if isinstance(default, bool):
+            values[field.name] = not default
+        elif isinstance(default, int):
+            values[field.name] = default + 7
+        elif isinstance(default, float):
+            values[field.name] = 100.0 - i  # positive; a max_* (listed first) above its min_*
+        else:
+            values[field.name] = [0.5, -0.5]
+    params = cls.from_mapping(values)
+    for name, value in values.items():
+        got = getattr(params, name)
+        assert got == (tuple(value) if isinstance(value, list) else value), name
+    assert params.sim_period == pytest.approx(1.0 / values["controller_frequency"])

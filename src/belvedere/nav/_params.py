@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-__all__ = ["ParamReader"]
+__all__ = ["ParamReader", "read_fields"]
 
 
 class ParamReader:
@@ -82,3 +83,33 @@ class ParamReader:
                 raise ValueError(message) from None
             values.append(value)
         return tuple(values)
+
+
+def read_fields(
+    cls: type[Any],
+    read: ParamReader,
+    aliases: Mapping[str, tuple[str, ...]],
+    given: Mapping[str, Any],
+) -> dict[str, Any]:
+    """Every field of the dataclass ``cls`` read under its own name, then its older
+    ``aliases``, defaulting to the field's default; its default's kind decides the read (a
+    flag, a whole number, a number, a list of numbers). Fields in ``given`` are taken as
+    they are (those ROS works out from other parameters)."""
+    fields: dict[str, Any] = {}
+    for field in dataclasses.fields(cls):
+        name, default = field.name, field.default
+        names = (name, *aliases.get(name, ()))
+        if name in given:
+            fields[name] = given[name]
+        elif isinstance(default, bool):
+            fields[name] = read.flag(default, *names)
+        elif isinstance(default, int):
+            fields[name] = read.whole(default, *names)
+        elif isinstance(default, float):
+            fields[name] = read.number(default, *names)
+        elif isinstance(default, tuple):
+            fields[name] = read.numbers(default, name)
+        else:
+            message = f"{cls.__name__}.{name}: no parameter read for its kind of default"
+            raise TypeError(message)
+    return fields

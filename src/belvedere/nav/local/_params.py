@@ -12,7 +12,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from belvedere.nav._params import ParamReader
+from belvedere.nav._params import ParamReader, read_fields
 
 __all__ = ["DWAPlannerParams", "TrajectoryPlannerParams"]
 
@@ -24,6 +24,31 @@ def _sim_period(read: ParamReader) -> float:
     when it is unset or not positive (as both ROS planners fall back to 20 Hz)."""
     frequency = read.number(0.0, "controller_frequency")
     return 1.0 / frequency if frequency > 0 else 0.05
+
+
+_TRAJECTORY_ALIASES = {
+    "acc_lim_theta": ("acc_lim_th",),
+    "min_in_place_vel_theta": ("min_in_place_rotational_vel",),
+    "escape_vel": ("backup_vel",),
+    "path_distance_bias": ("pdist_scale",),
+    "goal_distance_bias": ("gdist_scale",),
+}
+"""Older names ROS still reads (the course and rbx1 use some)."""
+
+_DWA_ALIASES = {
+    "max_vel_trans": ("max_trans_vel",),
+    "min_vel_trans": ("min_trans_vel",),
+    "max_vel_theta": ("max_rot_vel",),
+    "min_vel_theta": ("min_rot_vel",),
+    "acc_lim_theta": ("acc_lim_th",),
+    "acc_lim_trans": ("acc_limit_trans",),
+    "theta_stopped_vel": ("rot_stopped_vel",),
+}
+
+
+def _at_least_one_sample(fields: dict[str, Any]) -> dict[str, Any]:
+    """Sample counts below one are one, as the planners clamp them."""
+    return {k: max(1, v) if k.endswith("_samples") else v for k, v in fields.items()}
 
 
 def _at_least(name: str, value: float, low: float) -> None:
@@ -84,53 +109,15 @@ class TrajectoryPlannerParams:
     def from_mapping(cls, values: Mapping[str, Any]) -> TrajectoryPlannerParams:
         """The parameters from ``name → value``; unknown names are ignored as ROS does."""
         read = ParamReader(values)
+        sim_granularity = read.number(0.025, "sim_granularity")
+        given: dict[str, Any] = {
+            "angular_sim_granularity": read.number(sim_granularity, "angular_sim_granularity"),
+            "sim_period": _sim_period(read),
+        }
         if read.has("max_rotational_vel"):
             top = read.number(1.0, "max_rotational_vel")
-            max_th, min_th = top, -top
-        else:
-            max_th = read.number(1.0, "max_vel_theta")
-            min_th = read.number(-1.0, "min_vel_theta")
-        sim_granularity = read.number(0.025, "sim_granularity")
-        frequency = read.number(20.0, "controller_frequency")
-        params = cls(
-            acc_lim_x=read.number(2.5, "acc_lim_x"),
-            acc_lim_y=read.number(2.5, "acc_lim_y"),
-            acc_lim_theta=read.number(3.2, "acc_lim_theta", "acc_lim_th"),
-            max_vel_x=read.number(0.5, "max_vel_x"),
-            min_vel_x=read.number(0.1, "min_vel_x"),
-            max_vel_theta=max_th,
-            min_vel_theta=min_th,
-            min_in_place_vel_theta=read.number(
-                0.4, "min_in_place_vel_theta", "min_in_place_rotational_vel"
-            ),
-            escape_vel=read.number(-0.1, "escape_vel", "backup_vel"),
-            holonomic_robot=read.flag(True, "holonomic_robot"),
-            y_vels=read.numbers(_DEFAULT_Y_VELS, "y_vels"),
-            xy_goal_tolerance=read.number(0.10, "xy_goal_tolerance"),
-            yaw_goal_tolerance=read.number(0.05, "yaw_goal_tolerance"),
-            latch_xy_goal_tolerance=read.flag(False, "latch_xy_goal_tolerance"),
-            sim_time=read.number(1.0, "sim_time"),
-            sim_granularity=sim_granularity,
-            angular_sim_granularity=read.number(sim_granularity, "angular_sim_granularity"),
-            vx_samples=max(1, read.whole(3, "vx_samples")),
-            vtheta_samples=max(1, read.whole(20, "vtheta_samples")),
-            controller_frequency=frequency,
-            sim_period=_sim_period(read),
-            meter_scoring=read.flag(False, "meter_scoring"),
-            path_distance_bias=read.number(0.6, "path_distance_bias", "pdist_scale"),
-            goal_distance_bias=read.number(0.8, "goal_distance_bias", "gdist_scale"),
-            occdist_scale=read.number(0.01, "occdist_scale"),
-            heading_lookahead=read.number(0.325, "heading_lookahead"),
-            heading_scoring=read.flag(False, "heading_scoring"),
-            heading_scoring_timestep=read.number(0.8, "heading_scoring_timestep"),
-            dwa=read.flag(True, "dwa"),
-            simple_attractor=read.flag(False, "simple_attractor"),
-            escape_reset_dist=read.number(0.10, "escape_reset_dist"),
-            escape_reset_theta=read.number(math.pi / 4, "escape_reset_theta"),
-            oscillation_reset_dist=read.number(0.05, "oscillation_reset_dist"),
-            prune_plan=read.flag(True, "prune_plan"),
-            stop_time_buffer=read.number(0.2, "stop_time_buffer"),
-        )
+            given.update(max_vel_theta=top, min_vel_theta=-top)
+        params = cls(**_at_least_one_sample(read_fields(cls, read, _TRAJECTORY_ALIASES, given)))
         params.check()
         return params
 
@@ -210,46 +197,8 @@ class DWAPlannerParams:
     def from_mapping(cls, values: Mapping[str, Any]) -> DWAPlannerParams:
         """The parameters from ``name → value``; unknown names are ignored as ROS does."""
         read = ParamReader(values)
-        params = cls(
-            max_vel_trans=read.number(0.55, "max_vel_trans", "max_trans_vel"),
-            min_vel_trans=read.number(0.1, "min_vel_trans", "min_trans_vel"),
-            max_vel_x=read.number(0.55, "max_vel_x"),
-            min_vel_x=read.number(0.0, "min_vel_x"),
-            max_vel_y=read.number(0.1, "max_vel_y"),
-            min_vel_y=read.number(-0.1, "min_vel_y"),
-            max_vel_theta=read.number(1.0, "max_vel_theta", "max_rot_vel"),
-            min_vel_theta=read.number(0.4, "min_vel_theta", "min_rot_vel"),
-            acc_lim_x=read.number(2.5, "acc_lim_x"),
-            acc_lim_y=read.number(2.5, "acc_lim_y"),
-            acc_lim_theta=read.number(3.2, "acc_lim_theta", "acc_lim_th"),
-            acc_lim_trans=read.number(0.1, "acc_lim_trans", "acc_limit_trans"),
-            prune_plan=read.flag(False, "prune_plan"),
-            xy_goal_tolerance=read.number(0.1, "xy_goal_tolerance"),
-            yaw_goal_tolerance=read.number(0.1, "yaw_goal_tolerance"),
-            trans_stopped_vel=read.number(0.1, "trans_stopped_vel"),
-            theta_stopped_vel=read.number(0.1, "theta_stopped_vel", "rot_stopped_vel"),
-            latch_xy_goal_tolerance=read.flag(False, "latch_xy_goal_tolerance"),
-            sim_time=read.number(1.7, "sim_time"),
-            sim_granularity=read.number(0.025, "sim_granularity"),
-            angular_sim_granularity=read.number(0.1, "angular_sim_granularity"),
-            path_distance_bias=read.number(32.0, "path_distance_bias"),
-            goal_distance_bias=read.number(24.0, "goal_distance_bias"),
-            occdist_scale=read.number(0.01, "occdist_scale"),
-            twirling_scale=read.number(0.0, "twirling_scale"),
-            stop_time_buffer=read.number(0.2, "stop_time_buffer"),
-            oscillation_reset_dist=read.number(0.05, "oscillation_reset_dist"),
-            oscillation_reset_angle=read.number(0.2, "oscillation_reset_angle"),
-            forward_point_distance=read.number(0.325, "forward_point_distance"),
-            scaling_speed=read.number(0.25, "scaling_speed"),
-            max_scaling_factor=read.number(0.2, "max_scaling_factor"),
-            vx_samples=max(1, read.whole(3, "vx_samples")),
-            vy_samples=max(1, read.whole(10, "vy_samples")),
-            vth_samples=max(1, read.whole(20, "vth_samples")),
-            use_dwa=read.flag(True, "use_dwa"),
-            sum_scores=read.flag(False, "sum_scores"),
-            controller_frequency=read.number(20.0, "controller_frequency"),
-            sim_period=_sim_period(read),
-        )
+        given = {"sim_period": _sim_period(read)}
+        params = cls(**_at_least_one_sample(read_fields(cls, read, _DWA_ALIASES, given)))
         params.check()
         return params
 
