@@ -10,9 +10,11 @@ is not slowed by serialization for Foxglove.
 from __future__ import annotations
 
 import logging
+import re
 import threading
 import time
 from collections import deque
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import cache, partial
 from types import ModuleType
@@ -20,7 +22,7 @@ from typing import TYPE_CHECKING, Any, Final
 
 from belvedere.errors import BelvedereError
 from belvedere.foxglove._inbound import ClientPublishing, Parameters
-from belvedere.graph import Graph, GraphError, GraphTopics, Subscription
+from belvedere.graph import Graph, GraphError, GraphTopics, Node, Subscription
 from belvedere.msgs import MessageTypeError, types
 
 if TYPE_CHECKING:
@@ -111,13 +113,23 @@ class FoxgloveBridge:
         host: str = "127.0.0.1",
         port: int = DEFAULT_PORT,
         node_name: str = "foxglove_bridge",
+        node: Node | None = None,
+        topic_whitelist: Sequence[str] = (".*",),
         poll: float = POLL_S,
     ) -> None:
+        """``node``: the bridge's node, when one exists already (a launch file's); else one
+        named ``node_name`` is made. ``topic_whitelist``: regular expressions, one of which
+        must match a topic's whole name for it to be served (foxglove_bridge's parameter)."""
         fox = require_sdk()
         from foxglove.websocket import Capability
 
+        try:
+            self._whitelist = [re.compile(pattern) for pattern in topic_whitelist]
+        except re.error as err:
+            msg = f"topic_whitelist: {err.pattern!r} is not a regular expression ({err})"
+            raise FoxgloveBridgeError(msg) from None
         self.graph = graph
-        self.node = graph.create_node(node_name)
+        self.node = node if node is not None else graph.create_node(node_name)
         self.sent = 0
         """Messages handed to the SDK so far."""
         self.dropped = 0
@@ -207,6 +219,8 @@ class FoxgloveBridge:
         """Every topic someone publishes now, with its type."""
         found: dict[str, str] = {}
         for name, type_name in self._topics.published().items():
+            if not any(pattern.fullmatch(name) for pattern in self._whitelist):
+                continue
             try:
                 found[name] = types().resolve(type_name)
             except MessageTypeError:

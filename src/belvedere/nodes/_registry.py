@@ -113,6 +113,7 @@ MODULES: Final = {
     "controller_manager": "controller_manager",
     "depthimage_to_laserscan": "depthimage_to_laserscan",
     "fake_localization": "fake_localization",
+    "foxglove_bridge": "foxglove_bridge",
     "gazebo_ros": "gazebo_ros",
     "gmapping": "gmapping",
     "hector_mapping": "hector_mapping",
