@@ -99,11 +99,12 @@ def test_short_range_matching_keeps_its_heading(
     # With the default drift (2 %, 3 %, 0.4°/m) and a 2 m maxUrange the matcher used to turn
     # ~0.5° a metre on its own: the points past the range the submap had mapped fell on the
     # fading ends of its walls and were dragged back along them (0.46 m, 4.6° mean error).
+    # Closures it finds here are true ones (the drift is small): they may only help.
     slam = _slam(cloister_default, maxUrange=max_urange)
-    assert slam.loop_closures == 0
     xy, yaw = simulated.errors(slam.trajectory()[1], cloister_default.truth)
     assert xy < 0.15
     assert yaw < math.radians(1.5)
+    assert _end_error(slam, cloister_default) < 0.4
 
 
 def test_a_wrong_closure_past_the_gate_cannot_drag_the_trajectory(cloister: Recording) -> None:
@@ -120,13 +121,17 @@ def test_a_wrong_closure_past_the_gate_cannot_drag_the_trajectory(cloister: Reco
     assert simulated.errors(bare.trajectory()[1], cloister.truth)[0] > 0.5
 
 
-def test_a_loop_that_needs_closing_is_closed(corridors: Recording) -> None:
+@pytest.mark.parametrize("max_urange", [PARAMS["maxUrange"], 3.0])
+def test_a_loop_that_needs_closing_is_closed(corridors: Recording, max_urange: float) -> None:
+    """Also with a short range, where a corridor's two long walls are most of every scan:
+    a match half a metre along it scores nearly as well as the right one (with 0.8 of the
+    best score for a second peak to refuse it, this closure was never made)."""
     odom_end = float(np.hypot(*(corridors.odom[-1, :2] - corridors.truth[-1, :2])))
     assert odom_end > 10.0
-    open_loop = _slam(corridors, Tuning(loop_min_travel=math.inf))
+    open_loop = _slam(corridors, Tuning(loop_min_travel=math.inf), maxUrange=max_urange)
     assert open_loop.loop_closures == 0
     assert _end_error(open_loop, corridors) > 1.0  # the bare side: metres along it lost
-    slam = _slam(corridors)
+    slam = _slam(corridors, maxUrange=max_urange)
     assert slam.loop_closures >= 1
     assert slam.refused_closures == 0
     assert _end_error(slam, corridors) < 0.3
