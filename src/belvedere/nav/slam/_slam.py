@@ -747,6 +747,45 @@ class SubmapSlam:
             self.refused_closures += len(added)
             return
         self.loop_closures += len(added)
+        self._settle_pending()
+
+    def _settle_pending(self) -> None:
+        """With a loop confirmed, the closures still waiting for a partner are tried one by
+        one on the bent graph: each that the graph takes within the same gates stays. One
+        seen on the way into the loop (its partner expired before the loop was confirmed)
+        would otherwise leave the stretch before the confirmed closure bent by the whole
+        correction spread along the loop, rather than held where it was seen."""
+        t = self.tuning
+        for closure in list(self._pending):
+            cost_before = self.graph.cost()
+            poses_before = self.graph.poses.copy()
+            edge = self.graph.edge_count
+            self.graph.add_edge(
+                closure.submap,
+                self.keyframes[closure.keyframe].home,
+                closure.measurement,
+                _moved_information(closure.information, self.keyframes[closure.keyframe].local),
+                huber=t.loop_huber,
+                length=t.loop_length,
+            )
+            self._optimize()
+            error = float(self.graph.errors()[edge])
+            grown = self.graph.cost() - cost_before
+            if error > t.loop_max_error or grown > t.loop_max_chi2:
+                logger.debug("pending closure refused: error %.1f, chi2 +%.1f", error, grown)
+                self.graph.remove_edge(edge)
+                self.graph.poses = poses_before
+                self._refresh_keyframe_xy()
+                continue
+            logger.debug(
+                "pending closure %.1f->%d settled: error %.1f, chi2 +%.1f",
+                self.keyframes[closure.keyframe].stamp,
+                closure.submap,
+                error,
+                grown,
+            )
+            self._pending.remove(closure)
+            self.loop_closures += 1
 
     def _optimize(self) -> None:
         self.graph.optimize(iterations=self.tuning.optimize_iterations)
