@@ -120,7 +120,7 @@ def join_graph(args: argparse.Namespace) -> Graph:
     if remote:
         graph.params.set("/", remote)
     if sim_time:
-        graph.follow_clock(graph.create_node(f"belvedere_clock_{os.getpid()}"))
+        graph.follow_clock(graph.create_node(f"belvedere_clock_follower_{os.getpid()}"))
     return graph
 
 

@@ -15,6 +15,7 @@ from belvedere.cli._script import ScriptOptions, add_script_options
 from belvedere.cli._session import run_session
 from belvedere.cli._tool import add_graph_options
 from belvedere.errors import BelvedereError
+from belvedere.graph import graph_running
 from belvedere.launch import LaunchConfig, LaunchError, load_launch
 from belvedere.launch._listing import dump_params, find_executable, node_command, node_list
 from belvedere.packages import PackageIndex
@@ -94,7 +95,19 @@ def run(args: argparse.Namespace) -> int:
     if args.node_args:
         sys.stdout.write(_node_args(config, args.node_args, packages) + "\n")
         return 0
-    return run_session(config, packages, args)
+    return run_session(config, packages, args, join=_joins_running_graph(config, args))
+
+
+def _joins_running_graph(config: LaunchConfig, args: argparse.Namespace) -> bool:
+    """As roslaunch uses the master that runs: a launch of clients only (amcl, move_base,
+    rviz, scripts …) beside a running simulation joins its graph, with its parameters and
+    its clock. A launch that starts a simulator makes the graph and its clock, as before."""
+    if not graph_running(args.endpoint, args.domain):
+        return False
+    return all(
+        nodes.find(n.pkg, n.type) is None or nodes.joins_running_graph(n.pkg, n.type)
+        for n in config.nodes
+    )
 
 
 def _node_args(config: LaunchConfig, name: str, packages: PackageIndex) -> str:

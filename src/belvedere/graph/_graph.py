@@ -6,7 +6,9 @@ them to other processes when someone there wants them.
 
 from __future__ import annotations
 
+import itertools
 import logging
+import os
 import threading
 import time
 from collections import deque
@@ -444,6 +446,14 @@ class Node:
         raise ServiceUnavailableError(msg, hint="is the node that provides it running?")
 
 
+_clock_nodes = itertools.count()
+
+
+def _clock_node_name() -> str:
+    n = next(_clock_nodes)
+    return f"belvedere_clock_{os.getpid()}" + (f"_{n}" if n else "")
+
+
 class Graph:
     """Nodes, topics, the parameter tree and services on one executor."""
 
@@ -467,8 +477,12 @@ class Graph:
             transport.attach(self)
         self._lock = threading.Lock()
         self._seq = 0
+        self._clock: Node | None = None
         if sim_time and clock_hz:
-            clock = self.create_node("belvedere_clock")
+            # Named for this process (and graph): another process joining the graph under
+            # the same name would replace this node, and its /clock with it.
+            clock = self.create_node(_clock_node_name())
+            self._clock = clock
             pub = clock.publisher("/clock", "rosgraph_msgs/Clock", queue_size=1)
             clock_type = types().cls("rosgraph_msgs/Clock")
             time_type = types().cls("builtin_interfaces/Time")
@@ -501,6 +515,9 @@ class Graph:
             raise GraphError(msg)
         executor = self.executor
         executor.follow()
+        if self._clock is not None:  # the time is another's now: only its owner announces it
+            self._clock.shutdown()
+            self._clock = None
 
         def tick(msg: Any) -> None:
             executor.set_clock(msg.clock.sec * NS + msg.clock.nanosec)
