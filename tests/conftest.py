@@ -95,7 +95,7 @@ def oracle() -> Oracle:
 
 @pytest.fixture(scope="session")
 def melodic_oracle() -> Oracle:
-    """ROS Melodic's xacro 1.13.3, installed apart by scripts/install.sh."""
+    """ROS Melodic's xacro 1.13.3, installed apart by scripts/install.sh --dev."""
     if not (MELODIC_ORACLE / "xacro" / "__init__.py").is_file():
         pytest.skip("xacro 1.13.3 (ROS Melodic's) is not installed under .oracles/")
     return Oracle(MELODIC_ORACLE)

@@ -16,7 +16,7 @@ def missing_debian_ros(modules: str, *paths: Path) -> str | None:
     Python), or None."""
     for path in (ROSCORE, ROS_PYTHON, *paths):
         if not path.exists():
-            return f"{path} is not installed (scripts/install.sh installs Debian's ROS 1)"
+            return f"{path} is not installed (scripts/install.sh --dev installs Debian's ROS 1)"
     probe = subprocess.run(
         [str(ROS_PYTHON), "-c", f"import {modules}"], capture_output=True, check=False
     )

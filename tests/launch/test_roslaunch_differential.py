@@ -2,7 +2,7 @@
 (ros_comm 1.15) on the example launch files and on generated ones that exercise every scoping
 rule: the same lines, so the same parameters (names, values and types), nodes and commands.
 
-Skipped where ``/usr/bin/roslaunch`` is absent (``scripts/install.sh`` installs it)."""
+Skipped where ``/usr/bin/roslaunch`` is absent (``scripts/install.sh --dev`` installs it)."""
 
 from __future__ import annotations
 

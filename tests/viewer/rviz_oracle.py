@@ -93,7 +93,9 @@ def missing_rviz() -> str | None:
     """Why Debian's rviz cannot be the oracle here, or None."""
     for path in (RVIZ, XVFB_RUN):
         if not path.exists():
-            return f"{path} is not installed (scripts/install.sh installs rviz, xvfb and xauth)"
+            return (
+                f"{path} is not installed (scripts/install.sh --dev installs rviz, xvfb and xauth)"
+            )
     return missing_debian_ros("rospy, rosgraph, genpy")
 
 

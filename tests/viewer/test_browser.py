@@ -18,6 +18,7 @@ from belvedere.tf import JointStatePublisher, RobotStatePublisher, TransformList
 from belvedere.viewer import Viewer
 from belvedere.viewer._viewer import CAMERA_FOV, CAMERA_LOOK_AT, CAMERA_POSITION
 from tests.conftest import EXAMPLES
+from tests.viewer.docs_screenshots import docs_screenshot
 from tests.waiting import wait_until
 
 pytestmark = pytest.mark.browser
@@ -183,6 +184,7 @@ def test_robot_renders_where_it_should(scene: Scene, page: Any) -> None:
         return max(r, g, b) - min(r, g, b) < 30 and 100 < r < 240
 
     wait_for_pixel(page, project((0.0, -0.19 - 0.013, 0.06)), grey, what="the grey left wheel")
+    docs_screenshot(page, "display")
 
 
 def test_joint_slider_moves_the_wheel(scene: Scene, page: Any) -> None:

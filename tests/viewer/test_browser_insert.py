@@ -16,6 +16,7 @@ from belvedere.sim.physics import GazeboRos, PhysicsSimulation
 from belvedere.viewer import Viewer
 from belvedere.world import ModelPaths, empty_world, read_world
 from tests.conftest import EXAMPLES
+from tests.viewer.docs_screenshots import docs_screenshot
 from tests.viewer.test_browser import (
     BROWSER_DEADLINE,
     RGB,
@@ -246,6 +247,7 @@ def test_draw_a_room_with_a_door(world: World, tmp_path: Path) -> None:
         for x, y in [(0.0, -1.5), (2.0, 0.0), (0.0, 1.5), (-2.0, 0.0)]:
             wait_for_pixel(page, _top((x, y)), lit, what=f"the wall at ({x}, {y})")
         assert max(_pixel(page, _top((0.25, 0.25)))) < 60  # between grid lines
+        docs_screenshot(page, "building_editor")
 
         # File > Save World As, and the saved world in a fresh simulation
         page.get_by_text("File", exact=True).click()

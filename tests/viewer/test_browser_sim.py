@@ -22,6 +22,7 @@ from belvedere.tf import JointStatePublisher, RobotStatePublisher
 from belvedere.viewer import Viewer
 from belvedere.world import read_world
 from tests.conftest import EXAMPLES
+from tests.viewer.docs_screenshots import docs_screenshot
 from tests.viewer.test_browser import (
     MBOT,
     RGB,
@@ -59,6 +60,7 @@ def test_robot_drives_in_the_viewer_and_resets() -> None:
             wait_until(lambda: base.dx == 0.0, what="the base to take the stop command")
             x = base.x  # the graph's thread moves it no further
             wait_for_pixel(page, project((x, 0.0, top)), is_base_yellow, what="the moved base")
+            docs_screenshot(page, "arbotix")
             assert not is_base_yellow(_pixel(page, project((0.0, 0.0, top))))
             page.get_by_role("button", name="Reset").click()
             wait_until(lambda: base.x == 0.0, what="the base reset to x = 0", detail=lambda: base.x)
@@ -101,6 +103,7 @@ def test_physics_world_and_robot_in_the_viewer() -> None:
             post_2 = project((-1.0, 2.0, 0.5))
             wait_for_pixel(page, post_2, orange, what="post_2 (Gazebo/Orange)")
             wait_until(lambda: viewer.displays[0].handles, what="the scan in the viewer's scene")
+            docs_screenshot(page, "gazebo_playground")
     finally:
         viewer.close()
         graph.shutdown()
@@ -165,7 +168,10 @@ def test_a_2d_nav_goal_clicked_in_the_browser_drives_move_base_there(tmp_path: P
     graph.create_node("probe").subscribe(
         "/odom", "nav_msgs/Odometry", lambda m: odom.append(m.pose.pose)
     )
-    viewer = Viewer(graph, port=_free_port(), fixed_frame="map")
+    turtlebot = RobotModel.from_path(EXAMPLES / "rbx1_description/urdf/turtlebot.urdf.xacro")
+    viewer = Viewer(graph, model=turtlebot, port=_free_port(), fixed_frame="map")
+    viewer.add_display("Map", "/map")  # as the course's rviz shows navigation
+    viewer.add_display("Path", "/move_base/NavfnROS/plan")
     graph.start(rtf=4.0)
     target, towards = (-0.6, -0.9), (-0.6, -0.4)  # facing +y: a quarter turn from the start
 
@@ -191,6 +197,7 @@ def test_a_2d_nav_goal_clicked_in_the_browser_drives_move_base_there(tmp_path: P
                 what="the robot at the clicked goal, facing the shift+click",
                 detail=lambda: odom[-1] if odom else None,
             )
+            docs_screenshot(page, "nav_goal")
     finally:
         viewer.close()
         graph.shutdown()
