@@ -11,6 +11,7 @@ from pathlib import Path
 from belvedere import nodes
 from belvedere.cli._args import add_viewer_options, mappings_only
 from belvedere.cli._foxglove import add_foxglove_options
+from belvedere.cli._report import report_lines
 from belvedere.cli._script import ScriptOptions, add_script_options
 from belvedere.cli._session import run_session
 from belvedere.cli._tool import add_graph_options
@@ -80,8 +81,7 @@ def run(args: argparse.Namespace) -> int:
     mappings = mappings_only(list(args.extra))
     ScriptOptions.from_args(args)  # bad --pub/--echo fail before anything starts
     config = load_launch(path, args=mappings, packages=packages)
-    for warning in config.warnings:
-        sys.stderr.write(f"{warning}\n")
+    report_lines(config.warnings)
     if args.dump_params:
         sys.stdout.write(dump_params(config))
         return 0

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 
 from belvedere.cli._args import add_viewer_options, mappings_only
 from belvedere.cli._foxglove import add_foxglove_options, start_foxglove
+from belvedere.cli._report import notice, report_diagnostics, report_lines
 from belvedere.cli._script import ScriptOptions, add_script_options, install_script
 from belvedere.cli._tool import add_graph_options, open_transport
 from belvedere.description.urdf import Pose, RobotModel
@@ -127,8 +128,7 @@ def run(args: argparse.Namespace) -> int:
     config, params = load_config(args.config) if args.config else (None, {})
     packages = PackageIndex.from_environment(package_path=args.package_path, near=args.input)
     model = RobotModel.from_path(args.input, mappings=mappings, packages=packages)
-    for warning in model.warnings:
-        sys.stderr.write(f"{warning}\n")
+    report_diagnostics(model.warnings, source=args.input)
     world = _read_world(args, packages) if args.engine == "physics" else None
     graph = Graph(sim_time=True, seed=args.seed, transport=open_transport(args))
     for param, value in (
@@ -180,9 +180,9 @@ def _kinematic(
     )
     if config is None:
         base = sim.driver.base
-        sys.stderr.write(
+        notice(
             "no --config: a diff_controller drives "
-            f"{base.base_frame if base else '?'} (odom frame {sim.odom_frame})\n"
+            f"{base.base_frame if base else '?'} (odom frame {sim.odom_frame})"
         )
     return sim
 
@@ -192,8 +192,7 @@ def _read_world(args: argparse.Namespace, packages: PackageIndex) -> WorldModel:
         world = read_world(args.world, packages=packages)
     else:
         world = empty_world(model_paths=ModelPaths.from_environment(packages=packages))
-    for warning in world.warnings:
-        sys.stderr.write(f"{warning}\n")
+    report_lines(world.warnings)
     return world
 
 
@@ -268,4 +267,4 @@ def _run(graph: Graph, args: argparse.Namespace) -> None:
     if args.duration is not None:
         wall = time.monotonic() - started
         rate = args.duration / wall if wall > 0 else float("inf")
-        sys.stderr.write(f"simulated {args.duration:g} s in {wall:.3f} s ({rate:.0f}x real time)\n")
+        notice(f"simulated {args.duration:g} s in {wall:.3f} s ({rate:.0f}x real time)")

@@ -132,18 +132,29 @@ class Processor(MacroCalls):
     def here(self) -> SourceLocation | None:
         return self.current.loc if self.current is not None else None
 
-    def warn(self, message: str, location: SourceLocation | None = None) -> None:
-        w = XacroWarning(message, location or self.here())
+    def warn(
+        self, message: str, location: SourceLocation | None = None, *, legacy: str | None = None
+    ) -> None:
+        w = XacroWarning(message, location or self.here(), legacy)
         self.warnings.append(w)
         if self._warn_sink is not None:
             self._warn_sink(w)
+        elif legacy is not None:
+            logger.debug("%s", w)  # one summary line stands for them all (expand_file)
         else:
             logger.warning("%s", w)
 
-    def warn_once(self, key: str, message: str, location: SourceLocation | None = None) -> None:
+    def warn_once(
+        self,
+        key: str,
+        message: str,
+        location: SourceLocation | None = None,
+        *,
+        legacy: str | None = None,
+    ) -> None:
         if key not in self._warned:
             self._warned.add(key)
-            self.warn(message, location)
+            self.warn(message, location, legacy=legacy)
 
     def _message(self, kind: str) -> Callable[..., str]:
         def emit(*args: Any, **kwargs: Any) -> str:
@@ -391,11 +402,12 @@ class Processor(MacroCalls):
                 self.legacy_sites.append((el.loc, tag))
             if self.dialect is Dialect.AUTO:
                 self.warn_once(
-                    f"tag:{tag}",
+                    f"tag:{tag}@{el.loc}",  # each place: -v lists what --fix rewrites
                     f"xacro tag <{tag}> without the 'xacro:' prefix: processed as ROS Melodic "
                     f"did; modern xacro copies it through. Write <xacro:{tag}>, or run "
                     "'belvedere xacro --fix FILE'",
                     el.loc,
+                    legacy=tag,
                 )
             else:
                 self.warn_once(

@@ -31,7 +31,7 @@ def run_command(cmd: XacroCommand, *, packages: PackageIndex | None = None) -> C
             cmd.input, mappings=cmd.mappings, packages=packages, root_dir=cmd.root_dir
         )
         for change in changes:
-            logger.warning("%s: fixed: <%s> -> <%s>", change.location, change.old, change.new)
+            logger.info("%s: fixed: <%s> -> <%s>", change.location, change.old, change.new)
         logger.info("%d tag(s) rewritten", len(changes))
         return CommandResult(None)
     if cmd.check_order:
