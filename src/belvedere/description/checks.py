@@ -213,12 +213,9 @@ def lint(
                     )
 
     for j in model.joints:
-        limit = j.limit
-        if limit is not None and j.type in ("revolute", "prismatic") and limit.lower > limit.upper:
-            warn(
-                f"joint '{j.name}': lower limit {limit.lower} > upper limit {limit.upper}",
-                j.source,
-            )
+        inverted = j.inverted_limits
+        if inverted is not None:
+            warn(inverted, j.source)
         if j.type not in ("fixed", "floating") and j.axis == (0.0, 0.0, 0.0):
             warn(f"joint '{j.name}' has a zero axis (<axis> without xyz)", j.source)
         elif j.type in ("revolute", "continuous", "prismatic"):
