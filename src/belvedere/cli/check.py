@@ -61,6 +61,8 @@ def run(args: argparse.Namespace) -> int:
         dialect=args.dialect,
         strict=args.strict,
     )
+    if report.failure is not None and not args.json:
+        raise report.failure  # printed as `belvedere xacro` prints it (trail, hint)
     if args.json:
         sys.stdout.write(json.dumps(report.to_json(), indent=2) + "\n")
     else:
