@@ -58,7 +58,11 @@ def add_parser(
         "the original does; see --cmd-vel-timeout).",
     )
     p.add_argument("input", metavar="MODEL", help="URDF or xacro file (then name:=value args)")
-    p.add_argument("--engine", choices=ENGINES, default="kinematic", help="default: kinematic")
+    p.add_argument(
+        "--engine",
+        choices=ENGINES,
+        help="default: kinematic, or physics with --world or --paused",
+    )
     p.add_argument(
         "--config", metavar="YAML", help="ArbotiX driver parameters (e.g. fake_mbot_arbotix.yaml)"
     )
@@ -117,8 +121,14 @@ def load_config(path: str) -> tuple[ArbotixConfig, dict[str, object]]:
 def run(args: argparse.Namespace) -> int:
     mappings = mappings_only(list(args.extra))
     script = ScriptOptions.from_args(args)
+    if args.engine is None:
+        args.engine = "kinematic"
+        implied = [o for o, given in (("--world", args.world), ("--paused", args.paused)) if given]
+        if implied:
+            args.engine = "physics"
+            notice(f"note: {' and '.join(implied)} implies --engine physics")
     if args.engine == "kinematic" and (args.world or args.paused):
-        msg = "--world and --paused are for --engine physics"
+        msg = "--world and --paused are for --engine physics, not kinematic"
         raise BelvedereError(msg)
     if args.engine == "physics" and (args.config or args.namespace != "/"):
         msg = "--config and --namespace are for --engine kinematic"
