@@ -17,7 +17,13 @@ from belvedere.cli._session import run_session
 from belvedere.cli._tool import add_graph_options
 from belvedere.errors import BelvedereError
 from belvedere.launch import LaunchConfig, LaunchError, load_launch
-from belvedere.launch._listing import dump_params, find_executable, node_command, node_list
+from belvedere.launch._listing import (
+    dump_params,
+    file_list,
+    find_executable,
+    node_command,
+    node_list,
+)
 from belvedere.packages import PackageIndex
 
 __all__ = ["add_parser", "run"]
@@ -38,7 +44,12 @@ def add_parser(
     p.add_argument("--dump-params", action="store_true", help="print the parameters and exit")
     p.add_argument("--nodes", action="store_true", help="print the node names and exit")
     p.add_argument("--args", metavar="NODE", dest="node_args", help="print a node's command")
-    p.add_argument("--files", action="store_true", help="print the files it reads and exit")
+    p.add_argument(
+        "--files",
+        action="store_true",
+        help="print every file it reads (launch, xacro, yaml, rviz, world, map…), each with "
+        "its kind, and exit",
+    )
     p.add_argument("--headless", action="store_true", help="no viewer (rviz, gzclient)")
     p.add_argument("--seed", type=int, default=0, help="seed of the simulation's randomness")
     add_viewer_options(p)
@@ -89,7 +100,7 @@ def run(args: argparse.Namespace) -> int:
         sys.stdout.write(node_list(config))
         return 0
     if args.files:
-        sys.stdout.write("".join(f"{f}\n" for f in dict.fromkeys(config.files)))
+        sys.stdout.write(file_list(config))
         return 0
     if args.node_args:
         sys.stdout.write(_node_args(config, args.node_args, packages) + "\n")

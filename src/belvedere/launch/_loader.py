@@ -27,7 +27,7 @@ from belvedere.description.xacro._interpreter import ExpressionError
 from belvedere.description.xacro._run import run_command
 from belvedere.description.xacro._substitutions import Substitutions
 from belvedere.errors import BelvedereError, ParseError, SourceLocation, pinpoint
-from belvedere.launch._model import LaunchConfig, LaunchError, LaunchNode
+from belvedere.launch._model import LaunchConfig, LaunchError, LaunchFile, LaunchNode
 from belvedere.launch._names import canonical, child_namespace, global_ns, is_legal, ns_join
 from belvedere.packages import PackageIndex
 from belvedere.xmldom import Element, parse_file
@@ -113,7 +113,7 @@ class _Loader:
         if root.tag != "launch":
             msg = f"a launch file's root must be <launch>, not <{root.tag}>"
             raise LaunchError(msg, root.loc)
-        self.config.files.append(str(path))
+        self.config.files.append(LaunchFile("launch", str(path)))
         if "deprecated" in root.attrs:
             self.config.warnings.append(
                 f"{root.loc}: warning: this launch file is deprecated: {root.attrs['deprecated']}"
@@ -306,6 +306,8 @@ class _Loader:
             except OSError as err:
                 msg = f"cannot read {source} {raw!r}: {err.strerror}"
                 raise LaunchError(msg, el.loc) from None
+            read = "binary" if source == "binfile" else "urdf" if raw.endswith(".urdf") else "text"
+            self.config.files.append(LaunchFile(read, raw))
             if source == "binfile":
                 return data
             return _typed(data.decode("utf-8", errors="replace"), kind, el.loc)
@@ -329,6 +331,10 @@ class _Loader:
                 if at is not None:
                     err.add_trail("in the <param command> at", at)
                 raise
+            self.config.files.extend(
+                LaunchFile("yaml" if f.endswith((".yaml", ".yml")) else "xacro", f)
+                for f in result.files
+            )
             return result.text or ""
         try:
             done = subprocess.run(words, capture_output=True, text=True, timeout=60, check=False)
@@ -374,7 +380,7 @@ class _Loader:
                 doc = load_yaml(self.subst(text, scope, el.loc), path=file)
             else:
                 doc = load_yaml_file(file, requested_at=el.loc)
-            self.config.files.append(file)
+            self.config.files.append(LaunchFile("yaml", file))
         else:
             text = el.text_content()
             if subst_value:
