@@ -15,7 +15,7 @@ from belvedere.cli._report import report_lines
 from belvedere.cli._script import ScriptOptions, add_script_options
 from belvedere.cli._session import run_session
 from belvedere.cli._tool import add_graph_options
-from belvedere.errors import BelvedereError
+from belvedere.errors import BelvedereError, did_you_mean
 from belvedere.launch import LaunchConfig, LaunchError, load_launch
 from belvedere.launch._listing import (
     dump_params,
@@ -69,7 +69,9 @@ def _launch_file(args: argparse.Namespace, packages: PackageIndex) -> Path:
         path = Path(args.target)
         if not os.path.isfile(path):
             msg = f"launch file {args.target!r} does not exist"
-            raise BelvedereError(msg, hint="or give a package and a file: launch PKG FILE")
+            near = did_you_mean(path.name, (p.name for p in _launch_files(path.parent)))
+            hint = near or "or give a package and a file: launch PKG FILE"
+            raise BelvedereError(msg, hint=hint)
         return path
     root = packages.find(args.target)
     direct: Path = root / str(args.file)
@@ -78,9 +80,22 @@ def _launch_file(args: argparse.Namespace, packages: PackageIndex) -> Path:
     found = sorted(p for p in root.rglob(Path(args.file).name) if os.path.isfile(p))
     if not found:
         msg = f"no launch file {args.file!r} in package {args.target!r} ({root})"
-        raise BelvedereError(msg)
+        launches = _launch_files(root, everywhere=True)
+        names = sorted({p.name for p in launches})
+        near = did_you_mean(Path(args.file).name, names)
+        raise BelvedereError(
+            msg, hint=near or f"the package's launch files: {', '.join(names) or 'none'}"
+        )
     first: Path = found[0]
     return first
+
+
+def _launch_files(directory: Path, *, everywhere: bool = False) -> list[Path]:
+    """The launch files in ``directory`` (and below it, ``everywhere``)."""
+    if not directory.is_dir():
+        return []
+    pattern = "*.launch*" if not everywhere else "**/*.launch*"
+    return [p for p in directory.glob(pattern) if p.is_file()]
 
 
 def run(args: argparse.Namespace) -> int:

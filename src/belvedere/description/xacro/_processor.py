@@ -7,7 +7,6 @@ costs O(1). Legacy dialects change what an unprefixed tag means and how macros a
 
 from __future__ import annotations
 
-import difflib
 import gc
 import glob
 import keyword
@@ -43,7 +42,7 @@ from belvedere.description.xacro._symbols import (
     make_global_symbols,
 )
 from belvedere.description.xacro._text import Part, program, programs, python2_str
-from belvedere.errors import ParseError, SourceLocation, pinpoint
+from belvedere.errors import ParseError, SourceLocation, did_you_mean, pinpoint
 from belvedere.packages import PackageIndex, find_package_root
 from belvedere.xmldom import Comment, Document, Element, Node, Text, parse_file
 
@@ -742,11 +741,9 @@ def _did_you_mean(name: str, scope: Scope) -> str | None:
     while s is not None:
         known.update(k for k in s.vars if not k.startswith("*"))
         s = s.parent
-    close = difflib.get_close_matches(name, sorted(known), n=3, cutoff=0.6)
-    if not close:
-        close = difflib.get_close_matches(name, sorted(scope.root), n=3, cutoff=0.75)
-    if close:
-        return "did you mean " + " or ".join(repr(c) for c in close) + "?"
+    hint = did_you_mean(name, known, most=3) or did_you_mean(name, scope.root, most=3, cutoff=0.75)
+    if hint is not None:
+        return hint
     return "properties must be defined (xacro:property) before the expression is evaluated"
 
 
