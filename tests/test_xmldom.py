@@ -74,4 +74,5 @@ def test_xacro_expansion_deeper_than_the_limit(
     assert main(["check", str(path)]) == 1
     assert capsys.readouterr().err == (
         f"{path}:3:5: error: elements nest more than 256 levels deep (the nesting limit)\n"
+        "  hint: no robot, world or launch file needs as many\n"
     )

@@ -11,10 +11,12 @@ All errors share the root :class:`BelvedereError`; the CLI turns any of them int
 
 from __future__ import annotations
 
+import difflib
+from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import NamedTuple
 
-__all__ = ["BelvedereError", "ParseError", "SourceLocation", "pinpoint"]
+__all__ = ["BelvedereError", "ParseError", "SourceLocation", "did_you_mean", "pinpoint"]
 
 
 class SourceLocation(NamedTuple):
@@ -60,6 +62,17 @@ def pinpoint(near: SourceLocation | None, text: str, offset: int = 0) -> SourceL
     at = found + offset
     line_start = source.rfind("\n", 0, at) + 1
     return SourceLocation(near.path, source.count("\n", 0, at) + 1, at - line_start + 1)
+
+
+def did_you_mean(
+    name: str, known: Iterable[str], *, most: int = 1, cutoff: float = 0.6
+) -> str | None:
+    """``did you mean 'x'?`` for the name in ``known`` closest to ``name`` (``'x' or 'y'``…:
+    the ``most`` closest), or None if none is close."""
+    close = difflib.get_close_matches(name, sorted(set(known)), n=most, cutoff=cutoff)
+    if not close:
+        return None
+    return "did you mean " + " or ".join(repr(c) for c in close) + "?"
 
 
 class BelvedereError(Exception):

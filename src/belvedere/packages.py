@@ -19,7 +19,7 @@ import os
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 
-from belvedere.errors import BelvedereError, ParseError, SourceLocation
+from belvedere.errors import BelvedereError, ParseError, SourceLocation, did_you_mean
 from belvedere.xmldom import parse_file
 
 __all__ = ["PackageIndex", "PackageNotFoundError", "find_package_root", "read_package_name"]
@@ -137,11 +137,10 @@ class PackageIndex:
                     "\n".join(f"    {d}" for d in self.search_path) or "    (nothing to search)"
                 )
                 msg = f"package {name!r} not found; searched:\n{searched}"
+                hint = "add its parent directory with --package-path DIR, or set ROS_PACKAGE_PATH"
+                near = did_you_mean(name, [*self._found, *builtin_package_names()])
                 raise PackageNotFoundError(
-                    msg,
-                    requested_at,
-                    hint="add its parent directory with --package-path DIR, "
-                    "or set ROS_PACKAGE_PATH",
+                    msg, requested_at, hint=f"{near} Otherwise {hint}" if near else hint
                 )
         return self._found[name]
 
@@ -164,6 +163,11 @@ class PackageIndex:
         if uri.startswith("file://"):
             return Path(uri[len("file://") :])
         return Path(uri)
+
+
+def builtin_package_names() -> list[str]:
+    """The packages belvedere provides (:data:`BUILTIN_PACKAGES`)."""
+    return sorted(p.parent.name for p in BUILTIN_PACKAGES.glob("*/package.xml"))
 
 
 def workspace_dirs(file: Path) -> list[Path]:

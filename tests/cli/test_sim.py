@@ -168,17 +168,35 @@ def test_physics_scripted_run_in_a_world(endpoint: str, capsys: pytest.CaptureFi
     [
         (["--world", "/no/such.world"], "cannot read /no/such.world"),
         (["--engine", "physics", "--config", MBOT_YAML], "--config and --namespace are for"),
-        (["--paused"], "--world and --paused are for --engine physics"),
+        (
+            ["--engine", "kinematic", "--paused"],
+            "error: --world and --paused are for --engine physics, not kinematic",
+        ),
     ],
 )
 def test_physics_argument_errors(
     endpoint: str, capsys: pytest.CaptureFixture[str], extra: list[str], message: str
 ) -> None:
     engine = [] if "--engine" in extra else ["--engine", "physics"]
-    if "--paused" in extra:
-        engine = []
     assert main(["sim", MBOT, "--headless", "--duration", "1", *engine, *extra]) == 1
     assert message in capsys.readouterr().err
+
+
+def test_a_world_implies_the_physics_engine(
+    endpoint: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    world = str(EXAMPLES / "mbot_gazebo/worlds/empty.world")
+    args = ["sim", MBOT, "--world", world, "--headless", "--rtf", "max", "--duration", "0.5"]
+    args += ["--echo", "/odom"]
+    assert main(args) == 0
+    out, err = capsys.readouterr()
+    assert [line for line in err.splitlines() if "implies" in line] == [
+        "note: --world implies --engine physics"
+    ]
+    assert "error" not in err
+    assert len(_documents(out)) == 49  # the diff-drive plugin's 100 Hz, not ArbotiX's 10
+    assert main(["-q", *args]) == 0
+    assert "implies" not in capsys.readouterr().err
 
 
 def test_a_world_that_already_holds_the_robot(

@@ -170,7 +170,7 @@ def test_cli_listing_options(capsys: pytest.CaptureFixture[str], endpoint: str) 
     assert main([*base, launch, "gui:=false", "--nodes"]) == 0
     assert "/gazebo_gui" not in capsys.readouterr().out
     assert main([*base, launch, "--files"]) == 0
-    files = capsys.readouterr().out.split()
+    files = capsys.readouterr().out.splitlines()
     assert files[0].endswith("view_mbot_gazebo_empty_world.launch")
     assert files[1].endswith("gazebo_ros/launch/empty_world.launch")
     assert main([*base, launch, "--args", "urdf_spawner"]) == 0
@@ -312,3 +312,61 @@ def test_two_spawners_of_one_name_name_both_places(tmp_path: Path) -> None:
     assert str(info.value.location).startswith(f"{launch}:7:")
     runtime.close()
     graph.shutdown()
+
+
+BUILTIN = Path(__file__).parents[2] / "src" / "belvedere" / "share" / "packages"
+
+
+@pytest.mark.parametrize(
+    ("launch", "listed"),
+    [
+        (
+            GAZEBO / "view_mbot_gazebo_empty_world.launch",
+            [
+                ("launch", GAZEBO / "view_mbot_gazebo_empty_world.launch"),
+                ("launch", BUILTIN / "gazebo_ros/launch/empty_world.launch"),
+                ("xacro", EXAMPLES / "mbot_description/urdf/xacro/gazebo/mbot_gazebo.xacro"),
+                ("xacro", EXAMPLES / "mbot_description/urdf/xacro/gazebo/mbot_base_gazebo.xacro"),
+                ("world", EXAMPLES / "mbot_gazebo/worlds/empty.world"),
+            ],
+        ),
+        (
+            EXAMPLES / "mbot_navigation/launch/nav_cloister_demo.launch",
+            [
+                ("launch", EXAMPLES / "mbot_navigation/launch/nav_cloister_demo.launch"),
+                ("launch", EXAMPLES / "mbot_navigation/launch/move_base.launch"),
+                *(
+                    ("yaml", EXAMPLES / f"mbot_navigation/config/mbot/{name}_params.yaml")
+                    for name in (
+                        "costmap_common",
+                        "local_costmap",
+                        "global_costmap",
+                        "base_local_planner",
+                    )
+                ),
+                ("launch", EXAMPLES / "mbot_navigation/launch/amcl.launch"),
+                ("map", EXAMPLES / "mbot_navigation/maps/cloister_gmapping.yaml"),
+                ("image", EXAMPLES / "mbot_navigation/maps/cloister_gmapping.pgm"),
+                ("rviz", EXAMPLES / "mbot_navigation/rviz/nav.rviz"),
+            ],
+        ),
+        (
+            DESCRIPTION / "display_mbot_base_urdf.launch",
+            [
+                ("launch", DESCRIPTION / "display_mbot_base_urdf.launch"),
+                ("urdf", EXAMPLES / "mbot_description/urdf/urdf/mbot_base.urdf"),
+                ("rviz", EXAMPLES / "mbot_description/config/mbot.rviz"),
+            ],
+        ),
+    ],
+    ids=lambda v: v.name if isinstance(v, Path) else "",
+)
+def test_files_lists_every_file_the_launch_reads_by_kind(
+    launch: Path, listed: list[tuple[str, Path]], capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(["-q", "launch", str(launch), "--files"]) == 0
+    width = max(len(kind) for kind, _ in listed)
+    assert capsys.readouterr().out == "".join(
+        f"{kind:<{width}}  {path.resolve() if kind != 'launch' or path != launch else path}\n"
+        for kind, path in listed
+    )

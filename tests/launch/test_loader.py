@@ -88,7 +88,7 @@ def test_args_params_groups_remaps_and_substitutions(tmp_path: Path) -> None:
     warnings = " ".join(config.warnings)  # type: ignore[attr-defined]
     assert "<test> t skipped" in warnings
     assert "<machine far> ignored" in warnings
-    assert config.files == [str(path), str(inner)]  # type: ignore[attr-defined]
+    assert config.files == [("launch", str(path)), ("launch", str(inner))]  # type: ignore[attr-defined]
 
 
 def test_xacro_command_runs_in_process(tmp_path: Path) -> None:

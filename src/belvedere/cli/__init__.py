@@ -15,6 +15,7 @@ import gc
 import importlib
 import logging
 import os
+import re
 import signal
 import sys
 import threading
@@ -50,12 +51,16 @@ _VERBS = (
 Only the verb being run is imported (``xacro`` need not load the simulator)."""
 
 
+_OWN_PREFIX = re.compile(r"(?:^|: )(?:warning|error|note): ")
+
+
 class _Formatter(logging.Formatter):
-    """Plain messages for info; ``warning:`` prefixes unless the message carries its own."""
+    """Plain messages for info; ``warning:`` prefixes unless the message carries its own
+    (``file:line: error: …``)."""
 
     def format(self, record: logging.LogRecord) -> str:
         msg = record.getMessage()
-        own_prefix = ": warning: " in msg or msg.startswith("warning:")
+        own_prefix = _OWN_PREFIX.search(msg) is not None
         if record.levelno >= logging.WARNING and not own_prefix:
             msg = f"{record.levelname.lower()}: {msg}"
         return msg
@@ -74,13 +79,16 @@ class _StderrHandler(logging.StreamHandler):  # type: ignore[type-arg]
         pass  # StreamHandler sets it; the property decides
 
 
+_LEVELS = {-2: logging.ERROR, -1: logging.WARNING, 0: logging.INFO, 1: logging.DEBUG}
+"""The ``belvedere`` logger's level by ``-v`` count minus ``-q`` count (clamped)."""
+
+
 @contextlib.contextmanager
 def _logging_to_stderr(verbosity: int) -> Iterator[None]:
     """The library's records on stderr while a command runs; as before once it returns
-    (``main()`` is called in-process too, by tests and scripts)."""
-    level = {-1: logging.ERROR, 0: logging.INFO, 1: logging.DEBUG}.get(
-        max(-1, min(verbosity, 1)), logging.INFO
-    )
+    (``main()`` is called in-process too, by tests and scripts). ``-q`` hides notices
+    (info), ``-qq`` warnings too, ``-v`` shows debug records (see :mod:`._report`)."""
+    level = _LEVELS[max(min(_LEVELS), min(verbosity, max(_LEVELS)))]
     handler = _StderrHandler()
     handler.setFormatter(_Formatter())
     root = logging.getLogger("belvedere")
@@ -104,8 +112,20 @@ def _common_options(*, suppress: bool) -> argparse.ArgumentParser:
         return argparse.SUPPRESS if suppress else value
 
     common = argparse.ArgumentParser(add_help=False)
-    common.add_argument("-v", "--verbose", action="count", default=default(0), help="more output")
-    common.add_argument("-q", "--quiet", action="count", default=default(0), help="less output")
+    common.add_argument(
+        "-v",
+        "--verbose",
+        action="count",
+        default=default(0),
+        help="more output: every deprecation with its file:line, debug records",
+    )
+    common.add_argument(
+        "-q",
+        "--quiet",
+        action="count",
+        default=default(0),
+        help="less output: no notices or summaries (-qq: no warnings either; errors stay)",
+    )
     common.add_argument(
         "--debug", action="store_true", default=default(False), help="show tracebacks on errors"
     )

@@ -7,6 +7,7 @@ import json
 import sys
 
 from belvedere.cli._args import mappings_only
+from belvedere.cli._report import report_diagnostics
 from belvedere.description.checks import check_file, format_tree
 from belvedere.description.xacro import Dialect
 from belvedere.packages import PackageIndex
@@ -60,11 +61,12 @@ def run(args: argparse.Namespace) -> int:
         dialect=args.dialect,
         strict=args.strict,
     )
+    if report.failure is not None and not args.json:
+        raise report.failure  # printed as `belvedere xacro` prints it (trail, hint)
     if args.json:
         sys.stdout.write(json.dumps(report.to_json(), indent=2) + "\n")
     else:
-        for d in report.diagnostics:
-            sys.stderr.write(f"{d}\n")
+        report_diagnostics(report.diagnostics, source=args.input)
         if report.model is not None:  # otherwise the errors above say why
             sys.stdout.write(format_tree(report.model))
     if not report.ok or (args.strict and report.warnings):

@@ -10,6 +10,7 @@ import webbrowser
 
 from belvedere.cli._args import add_viewer_options, mappings_only
 from belvedere.cli._foxglove import add_foxglove_options, start_foxglove
+from belvedere.cli._report import notice, report_diagnostics
 from belvedere.cli._tool import add_graph_options, open_transport
 from belvedere.description.urdf import RobotModel
 from belvedere.graph import Graph
@@ -40,8 +41,7 @@ def run(args: argparse.Namespace) -> int:
     packages = PackageIndex.from_environment(package_path=args.package_path, near=args.input)
     started = time.monotonic()
     model = RobotModel.from_path(args.input, mappings=mappings, packages=packages)
-    for warning in model.warnings:
-        sys.stderr.write(f"{warning}\n")
+    report_diagnostics(model.warnings, source=args.input)
     graph = Graph(sim_time=False, transport=open_transport(args))
     graph.params.set("/robot_description", model.to_urdf())
     RobotStatePublisher(graph.create_node("robot_state_publisher"), model)
@@ -67,7 +67,7 @@ def run(args: argparse.Namespace) -> int:
     graph.start(rtf=None)
     sys.stdout.write(f"{viewer.url}\n")
     sys.stdout.flush()
-    sys.stderr.write(f"viewer ready in {time.monotonic() - started:.2f} s (Ctrl-C to stop)\n")
+    notice(f"viewer ready in {time.monotonic() - started:.2f} s (Ctrl-C to stop)")
     if args.open:
         webbrowser.open(viewer.url)
     try:

@@ -11,13 +11,20 @@ from pathlib import Path
 from belvedere import nodes
 from belvedere.cli._args import add_viewer_options, mappings_only
 from belvedere.cli._foxglove import add_foxglove_options
+from belvedere.cli._report import report_lines
 from belvedere.cli._script import ScriptOptions, add_script_options
 from belvedere.cli._session import run_session
 from belvedere.cli._tool import add_graph_options
-from belvedere.errors import BelvedereError
+from belvedere.errors import BelvedereError, did_you_mean
 from belvedere.graph import graph_running
 from belvedere.launch import LaunchConfig, LaunchError, load_launch
-from belvedere.launch._listing import dump_params, find_executable, node_command, node_list
+from belvedere.launch._listing import (
+    dump_params,
+    file_list,
+    find_executable,
+    node_command,
+    node_list,
+)
 from belvedere.packages import PackageIndex
 
 __all__ = ["add_parser", "run"]
@@ -38,7 +45,12 @@ def add_parser(
     p.add_argument("--dump-params", action="store_true", help="print the parameters and exit")
     p.add_argument("--nodes", action="store_true", help="print the node names and exit")
     p.add_argument("--args", metavar="NODE", dest="node_args", help="print a node's command")
-    p.add_argument("--files", action="store_true", help="print the files it reads and exit")
+    p.add_argument(
+        "--files",
+        action="store_true",
+        help="print every file it reads (launch, xacro, yaml, rviz, world, map…), each with "
+        "its kind, and exit",
+    )
     p.add_argument("--headless", action="store_true", help="no viewer (rviz, gzclient)")
     p.add_argument("--seed", type=int, default=0, help="seed of the simulation's randomness")
     add_viewer_options(p)
@@ -58,7 +70,9 @@ def _launch_file(args: argparse.Namespace, packages: PackageIndex) -> Path:
         path = Path(args.target)
         if not os.path.isfile(path):
             msg = f"launch file {args.target!r} does not exist"
-            raise BelvedereError(msg, hint="or give a package and a file: launch PKG FILE")
+            near = did_you_mean(path.name, (p.name for p in _launch_files(path.parent)))
+            hint = near or "or give a package and a file: launch PKG FILE"
+            raise BelvedereError(msg, hint=hint)
         return path
     root = packages.find(args.target)
     direct: Path = root / str(args.file)
@@ -67,9 +81,22 @@ def _launch_file(args: argparse.Namespace, packages: PackageIndex) -> Path:
     found = sorted(p for p in root.rglob(Path(args.file).name) if os.path.isfile(p))
     if not found:
         msg = f"no launch file {args.file!r} in package {args.target!r} ({root})"
-        raise BelvedereError(msg)
+        launches = _launch_files(root, everywhere=True)
+        names = sorted({p.name for p in launches})
+        near = did_you_mean(Path(args.file).name, names)
+        raise BelvedereError(
+            msg, hint=near or f"the package's launch files: {', '.join(names) or 'none'}"
+        )
     first: Path = found[0]
     return first
+
+
+def _launch_files(directory: Path, *, everywhere: bool = False) -> list[Path]:
+    """The launch files in ``directory`` (and below it, ``everywhere``)."""
+    if not directory.is_dir():
+        return []
+    pattern = "*.launch*" if not everywhere else "**/*.launch*"
+    return [p for p in directory.glob(pattern) if p.is_file()]
 
 
 def run(args: argparse.Namespace) -> int:
@@ -81,8 +108,7 @@ def run(args: argparse.Namespace) -> int:
     mappings = mappings_only(list(args.extra))
     ScriptOptions.from_args(args)  # bad --pub/--echo fail before anything starts
     config = load_launch(path, args=mappings, packages=packages)
-    for warning in config.warnings:
-        sys.stderr.write(f"{warning}\n")
+    report_lines(config.warnings)
     if args.dump_params:
         sys.stdout.write(dump_params(config))
         return 0
@@ -90,7 +116,7 @@ def run(args: argparse.Namespace) -> int:
         sys.stdout.write(node_list(config))
         return 0
     if args.files:
-        sys.stdout.write("".join(f"{f}\n" for f in dict.fromkeys(config.files)))
+        sys.stdout.write(file_list(config))
         return 0
     if args.node_args:
         sys.stdout.write(_node_args(config, args.node_args, packages) + "\n")

@@ -24,11 +24,11 @@ from belvedere.cli._args import add_viewer_options
 from belvedere.cli._script import add_script_options
 from belvedere.cli._session import run_session
 from belvedere.cli._tool import add_graph_options
-from belvedere.errors import BelvedereError
+from belvedere.errors import BelvedereError, did_you_mean
 from belvedere.graph import graph_running
 from belvedere.launch import LaunchConfig, LaunchNode
 from belvedere.launch._runtime import find_script
-from belvedere.packages import PackageIndex, find_package_root
+from belvedere.packages import PackageIndex, PackageNotFoundError, find_package_root
 from belvedere.pyscripts import script_command
 
 __all__ = ["add_parser", "run"]
@@ -108,11 +108,22 @@ def run(args: argparse.Namespace) -> int:
         package_path=args.package_path, near=script if script is not None else None
     )
     if script is None and nodes.find(package, executable) is None:
-        script = find_script(packages.find(package), executable)
+        have = nodes.executables(package)
+        try:
+            home: Path | None = packages.find(package)
+        except PackageNotFoundError:
+            if not have:
+                raise
+            home = None  # a package belvedere has in itself (map_server, tf…)
+        script = find_script(home, executable) if home is not None else None
         if script is None:
-            have = ", ".join(nodes.executables(package)) or "none"
+            dirs = [home / "scripts", home / "nodes"] if home is not None else []
+            scripts = [p.name for d in dirs for p in d.glob("*")]
             msg = f"package {package!r} has no executable {executable!r}"
-            raise BelvedereError(msg, hint=f"belvedere has for {package}: {have}")
+            hint = did_you_mean(executable, [*have, *scripts])
+            raise BelvedereError(
+                msg, hint=hint or f"belvedere has for {package}: {', '.join(have) or 'none'}"
+            )
     plain, remaps, params, name, namespace = split_ros_args(words)
     if name is None:
         name = executable.removesuffix(".py")

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 
 from belvedere.cli._args import add_viewer_options, mappings_only
 from belvedere.cli._foxglove import add_foxglove_options, start_foxglove
+from belvedere.cli._report import notice, report_diagnostics, report_lines
 from belvedere.cli._script import ScriptOptions, add_script_options, install_script
 from belvedere.cli._tool import add_graph_options, open_transport
 from belvedere.description.urdf import Pose, RobotModel
@@ -57,7 +58,11 @@ def add_parser(
         "the original does; see --cmd-vel-timeout).",
     )
     p.add_argument("input", metavar="MODEL", help="URDF or xacro file (then name:=value args)")
-    p.add_argument("--engine", choices=ENGINES, default="kinematic", help="default: kinematic")
+    p.add_argument(
+        "--engine",
+        choices=ENGINES,
+        help="default: kinematic, or physics with --world or --paused",
+    )
     p.add_argument(
         "--config", metavar="YAML", help="ArbotiX driver parameters (e.g. fake_mbot_arbotix.yaml)"
     )
@@ -116,8 +121,14 @@ def load_config(path: str) -> tuple[ArbotixConfig, dict[str, object]]:
 def run(args: argparse.Namespace) -> int:
     mappings = mappings_only(list(args.extra))
     script = ScriptOptions.from_args(args)
+    if args.engine is None:
+        args.engine = "kinematic"
+        implied = [o for o, given in (("--world", args.world), ("--paused", args.paused)) if given]
+        if implied:
+            args.engine = "physics"
+            notice(f"note: {' and '.join(implied)} implies --engine physics")
     if args.engine == "kinematic" and (args.world or args.paused):
-        msg = "--world and --paused are for --engine physics"
+        msg = "--world and --paused are for --engine physics, not kinematic"
         raise BelvedereError(msg)
     if args.engine == "physics" and (args.config or args.namespace != "/"):
         msg = "--config and --namespace are for --engine kinematic"
@@ -127,8 +138,7 @@ def run(args: argparse.Namespace) -> int:
     config, params = load_config(args.config) if args.config else (None, {})
     packages = PackageIndex.from_environment(package_path=args.package_path, near=args.input)
     model = RobotModel.from_path(args.input, mappings=mappings, packages=packages)
-    for warning in model.warnings:
-        sys.stderr.write(f"{warning}\n")
+    report_diagnostics(model.warnings, source=args.input)
     world = _read_world(args, packages) if args.engine == "physics" else None
     graph = Graph(sim_time=True, seed=args.seed, transport=open_transport(args))
     for param, value in (
@@ -180,9 +190,9 @@ def _kinematic(
     )
     if config is None:
         base = sim.driver.base
-        sys.stderr.write(
+        notice(
             "no --config: a diff_controller drives "
-            f"{base.base_frame if base else '?'} (odom frame {sim.odom_frame})\n"
+            f"{base.base_frame if base else '?'} (odom frame {sim.odom_frame})"
         )
     return sim
 
@@ -192,8 +202,7 @@ def _read_world(args: argparse.Namespace, packages: PackageIndex) -> WorldModel:
         world = read_world(args.world, packages=packages)
     else:
         world = empty_world(model_paths=ModelPaths.from_environment(packages=packages))
-    for warning in world.warnings:
-        sys.stderr.write(f"{warning}\n")
+    report_lines(world.warnings)
     return world
 
 
@@ -268,4 +277,4 @@ def _run(graph: Graph, args: argparse.Namespace) -> None:
     if args.duration is not None:
         wall = time.monotonic() - started
         rate = args.duration / wall if wall > 0 else float("inf")
-        sys.stderr.write(f"simulated {args.duration:g} s in {wall:.3f} s ({rate:.0f}x real time)\n")
+        notice(f"simulated {args.duration:g} s in {wall:.3f} s ({rate:.0f}x real time)")

@@ -44,6 +44,9 @@ class CheckReport:
     path: str
     model: RobotModel | None
     diagnostics: list[Diagnostic] = field(default_factory=list)
+    failure: ParseError | None = None
+    """Why the file could not be read or expanded at all (a missing file, malformed XML, a
+    xacro error): the one error, with the macro and include trail and hint it carries."""
 
     @property
     def errors(self) -> list[Diagnostic]:
@@ -61,13 +64,17 @@ class CheckReport:
     def to_json(self) -> dict[str, Any]:
         def diag(d: Diagnostic) -> dict[str, Any]:
             loc = d.location
-            return {
+            out: dict[str, Any] = {
                 "severity": d.severity,
                 "message": d.message,
                 "file": loc.path if loc else None,
                 "line": loc.line if loc else None,
                 "column": loc.col if loc else None,
             }
+            if self.failure is not None:  # the only diagnostic then
+                out["trail"] = [f"{t.what} {t.location}" for t in self.failure.trail]
+                out["hint"] = self.failure.hint
+            return out
 
         out: dict[str, Any] = {
             "file": self.path,
@@ -132,7 +139,7 @@ def check_file(
     try:
         parsed = load_robot(name, mappings=mappings, packages=packages, **xacro_options)
     except ParseError as err:  # not even XML, or xacro failed: one error, where it is
-        return CheckReport(name, None, [Diagnostic("error", err.message, err.location)])
+        return CheckReport(name, None, [Diagnostic("error", err.message, err.location)], err)
     report = CheckReport(name, None, list(parsed.diagnostics))
     _hint_zero_links(report)
     if parsed.fatal:
@@ -213,12 +220,9 @@ def lint(
                     )
 
     for j in model.joints:
-        limit = j.limit
-        if limit is not None and j.type in ("revolute", "prismatic") and limit.lower > limit.upper:
-            warn(
-                f"joint '{j.name}': lower limit {limit.lower} > upper limit {limit.upper}",
-                j.source,
-            )
+        inverted = j.inverted_limits
+        if inverted is not None:
+            warn(inverted, j.source)
         if j.type not in ("fixed", "floating") and j.axis == (0.0, 0.0, 0.0):
             warn(f"joint '{j.name}' has a zero axis (<axis> without xyz)", j.source)
         elif j.type in ("revolute", "continuous", "prismatic"):

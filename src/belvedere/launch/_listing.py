@@ -1,4 +1,5 @@
-"""What ``roslaunch --dump-params``, ``--nodes`` and ``--args NODE`` print, line for line."""
+"""What ``roslaunch --dump-params``, ``--nodes`` and ``--args NODE`` print, line for line, and
+``--files``, which names every file the launch reads with its kind."""
 
 from __future__ import annotations
 
@@ -10,9 +11,17 @@ from pathlib import Path
 
 import yaml
 
-from belvedere.launch._model import LaunchConfig, LaunchNode
+from belvedere import nodes
+from belvedere.launch._model import LaunchConfig, LaunchFile, LaunchNode
 
-__all__ = ["DEFAULT_MASTER_URI", "dump_params", "find_executable", "node_command", "node_list"]
+__all__ = [
+    "DEFAULT_MASTER_URI",
+    "dump_params",
+    "file_list",
+    "find_executable",
+    "node_command",
+    "node_list",
+]
 
 DEFAULT_MASTER_URI = "http://localhost:11311/"
 """What ROS tools assume when ``ROS_MASTER_URI`` is not set."""
@@ -23,6 +32,18 @@ def dump_params(config: LaunchConfig) -> str:
     mapping stays one value), and the blank line roslaunch ends it with."""
     flat = {name: param.value for name, param in config.params.items()}
     return yaml.safe_dump(flat) + "\n"
+
+
+def file_list(config: LaunchConfig) -> str:
+    """Every file the launch reads, once each, as ``KIND  PATH`` lines: what loading read
+    (launch files, robot descriptions, parameter files), then what the nodes will read as
+    their arguments say (rviz configs, worlds, maps)."""
+    found = list(config.files)
+    for spec in config.nodes:
+        found.extend(LaunchFile(kind, path) for kind, path in nodes.files(spec))
+    unique = dict.fromkeys(LaunchFile(f.kind, os.path.normpath(f.path)) for f in found)
+    width = max((len(f.kind) for f in unique), default=0)
+    return "".join(f"{f.kind:<{width}}  {f.path}\n" for f in unique)
 
 
 def node_list(config: LaunchConfig) -> str:

@@ -26,8 +26,8 @@ from belvedere.description.xacro._command import is_xacro_program, parse_xacro_a
 from belvedere.description.xacro._interpreter import ExpressionError
 from belvedere.description.xacro._run import run_command
 from belvedere.description.xacro._substitutions import Substitutions
-from belvedere.errors import BelvedereError, ParseError, SourceLocation, pinpoint
-from belvedere.launch._model import LaunchConfig, LaunchError, LaunchNode
+from belvedere.errors import BelvedereError, ParseError, SourceLocation, did_you_mean, pinpoint
+from belvedere.launch._model import LaunchConfig, LaunchError, LaunchFile, LaunchNode
 from belvedere.launch._names import canonical, child_namespace, global_ns, is_legal, ns_join
 from belvedere.packages import PackageIndex
 from belvedere.xmldom import Element, parse_file
@@ -53,6 +53,9 @@ class _Scope:
     used: set[str] = field(default_factory=set)
     remappings: tuple[tuple[str, str], ...] = ()
     env: tuple[tuple[str, str], ...] = ()
+    included: list[tuple[str, list[str]]] = field(default_factory=list)
+    """(file, the args it declares) of each file this one includes, and theirs, in order (an
+    unknown arg's hint lists them; a group shares its file's list)."""
     private: list[_Private] = field(default_factory=list)
     """``~params`` declared outside a node: every later node in this scope gets them. A group
     starts with a copy; an included file, as roslaunch has it, shares the list once it holds
@@ -104,7 +107,8 @@ class _Loader:
             raise LaunchError(msg, at)
         if not os.path.isfile(path):
             msg = f"launch file {str(path)!r} does not exist"
-            raise LaunchError(msg, at)
+            siblings = path.parent.glob("*.launch*") if path.parent.is_dir() else []
+            raise LaunchError(msg, at, hint=did_you_mean(path.name, (p.name for p in siblings)))
         try:
             doc = parse_file(path, namespaces=False, keep_blank=False)
         except ParseError as err:
@@ -113,7 +117,7 @@ class _Loader:
         if root.tag != "launch":
             msg = f"a launch file's root must be <launch>, not <{root.tag}>"
             raise LaunchError(msg, root.loc)
-        self.config.files.append(str(path))
+        self.config.files.append(LaunchFile("launch", str(path)))
         if "deprecated" in root.attrs:
             self.config.warnings.append(
                 f"{root.loc}: warning: this launch file is deprecated: {root.attrs['deprecated']}"
@@ -127,8 +131,7 @@ class _Loader:
         if unused:
             where = "the command line" if top else f"the <include> at {at}"
             msg = f"unused args {unused} given by {where} for {path}"
-            known = ", ".join(sorted(scope.used)) or "none"
-            raise LaunchError(msg, at or root.loc, hint=f"args this file declares: {known}")
+            raise LaunchError(msg, at or root.loc, hint=_declared_hint(unused, scope))
 
     def children(self, el: Element, scope: _Scope) -> None:
         for child in el.elements():
@@ -306,6 +309,8 @@ class _Loader:
             except OSError as err:
                 msg = f"cannot read {source} {raw!r}: {err.strerror}"
                 raise LaunchError(msg, el.loc) from None
+            read = "binary" if source == "binfile" else "urdf" if raw.endswith(".urdf") else "text"
+            self.config.files.append(LaunchFile(read, raw))
             if source == "binfile":
                 return data
             return _typed(data.decode("utf-8", errors="replace"), kind, el.loc)
@@ -329,6 +334,10 @@ class _Loader:
                 if at is not None:
                     err.add_trail("in the <param command> at", at)
                 raise
+            self.config.files.extend(
+                LaunchFile("yaml" if f.endswith((".yaml", ".yml")) else "xacro", f)
+                for f in result.files
+            )
             return result.text or ""
         try:
             done = subprocess.run(words, capture_output=True, text=True, timeout=60, check=False)
@@ -374,7 +383,7 @@ class _Loader:
                 doc = load_yaml(self.subst(text, scope, el.loc), path=file)
             else:
                 doc = load_yaml_file(file, requested_at=el.loc)
-            self.config.files.append(file)
+            self.config.files.append(LaunchFile("yaml", file))
         else:
             text = el.text_content()
             if subst_value:
@@ -525,6 +534,8 @@ class _Loader:
         if self.boolean(el, "pass_all_args", scope, False):
             inner.used |= set(scope.args)  # passing all is not "unused"
         self.file(Path(file), inner, at=el.loc)
+        scope.included.append((file, sorted(inner.args)))
+        scope.included.extend(inner.included)
 
     def tag_group(self, el: Element, scope: _Scope) -> None:
         group_ns = self.attr(el, "ns", scope)
@@ -565,6 +576,15 @@ class _Loader:
         self.config.warnings.append(
             f"{el.loc}: note: <machine {el.attrs.get('name', '')}> ignored: everything runs here"
         )
+
+
+def _declared_hint(unused: list[str], scope: _Scope) -> str:
+    """What the file declares (and its includes), and the declared arg each unknown one is
+    likely a misspelling of."""
+    near = [hint for name in unused if (hint := did_you_mean(name, scope.args))]
+    lines = [*near, f"args this file declares: {', '.join(sorted(scope.args)) or 'none'}"]
+    lines.extend(f"{file} declares: {', '.join(args) or 'none'}" for file, args in scope.included)
+    return "\n        ".join(lines)  # under the first line, after "  hint: "
 
 
 def _remapped(remaps: list[tuple[str, str]], pair: tuple[str, str]) -> list[tuple[str, str]]:

@@ -4,15 +4,24 @@ file and line that said so."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 from belvedere.errors import ParseError, SourceLocation
 
-__all__ = ["LaunchConfig", "LaunchError", "LaunchNode", "LaunchParam"]
+__all__ = ["LaunchConfig", "LaunchError", "LaunchFile", "LaunchNode", "LaunchParam"]
 
 
 class LaunchError(ParseError):
     """A launch file that cannot be read or run."""
+
+
+class LaunchFile(NamedTuple):
+    """A file the launch reads while it is loaded: ``launch``, ``xacro`` (a robot description
+    and what it includes), ``yaml`` (``<rosparam file>``, xacro's ``load_yaml``), ``urdf`` or
+    ``text`` or ``binary`` (``<param textfile|binfile>``)."""
+
+    kind: str
+    path: str
 
 
 @dataclass(frozen=True)
@@ -56,7 +65,9 @@ class LaunchConfig:
     nodes: list[LaunchNode] = field(default_factory=list)
     tests: list[LaunchNode] = field(default_factory=list)
     """``<test>`` nodes: listed and looked up as roslaunch does, never started."""
-    files: list[str] = field(default_factory=list)
+    files: list[LaunchFile] = field(default_factory=list)
+    """What loading read, in order (the nodes read more once they start: ``launch --files``
+    lists those too)."""
     deletions: list[str] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
     dumps: list[tuple[str, str]] = field(default_factory=list)

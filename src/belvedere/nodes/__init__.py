@@ -2,7 +2,8 @@
 
 Each module names its package (``PACKAGE``) and its executables by their ROS names
 (``EXECUTABLES``: name → starter; ``JOINING``: those that join a graph already running
-when ``run`` starts them; ``TRANSFORMS``: the fixed transforms an executable publishes); a
+when ``run`` starts them; ``TRANSFORMS``: the fixed transforms an executable publishes;
+``FILES``: the files it reads, as its arguments name them); a
 starter gets the running :class:`Session`, the node's :class:`NodeSpec` (what ``<node>`` or
 ``rosrun`` said) and its graph node. Adding a package is adding one module to
 :data:`MODULES`.
@@ -20,6 +21,7 @@ from belvedere.nodes._registry import (
     end_node,
     end_when,
     executables,
+    files,
     find,
     joins_running_graph,
     package_names,
@@ -36,6 +38,7 @@ __all__ = [
     "end_node",
     "end_when",
     "executables",
+    "files",
     "find",
     "joins_running_graph",
     "package_names",

@@ -15,6 +15,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "MODULES",
+    "FileClaim",
     "NodeSpec",
     "ParamLookup",
     "Session",
@@ -25,6 +26,7 @@ __all__ = [
     "end_node",
     "end_when",
     "executables",
+    "files",
     "find",
     "joins_running_graph",
     "package_names",
@@ -103,6 +105,9 @@ def stopping_on_bad_values(start: Callable[[Session, NodeSpec, Node], object]) -
 
 ParamLookup = Callable[[str, Any], Any]
 """A node's private parameter (name without ``~``) with a default."""
+FileClaim = Callable[[NodeSpec], list[tuple[str, str]]]
+"""The files a node will read, as its arguments say: (kind, path) pairs (a module's ``FILES``:
+executable → claim; ``launch --files`` lists them)."""
 TransformClaim = Callable[[NodeSpec, ParamLookup], list[tuple[str, str]]]
 """The transforms (parent, child frame) a node will publish, as its arguments and parameters
 say (a module's ``TRANSFORMS``: executable → claim)."""
@@ -205,6 +210,23 @@ def transforms(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
     except (ValueError, BelvedereError):
         return []
     return [(parent.lstrip("/"), child.lstrip("/")) for parent, child in pairs]
+
+
+def files(spec: NodeSpec) -> list[tuple[str, str]]:
+    """The (kind, path) of each file the node of ``spec`` will read (an rviz config, a world,
+    a map), as its module's ``FILES`` says; none for a node that cannot say (bad arguments:
+    its start says why)."""
+    if spec.pkg not in MODULES:
+        return []
+    module = importlib.import_module(f"belvedere.nodes.{MODULES[spec.pkg]}")
+    claims: dict[str, FileClaim] = getattr(module, "FILES", {})
+    claim = claims.get(spec.type)
+    if claim is None:
+        return []
+    try:
+        return claim(spec)
+    except (ValueError, BelvedereError):
+        return []
 
 
 def executables(package: str) -> list[str]:

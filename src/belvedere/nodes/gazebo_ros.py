@@ -3,44 +3,61 @@ gzclient (the viewer), spawn_model."""
 
 from __future__ import annotations
 
+import logging
 import os
 import shlex
-import sys
 from pathlib import Path
 
 from belvedere.graph import Node
-from belvedere.nodes._registry import NodeSpec, Session, Starter, StartError
+from belvedere.nodes._registry import FileClaim, NodeSpec, Session, Starter, StartError
 from belvedere.packages import BUILTIN_PACKAGES
 
-__all__ = ["EXECUTABLES", "PACKAGE"]
+__all__ = ["EXECUTABLES", "FILES", "PACKAGE"]
 
 PACKAGE = "gazebo_ros"
+
+logger = logging.getLogger(__name__)
 
 
 def _gzserver(session: Session, spec: NodeSpec, node: Node) -> None:
     from belvedere.sim.physics import GazeboRos, PhysicsSimulation
     from belvedere.world import empty_world, read_world
 
-    words = shlex.split(spec.args)
-    paused = "-u" in words
-    files = [
-        w for w in words if not w.startswith("-") and w not in ("ode", "bullet", "dart", "simbody")
-    ]
+    paused = "-u" in shlex.split(spec.args)
     world = empty_world()
-    if files:
-        path = Path(files[-1])
-        if not path.is_absolute() and not os.path.exists(path):
-            resource = os.environ.get("GAZEBO_RESOURCE_PATH", "")
-            candidates = [Path(d) / path for d in resource.split(":") if d]
-            candidates.append(BUILTIN_PACKAGES / "gazebo_ros" / path)
-            path = next((c for c in candidates if os.path.isfile(c)), path)
+    path = _world_path(spec)
+    if path is not None:
         world = read_world(path, packages=session.packages)
         for warning in world.warnings:
-            sys.stderr.write(f"{warning}\n")
+            logger.warning("%s", warning)
     session.sim = PhysicsSimulation(session.graph, world, node=node)
     GazeboRos(session.sim, packages=session.packages)
     if paused:
         session.graph.executor.pause(True)
+
+
+def _world_path(spec: NodeSpec) -> Path | None:
+    """The world gzserver's arguments name (its last word that is not an option or a physics
+    engine), found as Gazebo finds it: as given, else along ``GAZEBO_RESOURCE_PATH``, else
+    among the worlds belvedere provides."""
+    words = shlex.split(spec.args)
+    files = [
+        w for w in words if not w.startswith("-") and w not in ("ode", "bullet", "dart", "simbody")
+    ]
+    if not files:
+        return None
+    path = Path(files[-1])
+    if not path.is_absolute() and not os.path.exists(path):
+        resource = os.environ.get("GAZEBO_RESOURCE_PATH", "")
+        candidates = [Path(d) / path for d in resource.split(":") if d]
+        candidates.append(BUILTIN_PACKAGES / "gazebo_ros" / path)
+        path = next((c for c in candidates if os.path.isfile(c)), path)
+    return path
+
+
+def _world_files(spec: NodeSpec) -> list[tuple[str, str]]:
+    path = _world_path(spec)
+    return [] if path is None else [("world", str(path))]
 
 
 def _gzclient(session: Session, spec: NodeSpec, node: Node) -> None:
@@ -94,3 +111,4 @@ EXECUTABLES: dict[str, Starter] = {
     "gzclient": _gzclient,
     "spawn_model": _spawn_model,
 }
+FILES: dict[str, FileClaim] = {"gzserver": _world_files, "debug": _world_files}

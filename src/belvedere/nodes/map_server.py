@@ -33,9 +33,16 @@ from belvedere.maps import (
     save_map,
 )
 from belvedere.msgs import types
-from belvedere.nodes._registry import NodeSpec, Session, Starter, StartError, end_node
+from belvedere.nodes._registry import (
+    FileClaim,
+    NodeSpec,
+    Session,
+    Starter,
+    StartError,
+    end_node,
+)
 
-__all__ = ["EXECUTABLES", "JOINING", "PACKAGE", "SAVER_USAGE", "SERVER_USAGE"]
+__all__ = ["EXECUTABLES", "FILES", "JOINING", "PACKAGE", "SAVER_USAGE", "SERVER_USAGE"]
 
 PACKAGE = "map_server"
 
@@ -137,6 +144,20 @@ class _MapServer:
         return types().cls("nav_msgs/srv/GetMap_Response")(self.message)
 
 
+def _server_files(spec: NodeSpec) -> list[tuple[str, str]]:
+    """The map's YAML and the image it names (or the old form's image)."""
+    argv = shlex.split(spec.args)
+    if len(argv) == 2:
+        return [("image", argv[0])]
+    if len(argv) != 1:
+        return []
+    try:
+        image = str(read_map_yaml(argv[0]).image)
+    except MapError:  # the start says what is wrong with it
+        return [("map", argv[0])]
+    return [("map", argv[0]), ("image", image)]
+
+
 def _start_server(session: Session, spec: NodeSpec, node: Node) -> None:
     grid, _ = _load(spec, node, shlex.split(spec.args))
     _MapServer(node, grid)
@@ -223,6 +244,7 @@ def _start_saver(session: Session, spec: NodeSpec, node: Node) -> None:
 
 
 EXECUTABLES: dict[str, Starter] = {"map_server": _start_server, "map_saver": _start_saver}
+FILES: dict[str, FileClaim] = {"map_server": _server_files}
 JOINING = frozenset(EXECUTABLES)
 """Both join a graph that is already running when ``run`` starts them (``rosrun map_server
 map_saver -f mymap`` while gmapping runs)."""

@@ -267,12 +267,9 @@ class JointStatePublisher:
         self.positions: dict[str, float] = {}
         for j in self.free:
             default = 0.0
-            if (
-                j.limit is not None
-                and j.type != "continuous"
-                and not j.limit.lower <= 0.0 <= j.limit.upper
-            ):
-                default = (j.limit.lower + j.limit.upper) / 2
+            bounds = j.position_range
+            if bounds is not None and not bounds[0] <= 0.0 <= bounds[1]:
+                default = (bounds[0] + bounds[1]) / 2
             self.positions[j.name] = float(zeros.get(j.name, default))
         for topic in node.get_param("~source_list", []) or []:
             node.subscribe(topic, "sensor_msgs/JointState", self._on_source, queue_size=10)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import logging
 import math
 import os
 import threading
@@ -38,6 +39,8 @@ from belvedere.viewer._world import WorldDrawing
 from belvedere.world import WorldModel
 
 __all__ = ["SimControls", "Viewer", "floor_point"]
+
+logger = logging.getLogger(__name__)
 
 
 class SimControls(Protocol):
@@ -365,8 +368,10 @@ class Viewer:
         with self.gui.add_folder("Joints"):
             for j in jsp.free:
                 lo, hi = (-math.pi, math.pi)
-                if j.limit is not None and j.type != "continuous":
-                    lo, hi = j.limit.lower, j.limit.upper
+                if j.position_range is not None:
+                    lo, hi = j.position_range
+                elif j.inverted_limits is not None:
+                    logger.warning("%s: warning: %s", j.source, j.inverted_limits)
                 slider = self.gui.add_slider(
                     j.name, lo, hi, (hi - lo) / 1000 or 0.001, jsp.positions[j.name]
                 )

@@ -62,7 +62,7 @@ def test_auto_expands_legacy_like_melodic(fixture: Path, monkeypatch: pytest.Mon
     assert auto == melodic
 
 
-def test_seed_robot_in_auto_has_all_links_and_one_warning_per_name() -> None:
+def test_seed_robot_in_auto_has_all_links_and_one_warning_per_legacy_call() -> None:
     expansion = expand_file(MBOT_WRAPPER)
     root = expansion.document.root
     links = [el for el in root.elements() if el.tag == "link"]
@@ -82,8 +82,9 @@ def test_seed_robot_in_auto_has_all_links_and_one_warning_per_name() -> None:
         f"{MBOT_WRAPPER}:4:5: warning: deprecated macro call <mbot_base_gazebo>"
     )
     assert "--fix" in first
-    named = [m for m in messages if "<wheel>" in m]
-    assert len(named) == 1  # once per name, not once per call
+    named = [w for w in expansion.warnings if w.legacy == "wheel"]
+    # once per place the call is written (--fix rewrites each), not once per expansion
+    assert [w.location.line for w in named if w.location] == [160, 161]
 
 
 def test_seed_robot_in_modern_is_empty_and_warns() -> None:

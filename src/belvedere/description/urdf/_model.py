@@ -210,6 +210,33 @@ class Joint:
     def movable(self) -> bool:
         return self.type != "fixed"
 
+    @property
+    def position_range(self) -> tuple[float, float] | None:
+        """Where a revolute or prismatic joint may move, ``(lower, upper)``; None when nothing
+        bounds it: another type, no ``<limit>``, or limits the wrong way round, which
+        urdfdom accepts and Gazebo's ODE then ignores both of (:attr:`inverted_limits`)."""
+        limit = self.limit
+        if limit is None or self.type not in ("revolute", "prismatic"):
+            return None
+        if limit.lower > limit.upper:
+            return None
+        return limit.lower, limit.upper
+
+    @property
+    def inverted_limits(self) -> str | None:
+        """What ``check``, the simulator and the viewer say of a revolute or prismatic joint
+        whose lower limit is above its upper one; None if it has no such limits."""
+        limit = self.limit
+        if limit is None or self.type not in ("revolute", "prismatic"):
+            return None
+        if limit.lower <= limit.upper:
+            return None
+        return (
+            f"joint '{self.name}': lower limit {limit.lower} > upper limit {limit.upper}, so it "
+            "moves without limits (Gazebo's ODE ignores limits the wrong way round, and so do "
+            "belvedere's simulator and viewer)"
+        )
+
 
 @dataclass(frozen=True, slots=True)
 class TransmissionJoint:

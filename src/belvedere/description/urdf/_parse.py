@@ -65,6 +65,9 @@ class Diagnostic:
     severity: Literal["error", "warning"]
     message: str
     location: SourceLocation | None = None
+    legacy: str | None = None
+    """The tag, for xacro's warning about one legacy unprefixed tag or macro call (shown
+    summed up: :func:`belvedere.description.xacro.legacy_summary`)."""
 
     def __str__(self) -> str:
         where = f"{self.location}: " if self.location else ""

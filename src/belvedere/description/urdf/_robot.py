@@ -297,7 +297,7 @@ def load_robot(
     )
     parsed = parse_robot(urdf, xacro_location=lambda el: origin.get(id(el)))
     parsed.diagnostics[:0] = [
-        Diagnostic("warning", w.message, w.location) for w in expansion.warnings
+        Diagnostic("warning", w.message, w.location, w.legacy) for w in expansion.warnings
     ]
     parsed.path = name
     return parsed

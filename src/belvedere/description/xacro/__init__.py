@@ -25,7 +25,7 @@ from belvedere.description.xacro._command import (
     parse_xacro_argv,
     parse_xacro_command,
 )
-from belvedere.description.xacro._dialects import Dialect, XacroWarning
+from belvedere.description.xacro._dialects import Dialect, XacroWarning, legacy_summary
 from belvedere.description.xacro._errors import XacroError
 from belvedere.description.xacro._run import CommandResult, run_command
 
@@ -39,6 +39,7 @@ __all__ = [
     "expand_file",
     "expand_string",
     "is_xacro_program",
+    "legacy_summary",
     "parse_xacro_argv",
     "parse_xacro_command",
     "process_file",

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import logging
 import os
 import re
 from collections.abc import Callable
@@ -9,7 +10,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TypedDict, Unpack
 
-from belvedere.description.xacro._dialects import Dialect, XacroWarning
+from belvedere.description.xacro._dialects import Dialect, XacroWarning, legacy_summary
 from belvedere.description.xacro._errors import XacroError
 from belvedere.description.xacro._processor import Processor
 from belvedere.errors import ParseError, SourceLocation
@@ -23,6 +24,8 @@ __all__ = [
     "process_file",
     "process_string",
 ]
+
+logger = logging.getLogger("belvedere.xacro")
 
 
 @dataclass
@@ -92,7 +95,8 @@ def expand_file(
     workspace of ``path`` is always searched last. Relative paths resolve against
     ``root_dir`` (default: the current directory), as xacro's ``--root-dir``.
     ``python2_floats`` prints floats as ROS 1 under Python 2 did (12 significant digits).
-    Warnings are logged unless ``on_warning`` takes them (they are in the result either way).
+    Warnings are logged unless ``on_warning`` takes them (they are in the result either way);
+    legacy unprefixed tags and calls are logged as one summary line (info), each at debug.
     A file read outside the model's package roots is a warning, or an error when ``strict``."""
     name = os.fspath(path)
     full = os.path.join(root_dir, name) if root_dir else name
@@ -106,6 +110,8 @@ def expand_file(
     except ParseError as err:
         raise XacroError(err.message, err.location, hint=err.hint) from None
     _run(proc, doc, name)
+    if on_warning is None:
+        _log_legacy_summary(name, proc.warnings)
     first = doc.first
     for comment in _banner(name):
         doc.insert_before(comment, first)
@@ -131,7 +137,16 @@ def expand_string(
     except ParseError as err:
         raise XacroError(err.message, err.location, hint=err.hint) from None
     _run(proc, doc, None)
+    _log_legacy_summary("<string>", proc.warnings)
     return Expansion(doc, proc.warnings, proc.includes, proc.legacy_sites)
+
+
+def _log_legacy_summary(name: str, warnings: list[XacroWarning]) -> None:
+    if logger.isEnabledFor(logging.DEBUG):
+        return  # each was logged
+    summary = legacy_summary(name, [(w.location, w.legacy) for w in warnings if w.legacy])
+    if summary is not None:
+        logger.info("%s", summary)
 
 
 def _run(proc: Processor, doc: Document, path: str | None) -> None:

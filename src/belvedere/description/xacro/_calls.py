@@ -29,9 +29,20 @@ class MacroCalls:
 
         def eval_text(self, text: str, scope: Scope) -> Any: ...
         def eval_all(self, node: Element, macros: MacroTable, scope: Scope) -> None: ...
-        def warn(self, message: str, location: SourceLocation | None = None) -> None: ...
+        def warn(
+            self,
+            message: str,
+            location: SourceLocation | None = None,
+            *,
+            legacy: str | None = None,
+        ) -> None: ...
         def warn_once(
-            self, key: str, message: str, location: SourceLocation | None = None
+            self,
+            key: str,
+            message: str,
+            location: SourceLocation | None = None,
+            *,
+            legacy: str | None = None,
         ) -> None: ...
         def remove_previous_comments(self, node: Node) -> None: ...
         def import_namespaces(self, parent: Node | None, attrs: dict[str, str]) -> None: ...
@@ -101,7 +112,10 @@ class MacroCalls:
         expand, key, message = unprefixed_call(
             self.dialect, el, macro, calling=[m.name for m, _ in self.calls]
         )
-        self.warn_once(key, message, el.loc)
+        if expand and self.dialect is Dialect.AUTO:  # each place: -v lists what --fix rewrites
+            self.warn_once(f"{key}@{el.loc}", message, el.loc, legacy=el.tag)
+        else:
+            self.warn_once(key, message, el.loc)
         return expand
 
     def _near_macros(self, name: str, macros: MacroTable) -> str | None:

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import enum
+import shlex
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Final
 
@@ -16,6 +18,7 @@ __all__ = [
     "LEGACY_KEYWORDS",
     "Dialect",
     "XacroWarning",
+    "legacy_summary",
     "unprefixed_call",
 ]
 
@@ -64,6 +67,9 @@ class XacroWarning:
 
     message: str
     location: SourceLocation | None = None
+    legacy: str | None = None
+    """The tag, when the warning is about one legacy unprefixed tag or macro call that
+    ``--fix`` rewrites (these are summed up in one line: :func:`legacy_summary`)."""
 
     def __str__(self) -> str:
         return f"{self.location}: warning: {self.message}" if self.location else self.message
@@ -120,4 +126,27 @@ def unprefixed_call(
         f"deprecated macro call <{tag}> without the 'xacro:' prefix: expanded as ROS "
         f"Melodic did (modern xacro leaves it unexpanded and the robot loses it). "
         f"Write <xacro:{tag}>, or run 'belvedere xacro --fix FILE'",
+    )
+
+
+def legacy_summary(path: str, sites: Sequence[tuple[SourceLocation | None, str]]) -> str | None:
+    """One line for every legacy unprefixed tag and macro call that expanding ``path`` met
+    (``sites``: where, and the tag), in place of a warning each; None if there were none."""
+    if not sites:
+        return None
+    calls = sum(1 for _, tag in sites if tag not in LEGACY_KEYWORDS)
+    keywords = len(sites) - calls
+    parts = [
+        f"{n} legacy {what}{'' if n == 1 else 's'}"
+        for n, what in ((calls, "macro call"), (keywords, "xacro tag"))
+        if n
+    ]
+    elsewhere = any(loc is not None and loc.path != path for loc, _ in sites)
+    where = f"{path} and the files it includes" if elsewhere else path
+    how = "expanded" if not keywords else "processed"
+    them = "it" if len(sites) == 1 else "them"
+    return (
+        f"note: {' and '.join(parts)} without the 'xacro:' prefix in {where} ({how} as ROS "
+        f"Melodic did); 'belvedere xacro --fix {shlex.quote(path)}' rewrites {them}; -v lists "
+        f"{them}"
     )

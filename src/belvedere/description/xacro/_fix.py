@@ -16,7 +16,7 @@ from pathlib import Path
 from xml.parsers import expat
 
 from belvedere.description.xacro._api import expand_file
-from belvedere.description.xacro._dialects import Dialect
+from belvedere.description.xacro._dialects import Dialect, XacroWarning
 from belvedere.description.xacro._errors import XacroError
 from belvedere.errors import SourceLocation
 from belvedere.fileio import StagedWrite, stage_backup, stage_write
@@ -120,7 +120,12 @@ def fix_file(
 ) -> list[FixChange]:
     """Rewrite ``path`` and the files it includes in place; returns what changed."""
     expansion = expand_file(
-        path, mappings=mappings, dialect=Dialect.AUTO, packages=packages, root_dir=root_dir
+        path,
+        mappings=mappings,
+        dialect=Dialect.AUTO,
+        packages=packages,
+        root_dir=root_dir,
+        on_warning=_other_than_legacy,  # the legacy ones are what is fixed, and reported so
     )
     by_file: dict[str, dict[tuple[int, int], str]] = defaultdict(dict)
     for loc, tag in expansion.legacy_sites:
@@ -134,6 +139,11 @@ def fix_file(
             planned.append((file, fixed, changes))
     _write_all([(file, fixed) for file, fixed, _ in planned])
     return [change for _, _, changes in planned for change in changes]
+
+
+def _other_than_legacy(warning: XacroWarning) -> None:
+    if warning.legacy is None:
+        logger.warning("%s", warning)
 
 
 def _write_all(files: list[tuple[Path, bytes]]) -> None:

@@ -7,7 +7,6 @@ costs O(1). Legacy dialects change what an unprefixed tag means and how macros a
 
 from __future__ import annotations
 
-import difflib
 import gc
 import glob
 import keyword
@@ -43,7 +42,7 @@ from belvedere.description.xacro._symbols import (
     make_global_symbols,
 )
 from belvedere.description.xacro._text import Part, program, programs, python2_str
-from belvedere.errors import ParseError, SourceLocation, pinpoint
+from belvedere.errors import ParseError, SourceLocation, did_you_mean, pinpoint
 from belvedere.packages import PackageIndex, find_package_root
 from belvedere.xmldom import Comment, Document, Element, Node, Text, parse_file
 
@@ -132,18 +131,29 @@ class Processor(MacroCalls):
     def here(self) -> SourceLocation | None:
         return self.current.loc if self.current is not None else None
 
-    def warn(self, message: str, location: SourceLocation | None = None) -> None:
-        w = XacroWarning(message, location or self.here())
+    def warn(
+        self, message: str, location: SourceLocation | None = None, *, legacy: str | None = None
+    ) -> None:
+        w = XacroWarning(message, location or self.here(), legacy)
         self.warnings.append(w)
         if self._warn_sink is not None:
             self._warn_sink(w)
+        elif legacy is not None:
+            logger.debug("%s", w)  # one summary line stands for them all (expand_file)
         else:
             logger.warning("%s", w)
 
-    def warn_once(self, key: str, message: str, location: SourceLocation | None = None) -> None:
+    def warn_once(
+        self,
+        key: str,
+        message: str,
+        location: SourceLocation | None = None,
+        *,
+        legacy: str | None = None,
+    ) -> None:
         if key not in self._warned:
             self._warned.add(key)
-            self.warn(message, location)
+            self.warn(message, location, legacy=legacy)
 
     def _message(self, kind: str) -> Callable[..., str]:
         def emit(*args: Any, **kwargs: Any) -> str:
@@ -391,11 +401,12 @@ class Processor(MacroCalls):
                 self.legacy_sites.append((el.loc, tag))
             if self.dialect is Dialect.AUTO:
                 self.warn_once(
-                    f"tag:{tag}",
+                    f"tag:{tag}@{el.loc}",  # each place: -v lists what --fix rewrites
                     f"xacro tag <{tag}> without the 'xacro:' prefix: processed as ROS Melodic "
                     f"did; modern xacro copies it through. Write <xacro:{tag}>, or run "
                     "'belvedere xacro --fix FILE'",
                     el.loc,
+                    legacy=tag,
                 )
             else:
                 self.warn_once(
@@ -730,11 +741,9 @@ def _did_you_mean(name: str, scope: Scope) -> str | None:
     while s is not None:
         known.update(k for k in s.vars if not k.startswith("*"))
         s = s.parent
-    close = difflib.get_close_matches(name, sorted(known), n=3, cutoff=0.6)
-    if not close:
-        close = difflib.get_close_matches(name, sorted(scope.root), n=3, cutoff=0.75)
-    if close:
-        return "did you mean " + " or ".join(repr(c) for c in close) + "?"
+    hint = did_you_mean(name, known, most=3) or did_you_mean(name, scope.root, most=3, cutoff=0.75)
+    if hint is not None:
+        return hint
     return "properties must be defined (xacro:property) before the expression is evaluated"
 
 

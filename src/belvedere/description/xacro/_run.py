@@ -22,6 +22,8 @@ class CommandResult:
     text: str | None
     """What goes to stdout (or ``-o``); None when the command only reports."""
     exit_code: int = 0
+    files: tuple[str, ...] = ()
+    """The files an expansion read: the input, then what it included and loaded."""
 
 
 def run_command(cmd: XacroCommand, *, packages: PackageIndex | None = None) -> CommandResult:
@@ -31,7 +33,7 @@ def run_command(cmd: XacroCommand, *, packages: PackageIndex | None = None) -> C
             cmd.input, mappings=cmd.mappings, packages=packages, root_dir=cmd.root_dir
         )
         for change in changes:
-            logger.warning("%s: fixed: <%s> -> <%s>", change.location, change.old, change.new)
+            logger.info("%s: fixed: <%s> -> <%s>", change.location, change.old, change.new)
         logger.info("%d tag(s) rewritten", len(changes))
         return CommandResult(None)
     if cmd.check_order:
@@ -45,9 +47,10 @@ def run_command(cmd: XacroCommand, *, packages: PackageIndex | None = None) -> C
         python2_floats=cmd.python2_floats,
         strict=cmd.strict,
     )
+    files = (cmd.input, *dict.fromkeys(expansion.dependencies))
     if cmd.deps:
-        return CommandResult(" ".join(dict.fromkeys(expansion.dependencies)))
-    return CommandResult(expansion.to_xml())
+        return CommandResult(" ".join(dict.fromkeys(expansion.dependencies)), files=files)
+    return CommandResult(expansion.to_xml(), files=files)
 
 
 def _check_order(cmd: XacroCommand, packages: PackageIndex | None) -> CommandResult:

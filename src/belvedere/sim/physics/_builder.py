@@ -241,12 +241,11 @@ class _RobotBuilder:
             mj.damping = [dynamics.damping, 0.0, 0.0]  # (MuJoCo 4: a polynomial in velocity)
             mj.frictionloss = dynamics.friction
         limit = joint.limit
-        if limit is not None and joint.type in ("revolute", "prismatic"):
-            if limit.lower > limit.upper:
-                msg = f"joint {joint.name!r}: lower limit {limit.lower} > upper {limit.upper}"
-                raise ModelError(msg, joint.source.best)
+        if joint.inverted_limits is not None:
+            logger.warning("%s: warning: %s", joint.source, joint.inverted_limits)
+        if joint.position_range is not None:
             mj.limited = mujoco.mjtLimited.mjLIMITED_TRUE
-            mj.range = [limit.lower, limit.upper]
+            mj.range = list(joint.position_range)
         if limit is not None and limit.effort > 0:
             mj.actfrclimited = mujoco.mjtLimited.mjLIMITED_TRUE
             mj.actfrcrange = [-limit.effort, limit.effort]

@@ -764,13 +764,14 @@ class RosControl(Plugin):
                     raise ModelError(msg, transmission.source.best)
                 joint = next(j for j in model.joints if j.name == tj.name)
                 limit = joint.limit
+                bounds = joint.position_range
                 handles[tj.name] = JointHandle(
                     tj.name,
                     kind,
                     limit.effort if limit and limit.effort > 0 else math.inf,
                     limit.velocity if limit and limit.velocity > 0 else math.inf,
-                    limit.lower if limit and joint.type in ("revolute", "prismatic") else None,
-                    limit.upper if limit and joint.type in ("revolute", "prismatic") else None,
+                    bounds[0] if bounds else None,
+                    bounds[1] if bounds else None,
                 )
         return handles
 
