@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -225,3 +226,24 @@ def test_a_duration_with_negative_nanoseconds_reaches_another_process(endpoint: 
     )
     assert pub.returncode == 0, pub.stderr
     assert out == "data: \n  secs: 0\n  nsecs: 999999999\n---\n", err
+
+
+def test_tf_tree_in_a_simulation_counts_age_in_its_time(endpoint: str) -> None:
+    """A simulation's transforms are stamped in its time: "s ago" counts in it too (against
+    the wall clock they were 1.8e9 s old)."""
+    from belvedere.description.urdf import RobotModel
+    from belvedere.sim.kinematic import KinematicSimulation
+    from tests.conftest import EXAMPLES
+
+    graph = Graph(transport=ZenohTransport(endpoint=endpoint))
+    model = RobotModel.from_path(EXAMPLES / "mbot_description/urdf/xacro/gazebo/mbot_gazebo.xacro")
+    KinematicSimulation(graph, model)
+    graph.start(rtf=1.0)
+    try:
+        tree = run("tf", "tree", "--wait", "2")
+    finally:
+        graph.shutdown()
+    assert tree.returncode == 0, tree.stderr
+    ages = [float(a) for a in re.findall(r", ([0-9.]+) s ago", tree.stdout)]
+    assert ages, tree.stdout
+    assert max(ages) < 1.0, tree.stdout

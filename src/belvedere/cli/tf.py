@@ -9,6 +9,7 @@ import time
 
 from belvedere.cli._tool import action_parsers, open_tool, wait_for
 from belvedere.errors import BelvedereError
+from belvedere.graph import NS
 from belvedere.tf import TFBuffer, TFError, TransformListener, rpy_from_quat_xyzw
 
 __all__ = ["add_parser", "run"]
@@ -34,10 +35,17 @@ def run(args: argparse.Namespace) -> int:
     try:
         buffer = TFBuffer()
         TransformListener(tool.node, buffer)
+        clock: list[int] = []  # a simulation's time: the transforms' stamps are in it
+        tool.node.subscribe(
+            "/clock",
+            "rosgraph_msgs/Clock",
+            lambda m: clock.append(m.clock.sec * NS + m.clock.nanosec),
+            queue_size=1,
+        )
         tool.graph.start(rtf=None)
         if args.action == "tree":
             time.sleep(args.wait)
-            tree = buffer.tree(now_ns=time.time_ns())
+            tree = buffer.tree(now_ns=clock[-1] if clock else time.time_ns())
             if not tree:
                 msg = f"no transforms on /tf or /tf_static within {args.wait:g} s"
                 raise BelvedereError(msg)
