@@ -118,6 +118,18 @@ def test_introspection_params_and_services(peer: Any, tmp_path: Path) -> None:
     assert called.stdout == 'success: True\nmessage: "done"\n'
 
 
+def test_publishing_another_type_than_the_graphs_is_refused(peer: Any) -> None:
+    """The issue's command against a node that subscribes to /cmd_vel as a Twist: one error
+    naming both types, nothing sent."""
+    pub = run("topic", "pub", "-r", "10", "/cmd_vel", "std_msgs/String", "hi")
+    assert pub.returncode == 1
+    assert pub.stdout == ""
+    assert pub.stderr.splitlines()[-1] == (
+        "error: topic /cmd_vel has type geometry_msgs/Twist (/peer subscribes to it); "
+        "cannot publish std_msgs/String on it"
+    )
+
+
 def test_param_dump_on_a_full_disk_keeps_the_old_file(peer: Any, full_disk: Path) -> None:
     dump = full_disk / "params.yaml"
     dump.write_text("previous: 1\n")
