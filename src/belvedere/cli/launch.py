@@ -4,6 +4,7 @@ every node in this process on one graph."""
 from __future__ import annotations
 
 import argparse
+import logging
 import os
 import sys
 from pathlib import Path
@@ -16,10 +17,18 @@ from belvedere.cli._session import run_session
 from belvedere.cli._tool import add_graph_options
 from belvedere.errors import BelvedereError
 from belvedere.launch import LaunchConfig, LaunchError, load_launch
-from belvedere.launch._listing import dump_params, find_executable, node_command, node_list
+from belvedere.launch._listing import (
+    dump_params,
+    find_executable,
+    node_command,
+    node_list,
+    summary,
+)
 from belvedere.packages import PackageIndex
 
 __all__ = ["add_parser", "run"]
+
+logger = logging.getLogger("belvedere.cli")
 
 
 def add_parser(
@@ -94,6 +103,7 @@ def run(args: argparse.Namespace) -> int:
     if args.node_args:
         sys.stdout.write(_node_args(config, args.node_args, packages) + "\n")
         return 0
+    logger.info("%s", summary(config).rstrip("\n") + "\n")
     return run_session(config, packages, args)
 
 
