@@ -25,8 +25,11 @@ def add_parser(
     p = sub.add_parser("topic", parents=[common], help="list, echo, publish, measure topics")
     verb = action_parsers(p, common)
 
-    v = verb("list", "topics with publishers or subscribers")
+    v = verb("list", "topics with publishers or subscribers (-v: rostopic list -v's listing)")
+    v.add_argument("namespace", nargs="?", help="only this topic or the topics under it")
     v.add_argument("-t", "--types", action="store_true", help="show each topic's type")
+    v.add_argument("-p", dest="publishers_only", action="store_true", help="published only")
+    v.add_argument("-s", dest="subscribers_only", action="store_true", help="subscribed only")
     v = verb("echo", "print messages")
     v.add_argument("topic")
     v.add_argument("-n", dest="count", type=int, help="stop after COUNT messages")
@@ -99,14 +102,54 @@ def _topic_type(tool: Tool, topic: str, timeout: float | None) -> str:
 
 
 def _list(tool: Tool, args: argparse.Namespace) -> int:
+    """rostopic list: the topics' names (with ``-t`` their types), or with ``-v`` the
+    published and the subscribed topics, each with its type and how many nodes."""
+    if args.publishers_only and args.subscribers_only:
+        msg = "cannot specify both subscribers- and publishers-only"
+        raise BelvedereError(msg)
     info = tool.info()
-    names = sorted(set(info.publishers) | set(info.subscribers))
+    pubs, subs = _within(info.publishers, args.namespace), _within(info.subscribers, args.namespace)
+    if args.verbose > 0:
+        out: list[str] = []
+        if not args.subscribers_only:
+            out += ["", "Published topics:", *_counted(pubs, "publisher")]
+        if not args.publishers_only:
+            out += ["", "Subscribed topics:", *_counted(subs, "subscriber")]
+        sys.stdout.write("\n".join([*out, ""]) + "\n")
+        return 0
+    if args.publishers_only:
+        names = sorted(pubs)
+    elif args.subscribers_only:
+        names = sorted(subs)
+    else:
+        names = sorted(set(pubs) | set(subs))
     for name in names:
         if args.types:
             sys.stdout.write(f"{name} [{short(info.topic_type(name) or '?')}]\n")
         else:
             sys.stdout.write(name + "\n")
     return 0
+
+
+def _within(
+    table: dict[str, set[tuple[str, str]]], namespace: str | None
+) -> dict[str, set[tuple[str, str]]]:
+    """The entries of ``table`` for the topic ``namespace`` or those under it (all: None)."""
+    if not namespace:
+        return table
+    name = _name(namespace)
+    under = name.rstrip("/") + "/"
+    return {t: e for t, e in table.items() if t == name or t.startswith(under)}
+
+
+def _counted(table: dict[str, set[tuple[str, str]]], what: str) -> list[str]:
+    """`` * /topic [type] N publishers`` lines, by topic (a node counts once per topic)."""
+    rows = []
+    for topic, entries in sorted(table.items()):
+        count = len({node for _, node in entries})
+        noun = what if count == 1 else what + "s"
+        rows.append(f" * {topic} [{short(min(entries)[0])}] {count} {noun}")
+    return rows
 
 
 def _echo(tool: Tool, args: argparse.Namespace) -> int:
