@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -161,16 +162,19 @@ def test_absent_things_are_said_plainly(endpoint: str) -> None:
 def test_example_talker_reaches_other_processes(endpoint: str) -> None:
     talker = subprocess.Popen(
         [sys.executable, str(Path(__file__).parents[2] / "examples" / "graph" / "talker.py")],
-        stdout=subprocess.DEVNULL,
+        stdout=subprocess.PIPE,
         stderr=subprocess.DEVNULL,
+        text=True,
     )
     try:
         echo = run("topic", "echo", "/chatter", "-n", "1", "--timeout", WAIT)
     finally:
         talker.terminate()
-        talker.wait(timeout=DEADLINE)
+        out, _ = talker.communicate(timeout=DEADLINE)
     assert echo.returncode == 0, echo.stderr
     assert echo.stdout.startswith('data: "hello world ')
+    # its node.logger.info, as a ROS node prints it
+    assert re.match(r"\[INFO\] \[\d+\.\d{6}\]: said hello world 1\n", out)
 
 
 def test_tf_echo_and_tree(peer: Any) -> None:
@@ -237,3 +241,54 @@ def test_a_duration_with_negative_nanoseconds_reaches_another_process(endpoint: 
     )
     assert pub.returncode == 0, pub.stderr
     assert out == "data: \n  secs: 0\n  nsecs: 999999999\n---\n", err
+
+
+LOGGING_NODES = """
+from belvedere.graph import Graph, ZenohTransport
+
+graph = Graph(sim_time=False, transport=ZenohTransport())
+chatty = graph.create_node("chatty")
+quiet = graph.create_node("quiet")
+count = [0]
+
+
+def tick():
+    count[0] += 1
+    chatty.logger.info("info %d", count[0])
+    chatty.logger.warning("warn %d", count[0])
+    quiet.logger.error("error %d", count[0])
+
+
+chatty.timer(0.05, tick)
+print("READY", flush=True)
+graph.run()
+"""
+
+
+def test_log_shows_what_nodes_log_with_level_and_node_filters(
+    endpoint: str, tmp_path: Path
+) -> None:
+    script = tmp_path / "logging_nodes.py"
+    script.write_text(LOGGING_NODES)
+    nodes = subprocess.Popen(
+        [sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True
+    )
+    try:
+        assert nodes.stdout is not None
+        assert nodes.stdout.readline() == "READY\n"
+        warnings = run("log", "--level", "warn", "--node", "chatty", "-n", "3")
+        every = run("log", "-n", "9")
+        verbose = run("log", "-v", "--node", "/quiet", "-n", "1")
+    finally:
+        nodes.terminate()
+        nodes.wait(timeout=DEADLINE)
+    assert warnings.returncode == 0, warnings.stderr
+    lines = warnings.stdout.splitlines()
+    assert len(lines) == 3
+    for line in lines:
+        assert re.fullmatch(r"\[ WARN  \] \[/chatty\] \[\d+\.\d{6}\]: warn \d+", line), line
+    shown = {tuple(line.split("]")[:2]) for line in every.stdout.splitlines()}
+    assert shown == {("[ INFO  ", " [/chatty"), ("[ WARN  ", " [/chatty"), ("[ ERROR ", " [/quiet")}
+    first, where = verbose.stdout.splitlines()
+    assert re.fullmatch(r"\[ ERROR \] \[/quiet\] \[\d+\.\d{6}\]: error \d+", first)
+    assert where == f"          [tick] {script}:14"

@@ -104,7 +104,7 @@ def run(args: argparse.Namespace) -> int:
         sys.stdout.write(_node_args(config, args.node_args, packages) + "\n")
         return 0
     logger.info("%s", summary(config).rstrip("\n") + "\n")
-    return run_session(config, packages, args)
+    return run_session(config, packages, args, announce=True)
 
 
 def _node_args(config: LaunchConfig, name: str, packages: PackageIndex) -> str:

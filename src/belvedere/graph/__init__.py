@@ -21,6 +21,7 @@ from belvedere.graph._graph import (
     Topic,
     Transport,
 )
+from belvedere.graph._log import NodeLogger
 from belvedere.graph._names import RosArgs, parse_ros_args, resolve_name
 from belvedere.graph._params import ParamError, ParamTree
 from belvedere.graph._topics import GraphTopics
@@ -49,6 +50,7 @@ __all__ = [
     "GraphInfo",
     "GraphTopics",
     "Node",
+    "NodeLogger",
     "ParamError",
     "ParamTree",
     "Publisher",

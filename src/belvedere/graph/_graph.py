@@ -17,6 +17,7 @@ from typing import Any, Literal, Protocol
 
 from belvedere.errors import BelvedereError
 from belvedere.graph._executor import NS, Executor, Timer
+from belvedere.graph._log import NodeLogger
 from belvedere.graph._names import resolve_name
 from belvedere.graph._params import ParamTree
 from belvedere.msgs import message_from_data, short, types
@@ -314,7 +315,8 @@ class Node:
         self.seqs: dict[str, int] = {}
         """The ``header.seq`` counters of its publications, by topic (ROS 1 counts per topic
         per process: the publishers of one node on one topic share one)."""
-        self.logger = logging.getLogger(f"belvedere.node.{name}")
+        self.logger = NodeLogger(self)
+        """Its log: each message on ``/rosout`` and on the terminal, as a ROS node's."""
         self.closed = False
         """Shut down: off the graph, its publishers silent, its callbacks never called."""
 

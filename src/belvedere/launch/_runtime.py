@@ -96,6 +96,8 @@ class LaunchRuntime:
     """In-process nodes that ended by themselves: full name → exit status."""
     closers: list[Callable[[], None]] = field(default_factory=list)
     """Run by :meth:`close`, last added first (a recorder closes its bag)."""
+    announce: bool = False
+    """Say each process started, as roslaunch does (rosrun does not)."""
     started: int = 0
     """Processes started so far (roslaunch numbers them: ``process[name-N]``)."""
 
@@ -226,7 +228,8 @@ class LaunchRuntime:
     def _started(self, spec: LaunchNode, how: str) -> None:
         """roslaunch's line for each process it starts (an in-process node counts as one)."""
         self.started += 1
-        logger.info("process[%s]: started %s", process_name(spec, self.started), how)
+        if self.announce:
+            logger.info("process[%s]: started %s", process_name(spec, self.started), how)
 
     def ended_in_process(self) -> LaunchNode | None:
         """A required in-process node that has ended (the launch then ends), if any."""
