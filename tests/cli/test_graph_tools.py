@@ -279,6 +279,7 @@ def test_log_shows_what_nodes_log_with_level_and_node_filters(
         warnings = run("log", "--level", "warn", "--node", "chatty", "-n", "3")
         every = run("log", "-n", "9")
         verbose = run("log", "-v", "--node", "/quiet", "-n", "1")
+        misspelt = run("log", "--node", "chaty", "--timeout", "1")
     finally:
         nodes.terminate()
         nodes.wait(timeout=DEADLINE)
@@ -292,3 +293,74 @@ def test_log_shows_what_nodes_log_with_level_and_node_filters(
     first, where = verbose.stdout.splitlines()
     assert re.fullmatch(r"\[ ERROR \] \[/quiet\] \[\d+\.\d{6}\]: error \d+", first)
     assert where == f"          [tick] {script}:14"
+    assert misspelt.stderr.splitlines()[-3:] == [
+        "warning: no node /chaty on the graph (yet); did you mean /chatty?",
+        "error: no log message within 1 s",
+        "  hint: is a node running and logging?",
+    ]
+
+
+def test_misspelt_names_get_the_graphs_closest(endpoint: str) -> None:
+    """The issue's misspellings: a service, a node and a topic, each answered with the
+    graph's names closest to it."""
+    graph = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint, serve_params=False))
+    gazebo = graph.create_node("gazebo")
+    for name in ("/gazebo/reset_simulation", "/gazebo/reset_world"):
+        gazebo.service(name, "std_srvs/Empty", lambda req: None)
+    rsp = graph.create_node("robot_state_publisher")
+    rsp.subscribe("/joint_states", "sensor_msgs/JointState", lambda msg: None)
+    rsp.publisher("/tf", "tf2_msgs/TFMessage")
+    graph.start(rtf=None)
+    try:
+        service = run("service", "call", "/gazebo/reset_simulaton")
+        node = run("node", "info", "/robot_state_publishr")
+        echo = run("topic", "echo", "/joint_state", "--timeout", "1")
+        info = run("topic", "info", "/joint_state")
+        waiting = _popen("topic", "echo", "/joint_state")
+        try:
+            assert waiting.stderr is not None
+            line = waiting.stderr.readline()
+            while line.startswith("graph: "):
+                line = waiting.stderr.readline()
+        finally:
+            waiting.kill()
+            waiting.communicate()
+        far = run("service", "call", "/nothing_like_it")
+    finally:
+        graph.shutdown()
+    assert service.returncode == node.returncode == echo.returncode == info.returncode == 1
+    assert service.stderr.splitlines()[-2:] == [
+        "error: service /gazebo/reset_simulaton is not offered by any node",
+        "  hint: did you mean /gazebo/reset_simulation or /gazebo/reset_world?",
+    ]
+    assert node.stderr.splitlines()[-2:] == [
+        "error: unknown node /robot_state_publishr",
+        "  hint: did you mean /robot_state_publisher?",
+    ]
+    assert echo.stderr.splitlines()[-2:] == [
+        "error: no node publishes or subscribes to /joint_state (waited 1 s)",
+        "  hint: did you mean /joint_states?",
+    ]
+    assert info.stderr.splitlines()[-2:] == [
+        "error: unknown topic /joint_state: no node publishes or subscribes to it",
+        "  hint: did you mean /joint_states?",
+    ]
+    assert (
+        line == "waiting for /joint_state to appear (Ctrl-C to stop); did you mean /joint_states?\n"
+    )
+    assert far.stderr.splitlines()[-2:] == [
+        "error: service /nothing_like_it is not offered by any node",
+        "  hint: see 'belvedere service list'",
+    ]
+
+
+def test_echo_of_a_misspelt_topic_in_a_run(capsys: pytest.CaptureFixture[str]) -> None:
+    code = main(
+        ["run", "--rtf", "max", "--duration", "0.1", "--echo", "/tf_statc", "--headless",
+         "tf2_ros", "static_transform_publisher", "1", "2", "3", "0", "0", "0", "map", "odom"]
+    )  # fmt: skip
+    assert code == 1
+    assert capsys.readouterr().err.splitlines()[-2:] == [
+        "error: --echo /tf_statc: no node in this run publishes or subscribes to it",
+        "  hint: did you mean /tf_static?",
+    ]

@@ -4,17 +4,20 @@ echo``, the terminal's rqt_console."""
 from __future__ import annotations
 
 import argparse
+import logging
 import sys
 import threading
 import time
 from typing import Any, Final
 
-from belvedere.cli._tool import add_graph_options, open_tool
+from belvedere.cli._tool import Tool, add_graph_options, open_tool
 from belvedere.errors import BelvedereError
-from belvedere.graph import resolve_name
+from belvedere.graph import did_you_mean, resolve_name
 from belvedere.graph._log import LEVEL_NAMES
 
 __all__ = ["add_parser", "format_log", "run"]
+
+logger = logging.getLogger("belvedere.cli")
 
 LEVELS: Final = {name.lower(): level for level, name in LEVEL_NAMES.items()}
 _COLORS: Final = {1: 92, 2: 97, 4: 93, 8: 91, 16: 95}
@@ -86,9 +89,19 @@ def run(args: argparse.Namespace) -> int:
             shown.release()
 
         tool.node.subscribe("/rosout", "rosgraph_msgs/Log", show, queue_size=1000)
+        if nodes:
+            _name_absent(tool, nodes)
         return _wait(shown, args.count, args.timeout)
     finally:
         tool.close()
+
+
+def _name_absent(tool: Tool, nodes: set[str]) -> None:
+    """One warning per ``--node`` no node on the graph has (yet), with the names close to it."""
+    present = tool.info().nodes - {tool.node.full_name}
+    for name in sorted(nodes - present):
+        close = did_you_mean(name, present)
+        logger.warning("no node %s on the graph (yet)%s", name, f"; {close}" if close else "")
 
 
 def _wait(shown: threading.Semaphore, count: int | None, timeout: float | None) -> int:

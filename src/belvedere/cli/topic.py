@@ -13,7 +13,7 @@ from typing import Any
 
 from belvedere.cli._tool import Tool, action_parsers, open_tool, wait_for
 from belvedere.errors import BelvedereError
-from belvedere.graph import resolve_name
+from belvedere.graph import GraphInfo, did_you_mean, resolve_name
 from belvedere.msgs import message_from_args, message_to_yaml, short, types
 
 __all__ = ["add_parser", "run"]
@@ -83,22 +83,39 @@ def _name(topic: str) -> str:
 def _topic_type(tool: Tool, topic: str, timeout: float | None) -> str:
     """The type of a topic someone publishes (waiting up to ``timeout``; None: forever)."""
     found: list[str] = []
+    known: set[str] = set()
 
     def look() -> bool:
-        typ = tool.info(timeout=0.3).topic_type(topic)
+        info = tool.info(timeout=0.3)
+        typ = info.topic_type(topic)
         if typ:
             found.append(typ)
+        known.clear()
+        known.update(_topics(info))
         return bool(found)
 
     if timeout is None:
         if not wait_for(look, 1.0, step=0.2):
-            sys.stderr.write(f"waiting for {topic} to appear (Ctrl-C to stop)…\n")
+            close = did_you_mean(topic, known)
+            waiting = f"waiting for {topic} to appear (Ctrl-C to stop)"
+            sys.stderr.write(f"{waiting}; {close}\n" if close else f"{waiting}…\n")
             wait_for(look, float("inf"), step=0.2)
         return found[0]
     if not wait_for(look, timeout, step=0.2):
         msg = f"no node publishes or subscribes to {topic} (waited {timeout:g} s)"
-        raise BelvedereError(msg, hint="check the name with 'belvedere topic list'")
+        hint = did_you_mean(topic, known) or "check the name with 'belvedere topic list'"
+        raise BelvedereError(msg, hint=hint)
     return found[0]
+
+
+def _topics(info: GraphInfo) -> set[str]:
+    """Every topic someone publishes or subscribes to."""
+    return set(info.publishers) | set(info.subscribers)
+
+
+def _unknown(topic: str, info: GraphInfo) -> BelvedereError:
+    msg = f"unknown topic {topic}: no node publishes or subscribes to it"
+    return BelvedereError(msg, hint=did_you_mean(topic, _topics(info)))
 
 
 def _list(tool: Tool, args: argparse.Namespace) -> int:
@@ -288,8 +305,7 @@ def _info(tool: Tool, args: argparse.Namespace) -> int:
     info = tool.info()
     typ = info.topic_type(topic)
     if typ is None:
-        msg = f"unknown topic {topic}: no node publishes or subscribes to it"
-        raise BelvedereError(msg)
+        raise _unknown(topic, info)
     out = [f"Type: {short(typ)}", "", "Publishers: "]
     out += [f" * {node}" for _, node in sorted(info.publishers.get(topic, ()))] or [" None"]
     out += ["", "Subscribers: "]
@@ -300,9 +316,9 @@ def _info(tool: Tool, args: argparse.Namespace) -> int:
 
 def _type(tool: Tool, args: argparse.Namespace) -> int:
     topic = _name(args.topic)
-    typ = tool.info().topic_type(topic)
+    info = tool.info()
+    typ = info.topic_type(topic)
     if typ is None:
-        msg = f"unknown topic {topic}: no node publishes or subscribes to it"
-        raise BelvedereError(msg)
+        raise _unknown(topic, info)
     sys.stdout.write(short(typ) + "\n")
     return 0

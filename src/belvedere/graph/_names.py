@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import difflib
 import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
@@ -11,13 +12,28 @@ import yaml
 
 from belvedere.errors import BelvedereError
 
-__all__ = ["GraphNameError", "RosArgs", "join", "parse_ros_args", "resolve_name", "validate"]
+__all__ = [
+    "GraphNameError",
+    "RosArgs",
+    "did_you_mean",
+    "join",
+    "parse_ros_args",
+    "resolve_name",
+    "validate",
+]
 
 _SEGMENT: Final = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
 
 class GraphNameError(BelvedereError):
     """A malformed graph name."""
+
+
+def did_you_mean(name: str, known: Iterable[str]) -> str | None:
+    """``did you mean /a or /b?``: the graph names of ``known`` closest to ``name`` (a
+    misspelt topic, service or node), closest first; None when none is close."""
+    close = difflib.get_close_matches(name, sorted(set(known)), n=3, cutoff=0.6)
+    return "did you mean " + " or ".join(close) + "?" if close else None
 
 
 def validate(name: str) -> str:
