@@ -1,10 +1,8 @@
-"""A listener: prints what arrives on /chatter (from this process or any other)."""
-
-import logging
+"""A listener: prints what arrives on /chatter (from this process or any other), as a ROS
+node logs it (``[INFO] [time]: I heard: …``, also on /rosout: see ``belvedere log``)."""
 
 from belvedere.graph import Graph, ZenohTransport
 
-logging.basicConfig(level=logging.INFO, format="%(message)s")
 graph = Graph(sim_time=False, transport=ZenohTransport())
 node = graph.create_node("listener")
 node.subscribe("chatter", "std_msgs/String", lambda msg: node.logger.info("I heard: %s", msg.data))

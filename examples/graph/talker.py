@@ -1,7 +1,7 @@
 """A talker: publishes std_msgs/String on /chatter at 2 Hz, in wall time, on the shared graph.
 
 Run it, then in other terminals: ``python examples/graph/listener.py`` and/or
-``belvedere topic echo /chatter``. Stop with Ctrl-C.
+``belvedere topic echo /chatter``; ``belvedere log`` shows what both log. Stop with Ctrl-C.
 """
 
 from belvedere.graph import Graph, ZenohTransport

@@ -65,14 +65,15 @@ def pinpoint(near: SourceLocation | None, text: str, offset: int = 0) -> SourceL
 
 
 def did_you_mean(
-    name: str, known: Iterable[str], *, most: int = 1, cutoff: float = 0.6
+    name: str, known: Iterable[str], *, most: int = 1, cutoff: float = 0.6, quote: bool = True
 ) -> str | None:
     """``did you mean 'x'?`` for the name in ``known`` closest to ``name`` (``'x' or 'y'``…:
-    the ``most`` closest), or None if none is close."""
+    the ``most`` closest, closest first; unquoted with ``quote`` false, as graph names are
+    written), or None if none is close."""
     close = difflib.get_close_matches(name, sorted(set(known)), n=most, cutoff=cutoff)
     if not close:
         return None
-    return "did you mean " + " or ".join(repr(c) for c in close) + "?"
+    return "did you mean " + " or ".join(repr(c) if quote else c for c in close) + "?"
 
 
 class BelvedereError(Exception):

@@ -119,6 +119,18 @@ def test_introspection_params_and_services(peer: Any, tmp_path: Path) -> None:
     assert called.stdout == 'success: True\nmessage: "done"\n'
 
 
+def test_publishing_another_type_than_the_graphs_is_refused(peer: Any) -> None:
+    """The issue's command against a node that subscribes to /cmd_vel as a Twist: one error
+    naming both types, nothing sent."""
+    pub = run("topic", "pub", "-r", "10", "/cmd_vel", "std_msgs/String", "hi")
+    assert pub.returncode == 1
+    assert pub.stdout == ""
+    assert pub.stderr.splitlines()[-1] == (
+        "error: topic /cmd_vel has type geometry_msgs/Twist (/peer subscribes to it); "
+        "cannot publish std_msgs/String on it"
+    )
+
+
 def test_param_dump_on_a_full_disk_keeps_the_old_file(peer: Any, full_disk: Path) -> None:
     dump = full_disk / "params.yaml"
     dump.write_text("previous: 1\n")
@@ -150,16 +162,19 @@ def test_absent_things_are_said_plainly(endpoint: str) -> None:
 def test_example_talker_reaches_other_processes(endpoint: str) -> None:
     talker = subprocess.Popen(
         [sys.executable, str(Path(__file__).parents[2] / "examples" / "graph" / "talker.py")],
-        stdout=subprocess.DEVNULL,
+        stdout=subprocess.PIPE,
         stderr=subprocess.DEVNULL,
+        text=True,
     )
     try:
         echo = run("topic", "echo", "/chatter", "-n", "1", "--timeout", WAIT)
     finally:
         talker.terminate()
-        talker.wait(timeout=DEADLINE)
+        out, _ = talker.communicate(timeout=DEADLINE)
     assert echo.returncode == 0, echo.stderr
     assert echo.stdout.startswith('data: "hello world ')
+    # its node.logger.info, as a ROS node prints it
+    assert re.match(r"\[INFO\] \[\d+\.\d{6}\]: said hello world 1\n", out)
 
 
 def test_tf_echo_and_tree(peer: Any) -> None:
@@ -247,3 +262,126 @@ def test_tf_tree_in_a_simulation_counts_age_in_its_time(endpoint: str) -> None:
     ages = [float(a) for a in re.findall(r", ([0-9.]+) s ago", tree.stdout)]
     assert ages, tree.stdout
     assert max(ages) < 1.0, tree.stdout
+
+
+LOGGING_NODES = """
+from belvedere.graph import Graph, ZenohTransport
+
+graph = Graph(sim_time=False, transport=ZenohTransport())
+chatty = graph.create_node("chatty")
+quiet = graph.create_node("quiet")
+count = [0]
+
+
+def tick():
+    count[0] += 1
+    chatty.logger.info("info %d", count[0])
+    chatty.logger.warning("warn %d", count[0])
+    quiet.logger.error("error %d", count[0])
+
+
+chatty.timer(0.05, tick)
+print("READY", flush=True)
+graph.run()
+"""
+
+
+def test_log_shows_what_nodes_log_with_level_and_node_filters(
+    endpoint: str, tmp_path: Path
+) -> None:
+    script = tmp_path / "logging_nodes.py"
+    script.write_text(LOGGING_NODES)
+    nodes = subprocess.Popen(
+        [sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True
+    )
+    try:
+        assert nodes.stdout is not None
+        assert nodes.stdout.readline() == "READY\n"
+        warnings = run("log", "--level", "warn", "--node", "chatty", "-n", "3")
+        every = run("log", "-n", "9")
+        verbose = run("log", "-v", "--node", "/quiet", "-n", "1")
+        misspelt = run("log", "--node", "chaty", "--timeout", "1")
+    finally:
+        nodes.terminate()
+        nodes.wait(timeout=DEADLINE)
+    assert warnings.returncode == 0, warnings.stderr
+    lines = warnings.stdout.splitlines()
+    assert len(lines) == 3
+    for line in lines:
+        assert re.fullmatch(r"\[ WARN  \] \[/chatty\] \[\d+\.\d{6}\]: warn \d+", line), line
+    shown = {tuple(line.split("]")[:2]) for line in every.stdout.splitlines()}
+    assert shown == {("[ INFO  ", " [/chatty"), ("[ WARN  ", " [/chatty"), ("[ ERROR ", " [/quiet")}
+    first, where = verbose.stdout.splitlines()
+    assert re.fullmatch(r"\[ ERROR \] \[/quiet\] \[\d+\.\d{6}\]: error \d+", first)
+    assert where == f"          [tick] {script}:14"
+    assert misspelt.stderr.splitlines()[-3:] == [
+        "warning: no node /chaty on the graph (yet); did you mean /chatty?",
+        "error: no log message within 1 s",
+        "  hint: is a node running and logging?",
+    ]
+
+
+def test_misspelt_names_get_the_graphs_closest(endpoint: str) -> None:
+    """The issue's misspellings: a service, a node and a topic, each answered with the
+    graph's names closest to it."""
+    graph = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint, serve_params=False))
+    gazebo = graph.create_node("gazebo")
+    for name in ("/gazebo/reset_simulation", "/gazebo/reset_world"):
+        gazebo.service(name, "std_srvs/Empty", lambda req: None)
+    rsp = graph.create_node("robot_state_publisher")
+    rsp.subscribe("/joint_states", "sensor_msgs/JointState", lambda msg: None)
+    rsp.publisher("/tf", "tf2_msgs/TFMessage")
+    graph.start(rtf=None)
+    try:
+        service = run("service", "call", "/gazebo/reset_simulaton")
+        node = run("node", "info", "/robot_state_publishr")
+        echo = run("topic", "echo", "/joint_state", "--timeout", "1")
+        info = run("topic", "info", "/joint_state")
+        waiting = _popen("topic", "echo", "/joint_state")
+        try:
+            assert waiting.stderr is not None
+            line = waiting.stderr.readline()
+            while line.startswith("graph: "):
+                line = waiting.stderr.readline()
+        finally:
+            waiting.kill()
+            waiting.communicate()
+        far = run("service", "call", "/nothing_like_it")
+    finally:
+        graph.shutdown()
+    assert service.returncode == node.returncode == echo.returncode == info.returncode == 1
+    assert service.stderr.splitlines()[-2:] == [
+        "error: service /gazebo/reset_simulaton is not offered by any node",
+        "  hint: did you mean /gazebo/reset_simulation or /gazebo/reset_world?",
+    ]
+    assert node.stderr.splitlines()[-2:] == [
+        "error: unknown node /robot_state_publishr",
+        "  hint: did you mean /robot_state_publisher?",
+    ]
+    assert echo.stderr.splitlines()[-2:] == [
+        "error: no node publishes or subscribes to /joint_state (waited 1 s)",
+        "  hint: did you mean /joint_states?",
+    ]
+    assert info.stderr.splitlines()[-2:] == [
+        "error: unknown topic /joint_state: no node publishes or subscribes to it",
+        "  hint: did you mean /joint_states?",
+    ]
+    assert (
+        line == "waiting for /joint_state to appear (Ctrl-C to stop); did you mean /joint_states?\n"
+    )
+    assert far.stderr.splitlines()[-2:] == [
+        "error: service /nothing_like_it is not offered by any node",
+        "  hint: see 'belvedere service list'",
+    ]
+
+
+def test_echo_of_a_misspelt_topic_in_a_run(capsys: pytest.CaptureFixture[str]) -> None:
+    code = main(
+        ["run", "--rtf", "max", "--duration", "0.1", "--echo", "/tf_statc", "--headless",
+         "tf2_ros", "static_transform_publisher", "1", "2", "3", "0", "0", "0", "map", "odom"]
+    )  # fmt: skip
+    assert code == 1
+    assert capsys.readouterr().err.splitlines()[-2:] == [
+        "error: --echo /tf_statc: no node in this run publishes or subscribes to it",
+        "  hint: did you mean /tf_static?",
+    ]

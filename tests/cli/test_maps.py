@@ -85,7 +85,9 @@ def test_map_saver_saves_what_a_running_launch_serves(pkg: Path, tmp_path: Path)
         assert done.returncode == 0, done.stderr
         # it joined the launch's graph (no second graph of its own) and ended by itself
         assert "connected" in done.stderr.splitlines()[0]
-        assert done.stderr.splitlines()[-4:] == [
+        # map_saver's log, as ROS prints it: on stdout, "[INFO] [time]: text"
+        logged = [line.split("]: ", 1)[1] for line in done.stdout.splitlines()]
+        assert logged[-4:] == [
             "Received a 160 X 120 map @ 0.050 m/pix",
             "Writing map occupancy data to cloister.pgm",
             "Writing map occupancy data to cloister.yaml",

@@ -5,6 +5,7 @@ registry and from the user's packages, ROS's command-line arguments, and rospack
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -78,6 +79,25 @@ def test_a_registry_node_runs_in_process(capsys: pytest.CaptureFixture[str]) -> 
     assert 'frame_id: "map"' in out
     assert 'child_frame_id: "odom"' in out
     assert "x: 1.0" in out
+
+
+def test_a_nodes_log_prints_as_ros_prints_it(capsys: pytest.CaptureFixture[str]) -> None:
+    """map_server logs as it loads (node.logger.info): on stdout, in ROS's format, with the
+    simulated time after the wall clock's; -q hides it (rosrun says nothing itself)."""
+    yaml = str(EXAMPLES / "mbot_navigation/maps/cloister_gmapping.yaml")
+    argv = ["run", "--rtf", "max", "--duration", "0.1", "--headless"]
+    argv += ["map_server", "map_server", yaml]
+    assert main(argv) == 0
+    out, err = capsys.readouterr()
+    assert re.fullmatch(
+        r'\[INFO\] \[\d+\.\d{6}, 0\.000000\]: Loading map from image "[^"]+'
+        r'cloister_gmapping\.pgm"\n'
+        r"\[INFO\] \[\d+\.\d{6}, 0\.000000\]: Read a 400 X 400 map @ 0\.050 m/cell\n",
+        out,
+    )
+    assert "process[" not in err
+    assert main(["run", "-q", *argv[1:]]) == 0  # belvedere's options come first
+    assert capsys.readouterr().out == ""
 
 
 def test_xacro_runs_the_xacro_verb(capsys: pytest.CaptureFixture[str]) -> None:

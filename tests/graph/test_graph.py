@@ -225,3 +225,13 @@ def test_pause_step_and_rtf_while_running() -> None:
         assert ticks == sorted(ticks)
     finally:
         g.shutdown()
+
+
+def test_did_you_mean_names_the_closest_graph_names() -> None:
+    from belvedere.graph import did_you_mean
+
+    known = ["/odom", "/cmd_vel", "/odom_combined", "/scan", "/odom"]
+    assert did_you_mean("/odm", known) == "did you mean /odom?"
+    assert did_you_mean("/cmd_vl", known) == "did you mean /cmd_vel?"
+    assert did_you_mean("/camera/image", known) is None
+    assert did_you_mean("/x", []) is None

@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+import logging
 import time
 from typing import Any
 
 import pytest
 
 from belvedere.graph import Graph, GraphError, ZenohTransport
-from belvedere.graph._zenoh import open_session
+from belvedere.graph._zenoh import _STAMP, open_session
+from belvedere.msgs import message_from_data, types
 from tests.waiting import DEADLINE, wait_until
 
 
@@ -157,3 +159,73 @@ def test_a_graph_follows_the_clock_of_a_running_simulation(endpoint: str) -> Non
     wall = Graph(sim_time=False)
     with pytest.raises(GraphError, match="only a graph in simulated time can follow /clock"):
         wall.follow_clock(wall.create_node("x"))
+
+
+def test_a_topic_of_another_type_on_the_graph_is_refused(peer: Any, endpoint: str) -> None:
+    """The peer process subscribes to /cmd_vel as a Twist and publishes /chatter as a String:
+    a node here that would use them as something else is refused, naming both types (ROS 1
+    would connect them and drop every message)."""
+    graph = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint, serve_params=False))
+    try:
+        node = graph.create_node("mine")
+        with pytest.raises(
+            GraphError,
+            match=r"topic /cmd_vel has type geometry_msgs/Twist \(/peer subscribes to it\); "
+            r"cannot publish std_msgs/String on it$",
+        ):
+            node.publisher("/cmd_vel", "std_msgs/String")
+        with pytest.raises(
+            GraphError,
+            match=r"topic /chatter has type std_msgs/String \(/peer publishes it\); "
+            r"cannot subscribe to it as geometry_msgs/Twist$",
+        ):
+            node.subscribe("/chatter", "geometry_msgs/Twist", lambda m: None)
+        assert "/cmd_vel" not in {p.name for p in node.publishers}
+        # the same types are welcome
+        assert node.publisher("/cmd_vel", "geometry_msgs/Twist").topic.type == (
+            "geometry_msgs/msg/Twist"
+        )
+    finally:
+        graph.shutdown()
+
+
+def test_messages_of_another_type_are_dropped_with_one_warning_per_publisher(
+    endpoint: str, caplog: pytest.LogCaptureFixture
+) -> None:
+    """A publisher of another type that came before the check could see it (two processes
+    starting at once) reaches a subscriber: its messages are dropped unread, with one warning
+    per publisher naming both types and its node; the right type still arrives."""
+    listener = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint))
+    got: list[float] = []
+    listener.create_node("sim").subscribe(
+        "/cmd_vel", "geometry_msgs/Twist", lambda m: got.append(m.linear.x)
+    )
+    listener.start(rtf=None)
+    # What a racing publisher's messages are on the wire: a String's bytes, typed and signed.
+    racer = ZenohTransport(endpoint=endpoint, serve_params=False)
+    string = types().serialize(message_from_data("std_msgs/String", {"data": "hi"}))
+    twist = types().serialize(message_from_data("geometry_msgs/Twist", {"linear": {"x": 1.0}}))
+    key = racer._key("t", "/cmd_vel")
+    try:
+        with caplog.at_level(logging.WARNING, logger="belvedere.transport"):
+            for sender in ("/racer", "/racer", "/other_racer") * 10:
+                attachment = _STAMP.pack(b"w", 0) + f"std_msgs/msg/String\n{sender}".encode()
+                racer.session.put(key, string, attachment=attachment)
+            # a peer that says nothing about its messages, sending what is not a Twist
+            for _ in range(5):
+                racer.session.put(key, string)
+            racer.session.put(key, twist, attachment=_STAMP.pack(b"w", 0))
+            wait_until(lambda: got, what="the Twist after the Strings")
+        warnings = [r.getMessage() for r in caplog.records]
+    finally:
+        racer.close()
+        listener.shutdown()
+    assert got == [1.0]
+    assert warnings[:2] == [
+        "topic types do not match on /cmd_vel: [geometry_msgs/Twist] here vs. "
+        "[std_msgs/String] from /racer; its messages are dropped",
+        "topic types do not match on /cmd_vel: [geometry_msgs/Twist] here vs. "
+        "[std_msgs/String] from /other_racer; its messages are dropped",
+    ]
+    assert len(warnings) == 3
+    assert warnings[2].startswith("dropping messages on /cmd_vel that are not geometry_msgs/Twist:")

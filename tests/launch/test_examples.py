@@ -3,6 +3,7 @@ rates, and it shuts down cleanly."""
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 from typing import Any
 
@@ -229,6 +230,42 @@ def test_required_script_ends_the_launch_and_params_are_dumped(
     assert main(["launch", str(launch), "--headless", "--duration", str(DEADLINE)]) == 0
     assert "required node /quick exited: shutting down" in capsys.readouterr().err
     assert "speed: 0.3" in dump.read_text()
+
+
+def test_launch_prints_roslaunchs_summary_and_the_processes_it_starts(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], endpoint: str
+) -> None:
+    pkg = tmp_path / "pkg"
+    (pkg / "scripts").mkdir(parents=True)
+    (pkg / "package.xml").write_text("<package><name>mypkg</name></package>")
+    (pkg / "scripts" / "quick.py").write_text("import sys\nsys.exit(0)\n")
+    launch = pkg / "small.launch"
+    launch.write_text(
+        """<launch>
+          <param name="speed" value="0.3"/>
+          <group ns="r1">
+            <node pkg="tf2_ros" type="static_transform_publisher" name="camera_tf"
+                  args="0 0 0.2 0 0 0 base_link camera"/>
+          </group>
+          <node pkg="mypkg" type="quick.py" name="quick" required="true"/>
+        </launch>"""
+    )
+    argv = ["launch", str(launch), "--headless", "--duration", str(DEADLINE)]
+    assert main(argv) == 0
+    out, err = capsys.readouterr()
+    summary = (
+        "\nSUMMARY\n========\n\nPARAMETERS\n * /speed: 0.3\n\nNODES\n  /\n"
+        "    quick (mypkg/quick.py)\n  /r1/\n"
+        "    camera_tf (tf2_ros/static_transform_publisher)\n\n"
+    )
+    assert err.startswith(summary)
+    lines = err[len(summary) :].splitlines()
+    assert lines[0].startswith("graph: domain ")
+    assert lines[1] == "process[r1/camera_tf-1]: started in this process"
+    assert re.fullmatch(r"process\[quick-2\]: started with pid \[\d+\]", lines[2])
+    assert out == ""
+    assert main([*argv, "-q"]) == 0
+    assert "SUMMARY" not in capsys.readouterr().err
 
 
 def test_a_dump_that_does_not_fit_keeps_the_old_file(

@@ -19,6 +19,8 @@ import pytest
 import yaml
 
 from belvedere.cli import main
+from belvedere.launch import load_launch
+from belvedere.launch._listing import summary
 from belvedere.packages import BUILTIN_PACKAGES
 from tests.conftest import EXAMPLES, MELODIC_ORACLE
 
@@ -430,3 +432,92 @@ def test_the_scoping_rules_in_words(
     main(["launch", str(path), "--nodes"])
     err = capsys.readouterr().err
     assert f"{path}:5:3: warning: parameter name 'use gui' is not a legal ROS name" in err
+
+
+# --- the summary roslaunch prints before it starts anything ---------------------------------
+
+# roslaunch's loader and summary, as `roslaunch FILE` runs them before starting the processes
+# (`local=True`: no MACHINES section)
+_SUMMARY_DRIVER = """
+import json, sys
+import roslaunch.config
+out = []
+for path in json.load(sys.stdin):
+    config = roslaunch.config.load_config_default([path], None, verbose=False)
+    out.append(config.summary(local=True) + "\\n")
+json.dump(out, sys.stdout)
+"""
+
+ROSCORE_PARAMS = (" * /rosdistro: ", " * /rosversion: ")
+"""Parameters roslaunch's roscore.xml sets on every launch (belvedere sets neither)."""
+
+SUMMARY = """<launch>
+  <param name="long" value="a value of more than twenty characters"/>
+  <param name="exact" value="twenty characters ok"/>
+  <param name="accented" value="café"/>
+  <param name="late_accent" value="twenty characters and é"/>
+  <param name="lines" textfile="$(dirname)/lines.txt"/>
+  <param name="line" textfile="$(dirname)/line.txt"/>
+  <param name="trailing_space" type="str" value="ends in spaces   "/>
+  <param name="flag" value="true"/>
+  <param name="number" value="2.50"/>
+  <param name="mapping" type="yaml" value="{a: 1, b: [x, 2.5]}"/>
+  <rosparam param="listed">[1, two, 3.0]</rosparam>
+  <node pkg="gen_pkg" type="talker" name="top" clear_params="true">
+    <param name="p" value="1"/>
+  </node>
+  <group ns="zeta" clear_params="true">
+    <node pkg="gen_pkg" type="listener" name="b_node"/>
+    <node pkg="gen_pkg" type="talker" name="a_node" ns="deeper"/>
+  </group>
+  <node pkg="gen_pkg" type="listener" name="abs" ns="/alpha"/>
+</launch>
+"""
+
+
+def _roslaunch_summaries(*paths: Path) -> list[str]:
+    env = dict(os.environ)
+    env["PATH"] = "/usr/bin" + os.pathsep + env.get("PATH", "")
+    done = subprocess.run(
+        [str(SYSTEM_PYTHON), "-c", _SUMMARY_DRIVER],
+        input=json.dumps([str(p) for p in paths]),
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=600,
+        check=False,
+    )
+    assert done.returncode == 0, done.stderr
+    texts: list[str] = json.loads(done.stdout)
+    return [
+        "".join(line for line in text.splitlines(True) if not line.startswith(ROSCORE_PARAMS))
+        for text in texts
+    ]
+
+
+def test_the_summary_is_roslaunchs(generated: Path, both: Workspace) -> None:
+    """Line for line the summary roslaunch prints, on generated files (clearing, every kind
+    of value, namespaces) and on the examples (their xacro run by ROS Melodic's xacro there,
+    by belvedere's here: the 20 characters shown are the same)."""
+    (generated / "summary.launch").write_text(SUMMARY)
+    (generated / "lines.txt").write_text("line one\nline two\n")
+    (generated / "line.txt").write_text("one line\n")
+    paths = [generated / "summary.launch", *(generated / n for n in sorted(GENERATED))]
+    if (MELODIC_ORACLE / "xacro" / "__init__.py").is_file():
+        paths += EXAMPLE_FILES
+    expected = _roslaunch_summaries(*paths)
+    lines = 0
+    for path, text in zip(paths, expected, strict=True):
+        assert summary(load_launch(path)) == text, path
+        lines += text.count("\n")
+    assert lines > 300
+    assert expected[0] == (
+        "\nSUMMARY\n========\n\nCLEAR PARAMETERS\n * /top/\n * /zeta/\n\nPARAMETERS\n"
+        " * /accented: <...>\n * /exact: twenty characters ok\n * /flag: True\n"
+        " * /late_accent: twenty characters...\n * /line: one line\n * /lines: <...>\n"
+        " * /listed: [1, 'two', 3.0]\n"
+        " * /long: a value of more t...\n * /mapping: {'a': 1, 'b': ['x...\n * /number: 2.5\n"
+        " * /top/p: 1\n * /trailing_space: ends in spaces\n\nNODES\n  /\n"
+        "    top (gen_pkg/talker)\n  /alpha/\n    abs (gen_pkg/listener)\n  /zeta/\n"
+        "    b_node (gen_pkg/listener)\n  /zeta/deeper/\n    a_node (gen_pkg/talker)\n\n"
+    )

@@ -31,6 +31,16 @@ def test_seed_command_yaml() -> None:
     )
 
 
+def test_a_message_without_fields_shows_nothing() -> None:
+    """rosbags gives such types a placeholder member (ROS 2 needs one); ROS 1 has none, and
+    rosservice prints an empty response as nothing."""
+    for type_name in ("std_msgs/Empty", "std_srvs/srv/Empty_Response"):
+        msg = message_from_data(type_name, None)
+        assert message_to_yaml(msg) == ""
+        assert message_to_data(msg) == {}
+        assert message_from_data(type_name, message_to_data(msg)) == msg
+
+
 def test_both_type_spellings() -> None:
     a = message_from_args("geometry_msgs/Twist", [SEED])
     b = message_from_args("geometry_msgs/msg/Twist", [SEED])

@@ -3,6 +3,7 @@ received, and the errors their arguments and files give."""
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 from typing import Any
 
@@ -106,8 +107,11 @@ def test_run_map_saver_ends_the_run_when_saved(
          "map_server", "map_saver", "-f", str(tmp_path / "mine"), "--occ", "90", "--free", "5"]
     )  # fmt: skip
     assert code == 0
-    err = capsys.readouterr().err
-    lines = err.splitlines()
+    out, err = capsys.readouterr()
+    # the node's log, as a ROS node prints it (on stdout, the wall clock's time and the
+    # simulated one)
+    lines = [line.split("]: ", 1)[1] for line in out.splitlines()]
+    assert all(line.startswith("[INFO] [") for line in out.splitlines())
     assert "Waiting for the map" in lines
     assert lines[-4:] == [
         "Received a 3 X 1 map @ 0.100 m/pix",
@@ -201,5 +205,10 @@ def test_map_saver_that_cannot_write_says_so_and_fails(
     )  # fmt: skip
     assert code == 1
     err = capsys.readouterr().err
-    assert f"error: Couldn't save map file to {target}.pgm: No such file or directory" in err
+    assert re.search(
+        rf"^\[ERROR\] \[[\d., ]+\]: Couldn't save map file to {re.escape(str(target))}\.pgm: "
+        r"No such file or directory$",
+        err,
+        re.M,
+    )
     assert not (tmp_path / "no").exists()

@@ -121,7 +121,10 @@ def test_a_script_looks_up_what_other_processes_publish(tmp_path: Path) -> None:
     )
     try:
         assert host.stderr is not None
-        assert "listening" in host.stderr.readline()  # the graph is up
+        line = host.stderr.readline()
+        while line and "listening" not in line:  # after roslaunch's summary
+            line = host.stderr.readline()
+        assert "listening" in line  # the graph is up
         done = subprocess.run(
             [*BELVEDERE, "run", str(script)],
             capture_output=True,

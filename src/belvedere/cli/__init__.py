@@ -38,6 +38,7 @@ _VERBS = (
     "param",
     "service",
     "node",
+    "log",
     "tf",
     "bag",
     "foxglove",
@@ -59,6 +60,9 @@ class _Formatter(logging.Formatter):
     (``file:line: error: …``)."""
 
     def format(self, record: logging.LogRecord) -> str:
+        ros_line: str | None = getattr(record, "ros_line", None)
+        if ros_line is not None:
+            return ros_line  # a node's log, in ROS's format (see belvedere.graph.NodeLogger)
         msg = record.getMessage()
         own_prefix = _OWN_PREFIX.search(msg) is not None
         if record.levelno >= logging.WARNING and not own_prefix:
@@ -68,11 +72,20 @@ class _Formatter(logging.Formatter):
 
 class _StderrHandler(logging.StreamHandler):  # type: ignore[type-arg]
     """Writes to whatever ``sys.stderr`` is when a record comes, never to a stream that was
-    replaced (and perhaps closed) since, as a test's capture is."""
+    replaced (and perhaps closed) since, as a test's capture is. A node's INFO and DEBUG go
+    to stdout, as a ROS node prints them."""
+
+    _to_stdout = False
+
+    def emit(self, record: logging.LogRecord) -> None:
+        # (called with the handler's lock held)
+        node_log = getattr(record, "ros_line", None) is not None
+        self._to_stdout = node_log and record.levelno < logging.WARNING
+        super().emit(record)
 
     @property
     def stream(self) -> TextIO:
-        return sys.stderr
+        return sys.stdout if self._to_stdout else sys.stderr
 
     @stream.setter
     def stream(self, _: TextIO) -> None:

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from belvedere.errors import BelvedereError
-from belvedere.graph import Graph, resolve_name
+from belvedere.graph import Graph, did_you_mean, resolve_name
 from belvedere.msgs import message_from_args, message_to_yaml, types
 
 __all__ = ["ScriptOptions", "add_script_options", "install_script", "parse_rtf"]
@@ -104,7 +104,11 @@ def install_script(graph: Graph, options: ScriptOptions, *, name: str = "belvede
         type_name = existing.type if existing else published_types.get(topic)
         if type_name is None:
             msg = f"--echo {topic}: no node in this run publishes or subscribes to it"
-            raise BelvedereError(msg, hint="check the topic name (see 'belvedere topic list')")
+            known = {n for n, t in graph.topics.items() if t.publishers or t.subscriptions}
+            hint = did_you_mean(topic, known | set(published_types))
+            raise BelvedereError(
+                msg, hint=hint or "check the topic name (see 'belvedere topic list')"
+            )
         label = topic if len(options.echoes) > 1 else None
         node.subscribe(topic, type_name, _printer(label), queue_size=0)
     for topic, type_name, msg_obj in options.pubs:

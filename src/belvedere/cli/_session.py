@@ -35,6 +35,7 @@ def run_session(
     sim_time: bool = True,
     quiet_end: bool = False,
     join: bool = False,
+    announce: bool = False,
 ) -> int:
     """Start everything ``config`` asks for on one graph (and ``script``: a user's script
     run as that node, with those arguments) and run until Ctrl-C, ``--duration``, or a
@@ -42,7 +43,8 @@ def run_session(
     ``/use_sim_time``), else the wall clock's, as with a bare roscore. ``quiet_end``: a
     required node's exit ends the run without a word, and its exit status is the run's
     (rosrun's way). ``join``: the nodes join the graph that is running (its parameters, its
-    clock) instead of making one, as ROS nodes join a running master."""
+    clock) instead of making one, as ROS nodes join a running master. ``announce``: say each
+    process started (roslaunch's lines)."""
     if join:
         graph = join_graph(args)
     else:
@@ -52,6 +54,7 @@ def run_session(
         graph,
         packages,
         headless=args.headless,
+        announce=announce,
         viewer_options={
             "host": args.host,
             "port": args.port,

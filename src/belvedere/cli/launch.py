@@ -4,6 +4,7 @@ every node in this process on one graph."""
 from __future__ import annotations
 
 import argparse
+import logging
 import os
 import sys
 from pathlib import Path
@@ -24,10 +25,13 @@ from belvedere.launch._listing import (
     find_executable,
     node_command,
     node_list,
+    summary,
 )
 from belvedere.packages import PackageIndex
 
 __all__ = ["add_parser", "run"]
+
+logger = logging.getLogger("belvedere.cli")
 
 
 def add_parser(
@@ -121,7 +125,10 @@ def run(args: argparse.Namespace) -> int:
     if args.node_args:
         sys.stdout.write(_node_args(config, args.node_args, packages) + "\n")
         return 0
-    return run_session(config, packages, args, join=_joins_running_graph(config, args))
+    logger.info("%s", summary(config).rstrip("\n") + "\n")
+    return run_session(
+        config, packages, args, announce=True, join=_joins_running_graph(config, args)
+    )
 
 
 def _joins_running_graph(config: LaunchConfig, args: argparse.Namespace) -> bool:

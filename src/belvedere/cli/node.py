@@ -7,7 +7,7 @@ import sys
 
 from belvedere.cli._tool import action_parsers, open_tool
 from belvedere.errors import BelvedereError
-from belvedere.graph import resolve_name
+from belvedere.graph import did_you_mean, resolve_name
 from belvedere.msgs import short
 
 __all__ = ["add_parser", "run"]
@@ -35,7 +35,8 @@ def run(args: argparse.Namespace) -> int:
         name = resolve_name(args.node)
         if name not in info.nodes:
             msg = f"unknown node {name}"
-            raise BelvedereError(msg, hint="see 'belvedere node list'")
+            hint = did_you_mean(name, info.nodes - {own}) or "see 'belvedere node list'"
+            raise BelvedereError(msg, hint=hint)
 
         def section(title: str, table: dict[str, set[tuple[str, str]]]) -> list[str]:
             rows = [

@@ -7,7 +7,7 @@ import sys
 
 from belvedere.cli._tool import action_parsers, open_tool
 from belvedere.errors import BelvedereError
-from belvedere.graph import resolve_name
+from belvedere.graph import did_you_mean, resolve_name
 from belvedere.msgs import message_from_args, message_to_yaml, short
 
 __all__ = ["add_parser", "run"]
@@ -39,7 +39,8 @@ def run(args: argparse.Namespace) -> int:
         offered = sorted(info.services.get(name, ()))
         if not offered:
             msg = f"service {name} is not offered by any node"
-            raise BelvedereError(msg, hint="see 'belvedere service list'")
+            hint = did_you_mean(name, info.services) or "see 'belvedere service list'"
+            raise BelvedereError(msg, hint=hint)
         srv_type = offered[0][0]
         if args.action == "type":
             sys.stdout.write(short(srv_type) + "\n")

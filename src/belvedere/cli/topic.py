@@ -13,7 +13,7 @@ from typing import Any
 
 from belvedere.cli._tool import Tool, action_parsers, open_tool, wait_for
 from belvedere.errors import BelvedereError
-from belvedere.graph import resolve_name
+from belvedere.graph import GraphInfo, did_you_mean, resolve_name
 from belvedere.msgs import message_from_args, message_to_yaml, short, types
 
 __all__ = ["add_parser", "run"]
@@ -25,8 +25,11 @@ def add_parser(
     p = sub.add_parser("topic", parents=[common], help="list, echo, publish, measure topics")
     verb = action_parsers(p, common)
 
-    v = verb("list", "topics with publishers or subscribers")
+    v = verb("list", "topics with publishers or subscribers (-v: rostopic list -v's listing)")
+    v.add_argument("namespace", nargs="?", help="only this topic or the topics under it")
     v.add_argument("-t", "--types", action="store_true", help="show each topic's type")
+    v.add_argument("-p", dest="publishers_only", action="store_true", help="published only")
+    v.add_argument("-s", dest="subscribers_only", action="store_true", help="subscribed only")
     v = verb("echo", "print messages")
     v.add_argument("topic")
     v.add_argument("-n", dest="count", type=int, help="stop after COUNT messages")
@@ -80,33 +83,90 @@ def _name(topic: str) -> str:
 def _topic_type(tool: Tool, topic: str, timeout: float | None) -> str:
     """The type of a topic someone publishes (waiting up to ``timeout``; None: forever)."""
     found: list[str] = []
+    known: set[str] = set()
 
     def look() -> bool:
-        typ = tool.info(timeout=0.3).topic_type(topic)
+        info = tool.info(timeout=0.3)
+        typ = info.topic_type(topic)
         if typ:
             found.append(typ)
+        known.clear()
+        known.update(_topics(info))
         return bool(found)
 
     if timeout is None:
         if not wait_for(look, 1.0, step=0.2):
-            sys.stderr.write(f"waiting for {topic} to appear (Ctrl-C to stop)…\n")
+            close = did_you_mean(topic, known)
+            waiting = f"waiting for {topic} to appear (Ctrl-C to stop)"
+            sys.stderr.write(f"{waiting}; {close}\n" if close else f"{waiting}…\n")
             wait_for(look, float("inf"), step=0.2)
         return found[0]
     if not wait_for(look, timeout, step=0.2):
         msg = f"no node publishes or subscribes to {topic} (waited {timeout:g} s)"
-        raise BelvedereError(msg, hint="check the name with 'belvedere topic list'")
+        hint = did_you_mean(topic, known) or "check the name with 'belvedere topic list'"
+        raise BelvedereError(msg, hint=hint)
     return found[0]
 
 
+def _topics(info: GraphInfo) -> set[str]:
+    """Every topic someone publishes or subscribes to."""
+    return set(info.publishers) | set(info.subscribers)
+
+
+def _unknown(topic: str, info: GraphInfo) -> BelvedereError:
+    msg = f"unknown topic {topic}: no node publishes or subscribes to it"
+    return BelvedereError(msg, hint=did_you_mean(topic, _topics(info)))
+
+
 def _list(tool: Tool, args: argparse.Namespace) -> int:
+    """rostopic list: the topics' names (with ``-t`` their types), or with ``-v`` the
+    published and the subscribed topics, each with its type and how many nodes."""
+    if args.publishers_only and args.subscribers_only:
+        msg = "cannot specify both subscribers- and publishers-only"
+        raise BelvedereError(msg)
     info = tool.info()
-    names = sorted(set(info.publishers) | set(info.subscribers))
+    pubs, subs = _within(info.publishers, args.namespace), _within(info.subscribers, args.namespace)
+    if args.verbose > 0:
+        out: list[str] = []
+        if not args.subscribers_only:
+            out += ["", "Published topics:", *_counted(pubs, "publisher")]
+        if not args.publishers_only:
+            out += ["", "Subscribed topics:", *_counted(subs, "subscriber")]
+        sys.stdout.write("\n".join([*out, ""]) + "\n")
+        return 0
+    if args.publishers_only:
+        names = sorted(pubs)
+    elif args.subscribers_only:
+        names = sorted(subs)
+    else:
+        names = sorted(set(pubs) | set(subs))
     for name in names:
         if args.types:
             sys.stdout.write(f"{name} [{short(info.topic_type(name) or '?')}]\n")
         else:
             sys.stdout.write(name + "\n")
     return 0
+
+
+def _within(
+    table: dict[str, set[tuple[str, str]]], namespace: str | None
+) -> dict[str, set[tuple[str, str]]]:
+    """The entries of ``table`` for the topic ``namespace`` or those under it (all: None)."""
+    if not namespace:
+        return table
+    name = _name(namespace)
+    under = name.rstrip("/") + "/"
+    return {t: e for t, e in table.items() if t == name or t.startswith(under)}
+
+
+def _counted(table: dict[str, set[tuple[str, str]]], what: str) -> list[str]:
+    """`` * /topic [type] N publishers`` lines, by topic (a node counts once per topic)."""
+    rows = []
+    for topic, entries in sorted(table.items()):
+        count = len({node for _, node in entries})
+        noun = what if count == 1 else what + "s"
+        rows.append(f" * {topic} [{short(min(entries)[0])}] {count} {noun}")
+    return rows
 
 
 def _echo(tool: Tool, args: argparse.Namespace) -> int:
@@ -245,8 +305,7 @@ def _info(tool: Tool, args: argparse.Namespace) -> int:
     info = tool.info()
     typ = info.topic_type(topic)
     if typ is None:
-        msg = f"unknown topic {topic}: no node publishes or subscribes to it"
-        raise BelvedereError(msg)
+        raise _unknown(topic, info)
     out = [f"Type: {short(typ)}", "", "Publishers: "]
     out += [f" * {node}" for _, node in sorted(info.publishers.get(topic, ()))] or [" None"]
     out += ["", "Subscribers: "]
@@ -257,9 +316,9 @@ def _info(tool: Tool, args: argparse.Namespace) -> int:
 
 def _type(tool: Tool, args: argparse.Namespace) -> int:
     topic = _name(args.topic)
-    typ = tool.info().topic_type(topic)
+    info = tool.info()
+    typ = info.topic_type(topic)
     if typ is None:
-        msg = f"unknown topic {topic}: no node publishes or subscribes to it"
-        raise BelvedereError(msg)
+        raise _unknown(topic, info)
     sys.stdout.write(short(typ) + "\n")
     return 0

@@ -21,7 +21,8 @@ from belvedere.graph._graph import (
     Topic,
     Transport,
 )
-from belvedere.graph._names import RosArgs, parse_ros_args, resolve_name
+from belvedere.graph._log import NodeLogger
+from belvedere.graph._names import RosArgs, did_you_mean, parse_ros_args, resolve_name
 from belvedere.graph._params import ParamError, ParamTree
 from belvedere.graph._topics import GraphTopics
 from belvedere.graph._zenoh import (
@@ -49,6 +50,7 @@ __all__ = [
     "GraphInfo",
     "GraphTopics",
     "Node",
+    "NodeLogger",
     "ParamError",
     "ParamTree",
     "Publisher",
@@ -65,6 +67,7 @@ __all__ = [
     "TransportError",
     "ZenohTransport",
     "check_domain",
+    "did_you_mean",
     "domain_endpoint",
     "graph_running",
     "parse_ros_args",

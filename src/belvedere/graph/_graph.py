@@ -19,6 +19,7 @@ from typing import Any, Literal, Protocol
 
 from belvedere.errors import BelvedereError
 from belvedere.graph._executor import NS, Executor, Timer
+from belvedere.graph._log import NodeLogger
 from belvedere.graph._names import resolve_name
 from belvedere.graph._params import ParamTree
 from belvedere.msgs import message_from_data, short, types
@@ -65,10 +66,11 @@ class Transport(Protocol):
     def unadvertise(self, topic: Topic, publisher: Publisher) -> None: ...
     def subscribe(self, topic: Topic, subscription: Subscription) -> None: ...
     def unsubscribe(self, topic: Topic, subscription: Subscription) -> None: ...
-    def send(self, topic: Topic, msg: Any) -> None: ...
+    def send(self, topic: Topic, msg: Any, publisher: Publisher) -> None: ...
     def offer_service(self, server: ServiceServer) -> None: ...
     def withdraw_service(self, server: ServiceServer) -> None: ...
     def call_service(self, name: str, srv_type: str, request: Any, timeout: float) -> Any: ...
+    def topic_users(self, topic: str) -> list[tuple[str, str, str]]: ...
     def node_added(self, node: Node) -> None: ...
     def node_removed(self, node: Node) -> None: ...
     def attach(self, graph: Graph) -> None: ...
@@ -100,6 +102,8 @@ class Topic:
             self.__dict__["_has_header"] = cached
         return cached
 
+
+TopicUse = Literal["publish", "subscribe", "use"]
 
 SeqRule = Literal["roscpp", "rospy", "given"]
 """How a publisher numbers ``header.seq``: roscpp from 0, counting every message published;
@@ -160,7 +164,7 @@ class Publisher:
             sub.enqueue(msg)
         transport = graph.transport
         if transport is not None and topic.remote:
-            transport.send(topic, msg)
+            transport.send(topic, msg, self)
 
     def _numbered(self, msg: Any) -> Any:
         """``msg`` with the next ``header.seq`` of this node's publications on the topic (a
@@ -313,7 +317,8 @@ class Node:
         self.seqs: dict[str, int] = {}
         """The ``header.seq`` counters of its publications, by topic (ROS 1 counts per topic
         per process: the publishers of one node on one topic share one)."""
-        self.logger = logging.getLogger(f"belvedere.node.{name}")
+        self.logger = NodeLogger(self)
+        """Its log: each message on ``/rosout`` and on the terminal, as a ROS node's."""
         self.closed = False
         """Shut down: off the graph, its publishers silent, its callbacks never called."""
 
@@ -354,7 +359,7 @@ class Node:
         seq_rule: SeqRule = "roscpp",
     ) -> Publisher:
         """``seq_rule``: how ``header.seq`` is numbered (roscpp's or rospy's rule)."""
-        t = self.graph.topic(self.resolve(topic), msg_type)
+        t = self.graph.topic(self.resolve(topic), msg_type, use="publish")
         pub = Publisher(self, t, latch=latch, queue_size=queue_size, seq_rule=seq_rule)
         self.publishers.append(pub)
         t.publishers.append(pub)
@@ -370,7 +375,7 @@ class Node:
         *,
         queue_size: int = 10,
     ) -> Subscription:
-        t = self.graph.topic(self.resolve(topic), msg_type)
+        t = self.graph.topic(self.resolve(topic), msg_type, use="subscribe")
         sub = Subscription(self, t, callback, queue_size=queue_size)
         self.subscriptions.append(sub)
         t.subscriptions.append(sub)
@@ -564,19 +569,49 @@ class Graph:
             self.transport.node_added(node)
         return node
 
-    def topic(self, name: str, msg_type: str) -> Topic:
+    def topic(self, name: str, msg_type: str, *, use: TopicUse = "use") -> Topic:
+        """The topic ``name`` of type ``msg_type``; a topic of another type here, or on the
+        graph when nobody here uses it yet, is an error (``use``: what the caller was to do
+        with it, for the message)."""
         full_type = types().resolve(msg_type)
         with self._lock:
             topic = self.topics.get(name)
-            if topic is None:
-                topic = self.topics[name] = Topic(name, full_type)
-            elif topic.type != full_type:
-                msg = (
-                    f"topic {name} has type {short(topic.type)}; cannot also use it as "
-                    f"{short(full_type)}"
-                )
-                raise GraphError(msg)
+        if topic is None or not (topic.publishers or topic.subscriptions):
+            if topic is None or topic.type == full_type:
+                # Asked once per topic: from then on the topic here has the graph's type.
+                self._check_others(name, full_type, use)
+            with self._lock:
+                topic = self.topics.setdefault(name, Topic(name, full_type))
+        if topic.type != full_type:
+            msg = (
+                f"topic {name} has type {short(topic.type)}; cannot also use it as "
+                f"{short(full_type)}"
+            )
+            raise GraphError(msg)
         return topic
+
+    def _check_others(self, name: str, full_type: str, use: TopicUse) -> None:
+        """Refuse a type that other processes' nodes on the topic do not use (ROS 1 would
+        connect them, then drop every message)."""
+        if self.transport is None:
+            return
+        others = [u for u in self.transport.topic_users(name) if u[1] != full_type]
+        if not others:
+            return
+        their_type = min(others)[1]
+        who = ", ".join(
+            f"{node} {'publishes' if kind == 'pub' else 'subscribes to'} it"
+            for kind, typ, node in sorted(others)
+            if typ == their_type
+        )
+        ours = short(full_type)
+        doing = {
+            "publish": f"cannot publish {ours} on it",
+            "subscribe": f"cannot subscribe to it as {ours}",
+            "use": f"cannot also use it as {ours}",
+        }[use]
+        msg = f"topic {name} has type {short(their_type)} ({who}); {doing}"
+        raise GraphError(msg)
 
     def remove_publisher(self, pub: Publisher) -> None:
         if pub in pub.topic.publishers:

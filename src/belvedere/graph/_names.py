@@ -9,15 +9,30 @@ from typing import Any, Final
 
 import yaml
 
+from belvedere import errors
 from belvedere.errors import BelvedereError
 
-__all__ = ["GraphNameError", "RosArgs", "join", "parse_ros_args", "resolve_name", "validate"]
+__all__ = [
+    "GraphNameError",
+    "RosArgs",
+    "did_you_mean",
+    "join",
+    "parse_ros_args",
+    "resolve_name",
+    "validate",
+]
 
 _SEGMENT: Final = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
 
 class GraphNameError(BelvedereError):
     """A malformed graph name."""
+
+
+def did_you_mean(name: str, known: Iterable[str]) -> str | None:
+    """``did you mean /a or /b?``: the graph names of ``known`` closest to ``name`` (a
+    misspelt topic, service or node), closest first; None when none is close."""
+    return errors.did_you_mean(name, known, most=3, quote=False)
 
 
 def validate(name: str) -> str:

@@ -59,7 +59,7 @@ from belvedere.graph._graph import (
     Subscription,
     Topic,
 )
-from belvedere.msgs import types
+from belvedere.msgs import short, types
 
 __all__ = [
     "DEFAULT_ENDPOINT",
@@ -82,7 +82,10 @@ MAX_DOMAIN: Final = 232
 DEFAULT_ENDPOINT: Final = f"tcp/127.0.0.1:{BASE_PORT}"
 """Domain 0's endpoint."""
 _STAMP: Final = struct.Struct("<cq")
-"""A message's publication time, sent with it: kind (``s`` simulated, ``w`` wall) and ns."""
+"""A message's publication time, sent with it: kind (``s`` simulated, ``w`` wall) and ns.
+After it come the message's type and its publisher's node (``type\nnode``): a subscriber
+that wants another type drops the message unread and says so once (ROS 1 refuses such a
+connection when it is made; Zenoh has no connections)."""
 NEWEST_ONLY: Final = 2
 """Publishers with a queue size up to this (and above 0) want only their newest messages sent."""
 
@@ -107,6 +110,29 @@ class TopicStats:
 
 BULKY: Final = 64 * 1024
 """Bytes of a message's ``data`` array from which sending it takes long enough to matter."""
+
+
+@dataclass(frozen=True, slots=True)
+class _Sent:
+    """What a message carries besides its bytes (a Zenoh attachment)."""
+
+    stamp: tuple[bool, int] | None = None
+    """(simulated?, ns): the publishing graph's time when it was published."""
+    type: str | None = None
+    node: str | None = None
+    """The publisher's node."""
+
+
+def _sent(attachment: Any) -> _Sent:
+    if attachment is None:
+        return _Sent()
+    raw = attachment.to_bytes()
+    if len(raw) < _STAMP.size:
+        return _Sent()
+    kind, ns = _STAMP.unpack_from(raw)
+    sender = raw[_STAMP.size :].decode(errors="replace")
+    type_name, _, node = sender.partition("\n")
+    return _Sent((kind == b"s", ns), type_name or None, node or None)
 
 
 def _bulky(msg: Any) -> bool:
@@ -337,6 +363,8 @@ class ZenohTransport:
         """full name → (when taken, node)"""
         self._clashes: set[tuple[str, str]] = set()
         """(node name, other process's zid) already settled"""
+        self._mismatches: set[tuple[str, str, str]] = set()
+        """(topic, type, node) of publishers of another type already warned about"""
         self._lock = threading.Lock()
         self._closed = False
         self.stats: dict[str, TopicStats] = {}
@@ -477,11 +505,11 @@ class ZenohTransport:
         if publisher.latch and topic.name not in self._latch_queryables:
 
             def latched(query: Any) -> None:
-                for msg in list(topic.latched.values()):
+                for pub, msg in list(topic.latched.items()):
                     query.reply(
                         self._key("l", topic.name),
                         types().serialize(msg),
-                        attachment=topic.type.encode(),
+                        attachment=f"{topic.type}\n{pub.node.full_name}".encode(),
                     )
 
             self._latch_queryables[topic.name] = self.session.declare_queryable(
@@ -497,8 +525,8 @@ class ZenohTransport:
             stats = self.stats[name] = TopicStats()
         return stats
 
-    def send(self, topic: Topic, msg: Any) -> None:
-        stamp = self._stamp()
+    def send(self, topic: Topic, msg: Any, publisher: Publisher) -> None:
+        stamp = self._stamp(publisher)
         depth = max((p.queue_size for p in topic.publishers), default=0)
         if (
             0 < depth <= NEWEST_ONLY
@@ -509,14 +537,16 @@ class ZenohTransport:
         else:
             self._put(topic, msg, stamp)
 
-    def _stamp(self) -> bytes:
+    def _stamp(self, publisher: Publisher) -> bytes:
         """When a message is published, in the publishing graph's time: ``s`` (simulated)
-        or ``w`` (wall) and nanoseconds. Sent with each message (a Zenoh attachment), so a
-        recorder in another process stamps it exactly, whatever order its topics arrive in."""
+        or ``w`` (wall) and nanoseconds, then its type and node. Sent with each message (a
+        Zenoh attachment), so a recorder in another process stamps it exactly, whatever order
+        its topics arrive in, and a subscriber of another type knows whom to name."""
         graph = self.graph
         if graph is None:
             return b""
-        return _STAMP.pack(b"s" if graph.sim_time else b"w", graph.now_ns())
+        sender = f"{publisher.topic.type}\n{publisher.node.full_name}".encode()
+        return _STAMP.pack(b"s" if graph.sim_time else b"w", graph.now_ns()) + sender
 
     def flush(self, timeout: float = 5.0) -> bool:
         """Wait until the newest-only topics' messages are handed to Zenoh."""
@@ -569,12 +599,7 @@ class ZenohTransport:
                     try:
                         msg = types().deserialize(data, topic.type)
                     except Exception as err:  # noqa: BLE001 (a peer sent something else)
-                        logger.warning(
-                            "dropped a message on %s that is not a %s: %s",
-                            topic.name,
-                            topic.type,
-                            err,
-                        )
+                        self._mismatch(topic, None, None, str(err))
                         continue
                     deliver(msg)
                     graph.executor.run_ready()  # each message's callbacks run before the next
@@ -582,6 +607,10 @@ class ZenohTransport:
             stats = self._topic_stats(topic.name)
 
             def on_sample(sample: Any) -> None:
+                sent = _sent(sample.attachment)
+                if sent.type is not None and sent.type != topic.type:
+                    self._mismatch(topic, sent.type, sent.node)
+                    return
                 arrived.append(sample.payload.to_bytes())
                 stats.received += 1
                 # Subscriptions that all want only the newest (queue size 1 or 2) keep
@@ -619,10 +648,45 @@ class ZenohTransport:
             for reply in replies:
                 if reply.ok is None:
                     continue
-                msg = types().deserialize(reply.ok.payload.to_bytes(), topic.type)
+                attachment = reply.ok.attachment
+                sender = (
+                    attachment.to_bytes().decode(errors="replace") if attachment is not None else ""
+                )
+                sent_type, _, node = sender.partition("\n")
+                if sent_type and sent_type != topic.type:
+                    self._mismatch(topic, sent_type, node or None)
+                    continue
+                try:
+                    msg = types().deserialize(reply.ok.payload.to_bytes(), topic.type)
+                except Exception as err:  # noqa: BLE001 (a peer sent something else)
+                    self._mismatch(topic, None, None, str(err))
+                    continue
                 graph.executor.post(partial(deliver, msg))
         except zenoh.ZError:
             pass
+
+    def _mismatch(
+        self, topic: Topic, sent_type: str | None, node: str | None, why: str = ""
+    ) -> None:
+        """Say once per publisher (and type) that its messages on ``topic`` are dropped: they
+        are not of the type subscribers here want (in rospy's words for such a connection)."""
+        key = (topic.name, sent_type or "", node or "")
+        with self._lock:
+            if key in self._mismatches:
+                return
+            self._mismatches.add(key)
+        if sent_type is None:
+            logger.warning(
+                "dropping messages on %s that are not %s: %s", topic.name, short(topic.type), why
+            )
+            return
+        logger.warning(
+            "topic types do not match on %s: [%s] here vs. [%s] from %s; its messages are dropped",
+            topic.name,
+            short(topic.type),
+            short(sent_type),
+            node or "another process",
+        )
 
     def unsubscribe(self, topic: Topic, subscription: Subscription) -> None:
         self._drop_token("sub", topic.name, topic.type, subscription.node.full_name)
@@ -642,13 +706,7 @@ class ZenohTransport:
         skip = len(prefix)
 
         def on_sample(sample: Any) -> None:
-            attachment = sample.attachment
-            sent = None
-            if attachment is not None:
-                raw = attachment.to_bytes()
-                if len(raw) == _STAMP.size:
-                    kind, ns = _STAMP.unpack(raw)
-                    sent = (kind == b"s", ns)
+            sent = _sent(sample.attachment).stamp
             callback(str(sample.key_expr)[skip:], sample.payload.to_bytes(), sent)
 
         return self.session.declare_subscriber(key, on_sample)
@@ -744,6 +802,21 @@ class ZenohTransport:
                 raise ServiceFailedError(name, why)
         msg = f"service {name} is not offered by any node (waited {timeout:g} s)"
         raise ServiceUnavailableError(msg, hint="is the node that provides it running?")
+
+    def topic_users(self, topic: str, timeout: float = 2.0) -> list[tuple[str, str, str]]:
+        """(``pub`` or ``sub``, type, node) of each publisher and subscriber of ``topic`` in
+        other processes (a liveliness query: well under a millisecond on loopback)."""
+        prefix = self._key("g/")
+        key = self._key("g/*/", encode_key(topic) + "/**")
+        found: list[tuple[str, str, str]] = []
+        with contextlib.suppress(zenoh.ZError):
+            for reply in self.session.liveliness().get(key, timeout=timeout):
+                if reply.ok is None:
+                    continue
+                chunks = str(reply.ok.key_expr).removeprefix(prefix).split("/")
+                if len(chunks) == 5 and chunks[0] in ("pub", "sub") and chunks[4] != self._zid:
+                    found.append((chunks[0], decode_key(chunks[2]), decode_key(chunks[3])))
+        return found
 
     def publisher_nodes(self, topic: str, timeout: float = 0.5) -> set[str]:
         """The nodes (in any process, this one too) that publish on ``topic``."""

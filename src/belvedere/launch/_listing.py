@@ -1,5 +1,6 @@
-"""What ``roslaunch --dump-params``, ``--nodes`` and ``--args NODE`` print, line for line, and
-``--files``, which names every file the launch reads with its kind."""
+"""What ``roslaunch --dump-params``, ``--nodes`` and ``--args NODE`` print, and the summary it
+shows before starting, line for line; and ``--files``, which names every file the launch reads
+with its kind."""
 
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ import yaml
 
 from belvedere import nodes
 from belvedere.launch._model import LaunchConfig, LaunchFile, LaunchNode
+from belvedere.launch._names import global_ns
 
 __all__ = [
     "DEFAULT_MASTER_URI",
@@ -21,6 +23,8 @@ __all__ = [
     "find_executable",
     "node_command",
     "node_list",
+    "process_name",
+    "summary",
 ]
 
 DEFAULT_MASTER_URI = "http://localhost:11311/"
@@ -49,6 +53,50 @@ def file_list(config: LaunchConfig) -> str:
 def node_list(config: LaunchConfig) -> str:
     """The nodes' full names, then the tests', one a line."""
     return "\n".join(n.full_name for n in [*config.nodes, *config.tests]) + "\n"
+
+
+SUMMARY_VALUE_CHARS = 20
+"""roslaunch shows a parameter's value in its summary in at most this many characters."""
+
+
+def _summary_value(value: object) -> str:
+    """A value as roslaunch's summary shows it: Python's ``str``, cut to 20 characters
+    (ending ``...``); ``<...>`` when what is shown holds a character that is not printable
+    ASCII (trailing whitespace aside)."""
+    text = str(value)
+    if len(text) > SUMMARY_VALUE_CHARS:
+        text = text[: SUMMARY_VALUE_CHARS - 3] + "..."
+    if any(not 32 <= ord(c) <= 126 for c in text):
+        trimmed = text.rstrip()
+        if any(not 32 <= ord(c) <= 126 for c in trimmed):
+            return "<...>"
+        return trimmed
+    return text
+
+
+def summary(config: LaunchConfig) -> str:
+    """roslaunch's summary of a launch: the namespaces it clears, every parameter (value
+    shortened) and the nodes by namespace, each ``name (pkg/type)``; sorted as it sorts."""
+    lines = ["", "SUMMARY", "========"]
+    if config.clear:
+        lines += ["", "CLEAR PARAMETERS"]
+        lines += sorted(f" * {global_ns(ns)}" for ns in config.clear)
+    if config.params:
+        lines += ["", "PARAMETERS"]
+        lines += sorted(f" * {p.name}: {_summary_value(p.value)}" for p in config.params.values())
+    lines += ["", "NODES"]
+    by_ns: dict[str, list[str]] = {}
+    for node in config.nodes:
+        ns = global_ns(node.namespace)
+        by_ns.setdefault(ns, []).append(f"    {node.name} ({node.pkg}/{node.type})")
+    for ns in sorted(by_ns):
+        lines += [f"  {ns}", *sorted(by_ns[ns])]
+    return "\n".join(lines) + "\n\n"
+
+
+def process_name(node: LaunchNode, number: int) -> str:
+    """roslaunch's name for the ``number``-th process it starts: ``ns/name-N``."""
+    return f"{node.full_name.lstrip('/')}-{number}"
 
 
 def find_executable(root: Path, name: str) -> Path | None:

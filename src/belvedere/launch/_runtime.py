@@ -24,6 +24,7 @@ from belvedere.description.urdf import RobotModel
 from belvedere.errors import BelvedereError, SourceLocation
 from belvedere.fileio import FileWriteError, write_file
 from belvedere.graph import Graph, Node, ZenohTransport
+from belvedere.launch._listing import process_name
 from belvedere.launch._model import LaunchConfig, LaunchError, LaunchNode
 from belvedere.launch._names import canonical
 from belvedere.packages import BUILTIN_PACKAGES, PackageIndex
@@ -95,6 +96,10 @@ class LaunchRuntime:
     """In-process nodes that ended by themselves: full name → exit status."""
     closers: list[Callable[[], None]] = field(default_factory=list)
     """Run by :meth:`close`, last added first (a recorder closes its bag)."""
+    announce: bool = False
+    """Say each process started, as roslaunch does (rosrun does not)."""
+    started: int = 0
+    """Processes started so far (roslaunch numbers them: ``process[name-N]``)."""
 
     def param_source(self, name: str) -> SourceLocation | None:
         param = self.config.params.get(canonical(name))
@@ -159,7 +164,8 @@ class LaunchRuntime:
         if starter is None:
             script = self._user_script(spec)
             if script is not None:
-                self.run_script(spec, script)
+                if self.run_script(spec, script):
+                    self._started(spec, f"with pid [{self.processes[-1][1].pid}]")
                 return
             self.missing.append(f"{spec.pkg}/{spec.type} ({spec.full_name}, {spec.source})")
             return
@@ -168,6 +174,7 @@ class LaunchRuntime:
         )
         self.in_process.append((spec, node))
         self._call(lambda: starter(self, spec, node))
+        self._started(spec, "in this process")
 
     @staticmethod
     def _call(action: Callable[[], None]) -> None:
@@ -217,6 +224,12 @@ class LaunchRuntime:
         self.processes.append((spec, process))
         self.script_argv[id(process)] = argv
         return True
+
+    def _started(self, spec: LaunchNode, how: str) -> None:
+        """roslaunch's line for each process it starts (an in-process node counts as one)."""
+        self.started += 1
+        if self.announce:
+            logger.info("process[%s]: started %s", process_name(spec, self.started), how)
 
     def ended_in_process(self) -> LaunchNode | None:
         """A required in-process node that has ended (the launch then ends), if any."""

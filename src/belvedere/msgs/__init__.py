@@ -12,10 +12,18 @@ from belvedere.msgs._convert import (
     message_to_data,
     message_to_yaml,
 )
-from belvedere.msgs._types import MessageTypeError, TypeRegistry, canonical, short, types
+from belvedere.msgs._types import (
+    PLACEHOLDER,
+    MessageTypeError,
+    TypeRegistry,
+    canonical,
+    short,
+    types,
+)
 
 __all__ = [
     "NUMPY_DTYPES",
+    "PLACEHOLDER",
     "MessageTypeError",
     "MessageValueError",
     "TypeRegistry",

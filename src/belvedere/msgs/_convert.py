@@ -18,7 +18,7 @@ import numpy as np
 import yaml
 
 from belvedere.errors import BelvedereError
-from belvedere.msgs._types import TypeRegistry, short, types
+from belvedere.msgs._types import PLACEHOLDER, TypeRegistry, short, types
 from belvedere.yamlfile import Loader
 
 __all__ = [
@@ -311,7 +311,9 @@ def message_to_data(msg: Any, *, registry: TypeRegistry | None = None) -> Any:
     def convert(value: Any) -> Any:
         if hasattr(value, "__msgtype__"):
             fields = reg.store.fielddefs[value.__msgtype__][1]
-            return {name: convert(getattr(value, name)) for name, _ in fields}
+            return {
+                name: convert(getattr(value, name)) for name, _ in fields if name != PLACEHOLDER
+            }
         if isinstance(value, np.ndarray):
             return value.tolist()
         if isinstance(value, list):
@@ -346,6 +348,8 @@ def message_to_yaml(msg: Any, *, noarr: bool = False, registry: TypeRegistry | N
             return
         fields: list[tuple[str, tuple[int, Any]]] = reg.store.fielddefs[name][1]  # type: ignore[assignment]
         for fname, (kind, detail) in fields:
+            if fname == PLACEHOLDER:
+                continue  # a message without fields (std_srvs/Empty's): ROS 1 shows nothing
             field_value = getattr(value, fname)
             if kind == NAME:
                 lines.append(f"{indent}{fname}: ")

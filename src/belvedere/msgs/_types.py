@@ -21,7 +21,11 @@ from rosbags.typesys.store import Typestore
 
 from belvedere.errors import BelvedereError
 
-__all__ = ["MessageTypeError", "TypeRegistry", "types"]
+__all__ = ["PLACEHOLDER", "MessageTypeError", "TypeRegistry", "types"]
+
+PLACEHOLDER: Final = "structure_needs_at_least_one_member"
+"""The member rosbags' store gives a message type without fields (ROS 2's IDL needs one;
+ROS 1 has none): never shown, never asked for."""
 
 # Standard ROS types missing from rosbags' Noetic store, in .msg syntax (types, not code).
 _EXTRA_MESSAGES: Final = {

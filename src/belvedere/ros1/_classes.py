@@ -17,12 +17,11 @@ from typing import Any, Final, Protocol
 import numpy as np
 from rosbags.serde import SerdeError
 
-from belvedere.msgs import NUMPY_DTYPES, types
+from belvedere.msgs import NUMPY_DTYPES, PLACEHOLDER, types
 from belvedere.ros1._message import DeserializationError, Message
 from belvedere.ros1._rostime import Duration, Time
 from belvedere.ros1._spec import (
     DURATION,
-    PLACEHOLDER,
     TIME,
     FieldSpec,
     MessageSpec,

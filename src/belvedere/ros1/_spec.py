@@ -17,7 +17,7 @@ from typing import Any, Final
 
 from rosbags.interfaces import Nodetype
 
-from belvedere.msgs import types
+from belvedere.msgs import PLACEHOLDER, types
 
 __all__ = [
     "FieldSpec",
@@ -32,7 +32,6 @@ TIME: Final = "builtin_interfaces/msg/Time"
 DURATION: Final = "builtin_interfaces/msg/Duration"
 _SPECIAL: Final = {TIME: "time", DURATION: "duration"}
 _SEPARATOR: Final = "=" * 80
-PLACEHOLDER: Final = "structure_needs_at_least_one_member"
 
 
 @dataclass(frozen=True)

@@ -3,12 +3,19 @@
 
 from __future__ import annotations
 
-import os
 import sys
-import threading
 import time
-from typing import Any, Final
+from typing import Any
 
+from belvedere.graph._log import (
+    DEBUG,
+    ERROR,
+    FATAL,
+    INFO,
+    WARN,
+    console_line,
+    write_console,
+)
 from belvedere.ros1.rospy import _state
 
 __all__ = [
@@ -24,20 +31,6 @@ __all__ = [
     "publish_rosout",
 ]
 
-DEBUG: Final = 1
-INFO: Final = 2
-WARN: Final = 4
-ERROR: Final = 8
-FATAL: Final = 16
-_NAMES: Final = {DEBUG: "DEBUG", INFO: "INFO", WARN: "WARN", ERROR: "ERROR", FATAL: "FATAL"}
-_COLORS: Final = {
-    DEBUG: "\033[32m",
-    WARN: "\033[33m",
-    ERROR: "\033[31m",
-    FATAL: "\033[31m",
-}
-
-_lock = threading.Lock()
 _last: dict[tuple[str, int], tuple[int, str]] = {}
 _once: set[tuple[str, int]] = set()
 
@@ -56,14 +49,8 @@ def _text(msg: Any, args: tuple[Any, ...]) -> str:
 
 def _console(level: int, text: str) -> str:
     runtime = _state.current()
-    line = os.environ.get("ROSCONSOLE_FORMAT", "[${severity}] [${time}]: ${message}")
-    line = line.replace("${severity}", _NAMES[level]).replace("${message}", text)
-    line = line.replace("${walltime}", f"{time.time():f}")
-    line = line.replace("${node}", _state.caller_id())
-    stamp = f"{time.time():f}"
-    if runtime is not None and runtime.sim_time:
-        stamp += f", {runtime.now_ns() / 1e9:f}"
-    return line.replace("${time}", stamp)
+    sim_ns = runtime.now_ns() if runtime is not None and runtime.sim_time else None
+    return console_line(level, text, node=_state.caller_id(), sim_ns=sim_ns)
 
 
 def log(level: int, msg: Any, args: tuple[Any, ...], *, depth: int = 1) -> None:
@@ -78,14 +65,7 @@ def log(level: int, msg: Any, args: tuple[Any, ...], *, depth: int = 1) -> None:
         return
     if level < runtime.log_level:
         return
-    stream = sys.stdout if level < WARN else sys.stderr
-    line = _console(level, text)
-    color = _COLORS.get(level)
-    if color is not None and stream.isatty():
-        line = f"{color}{line}\033[0m"
-    with _lock:
-        stream.write(line + "\n")
-        stream.flush()
+    write_console(level, _console(level, text))
     file, line_no, function = _site(depth)
     publish_rosout(level, text, file, line_no, function)
 

@@ -365,18 +365,17 @@ def rosout(runtime: _state.Runtime, level: int, text: str, file: str, line: int,
     pub = getattr(runtime, "rosout", None)
     if pub is None:
         return
-    from belvedere.msgs import message_from_data
+    from belvedere.graph._log import log_message
 
-    ns = runtime.now_ns()
-    topics = sorted({p.topic.name for p in node.publishers} | {s.name for s in node.subscriptions})
-    data = {
-        "header": {"stamp": {"sec": ns // 1_000_000_000, "nanosec": ns % 1_000_000_000}},
-        "level": level,
-        "name": node.full_name,
-        "msg": text,
-        "file": file,
-        "function": fn,
-        "line": line,
-        "topics": topics,
-    }
-    pub.publish(message_from_data("rosgraph_msgs/Log", data))
+    topics = {p.topic.name for p in node.publishers} | {s.name for s in node.subscriptions}
+    msg = log_message(
+        level,
+        text,
+        node=node.full_name,
+        stamp_ns=runtime.now_ns(),
+        file=file,
+        line=line,
+        function=fn,
+        topics=sorted(topics),
+    )
+    pub.publish(msg)
