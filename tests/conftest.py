@@ -105,14 +105,19 @@ TEST_DOMAIN = 231
 """The domain every test joins (never 0, the user's): see ``own_graph``."""
 
 
-def free_endpoint() -> str:
-    """A free loopback endpoint."""
+def free_port() -> int:
+    """A free loopback TCP port."""
     import socket
 
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
-    return f"tcp/127.0.0.1:{port}"
+        port: int = s.getsockname()[1]
+    return port
+
+
+def free_endpoint() -> str:
+    """A free loopback endpoint."""
+    return f"tcp/127.0.0.1:{free_port()}"
 
 
 @pytest.fixture(autouse=True)

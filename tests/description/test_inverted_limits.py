@@ -48,7 +48,7 @@ def _warning(path: Path) -> str:
     )
 
 
-def _free_port() -> int:
+def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port: int = s.getsockname()[1]
@@ -81,7 +81,7 @@ def test_viewer_gives_the_joint_a_full_turn(
     graph = Graph(sim_time=False)
     jsp = JointStatePublisher(graph.create_node("joint_state_publisher"), model)
     with caplog.at_level(logging.WARNING, logger="belvedere"):
-        viewer = Viewer(graph, model=model, port=_free_port(), joint_publisher=jsp)
+        viewer = Viewer(graph, model=model, port=free_port(), joint_publisher=jsp)
     try:
         slider = viewer.sliders["shoulder"]
         assert (slider.min, slider.max, slider.value) == (-math.pi, math.pi, 0.0)

@@ -4,7 +4,6 @@ foxglove_bridge.launch`` (or a ``<node>``) serves the launch's graph, with the b
 
 from __future__ import annotations
 
-import socket
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -15,16 +14,10 @@ from belvedere.graph import Graph
 from belvedere.launch import load_launch
 from belvedere.launch._runtime import LaunchRuntime
 from belvedere.packages import PackageIndex
+from tests.conftest import free_port
 from tests.foxglove.client import FoxgloveClient
 
 pytest.importorskip("foxglove")
-
-
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port: int = s.getsockname()[1]
-        return port
 
 
 @pytest.fixture
@@ -43,7 +36,7 @@ def _launch(graph: Graph, path: Path, text: str) -> LaunchRuntime:
 
 
 def test_the_included_bridge_serves_the_whitelisted_topics(graph: Graph, tmp_path: Path) -> None:
-    port = _free_port()
+    port = free_port()
     runtime = _launch(
         graph,
         tmp_path / "fox.launch",

@@ -41,7 +41,7 @@ class Workspace:
     env: dict[str, str]
 
 
-def _free_port() -> int:
+def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port: int = s.getsockname()[1]
@@ -78,7 +78,7 @@ def workspace(tmp_path_factory: pytest.TempPathFactory) -> Workspace:
     package_path = os.pathsep.join([str(root / "src"), str(EXAMPLES), str(BUILTIN_PACKAGES)])
     env = {
         "ROS_HOME": str(root / "ros_home"),
-        "ROS_MASTER_URI": f"http://127.0.0.1:{_free_port()}/",
+        "ROS_MASTER_URI": f"http://127.0.0.1:{free_port()}/",
         "ROS_PACKAGE_PATH": package_path,
         "BELVEDERE_PACKAGE_PATH": package_path,
         "GEN_TEST_VALUE": "from the environment",

@@ -301,7 +301,7 @@ def _run_case(
     return outputs
 
 
-def _free_port() -> int:
+def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port: int = s.getsockname()[1]
@@ -313,7 +313,7 @@ class Master:
 
     def __init__(self, home: Path) -> None:
         self.home = home
-        self.port = _free_port()
+        self.port = free_port()
         self.uri = f"http://127.0.0.1:{self.port}"
         self.env = {
             "PATH": "/usr/bin:/bin:" + os.environ.get("PATH", ""),

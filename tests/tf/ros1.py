@@ -185,7 +185,7 @@ def ros_env(port: int, home: Path) -> dict[str, str]:
     return env
 
 
-def _free_port() -> int:
+def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port: int = s.getsockname()[1]
@@ -195,7 +195,7 @@ def _free_port() -> int:
 def start_roscore(home: Path) -> Iterator[Roscore]:
     """A roscore for a fixture (stopped when the generator resumes)."""
     home.mkdir(parents=True, exist_ok=True)
-    port = _free_port()
+    port = free_port()
     process = subprocess.Popen(
         [str(ROSCORE), "-p", str(port)],
         env=ros_env(port, home),

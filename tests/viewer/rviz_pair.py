@@ -136,7 +136,7 @@ while not rospy.is_shutdown():
 """
 
 
-def _free_port() -> int:
+def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port: int = s.getsockname()[1]
@@ -173,7 +173,7 @@ def _rviz_shot(config: Path, env: dict[str, str], seconds: float, out: Path) -> 
 def _viewer_shot(config: Path, seconds: float, out: Path) -> None:
     from playwright.sync_api import sync_playwright
 
-    port = _free_port()
+    port = free_port()
     command = [sys.executable, "-m", "belvedere", "run", "--port", str(port)]
     with _process([*command, "rviz", "rviz", "-d", str(config)], stderr=subprocess.PIPE) as run:
         assert run.stderr is not None

@@ -23,7 +23,7 @@ from belvedere.viewer import Viewer, ViewerAccess, ViewerError, check_origin
 PROTOCOL = f"viser-v{viser.__version__}"
 
 
-def _free_port() -> int:
+def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port: int = s.getsockname()[1]
@@ -36,7 +36,7 @@ def open_viewer() -> Iterator[Any]:
 
     def make(**options: Any) -> Viewer:
         graph = Graph(sim_time=False)
-        viewer = Viewer(graph, port=_free_port(), **options)
+        viewer = Viewer(graph, port=free_port(), **options)
         made.append((graph, viewer))
         return viewer
 
@@ -184,7 +184,7 @@ MBOT = "examples/mbot_description/urdf/xacro/gazebo/mbot_gazebo.xacro"
 
 
 def test_display_prints_the_url_with_its_token() -> None:
-    port = _free_port()
+    port = free_port()
     proc = subprocess.Popen(
         [
             *(sys.executable, "-m", "belvedere", "display", MBOT),

@@ -43,7 +43,7 @@ BROWSER_DEADLINE = 120.0
 the first frame took 43 s on one core shared with a CPU hog (15 s on an idle one)."""
 
 
-def _free_port() -> int:
+def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port: int = s.getsockname()[1]
@@ -91,7 +91,7 @@ class Scene:
             "/move_base_simple/goal", "geometry_msgs/PoseStamped", self.goals.append
         )
         self.viewer = Viewer(
-            self.graph, model=self.model, port=_free_port(), joint_publisher=self.jsp
+            self.graph, model=self.model, port=free_port(), joint_publisher=self.jsp
         )
         self.graph.start(rtf=None)
 
@@ -277,7 +277,7 @@ def test_a_viewer_with_a_token_in_the_browser(page: Any) -> None:
     token by cookie); the same page without the token is refused."""
     browser = page.context.browser  # the module's browser, in fresh contexts (no cookies)
     graph = Graph(sim_time=False)
-    viewer = Viewer(graph, host="0.0.0.0", port=_free_port())  # reached via 127.0.0.1 only
+    viewer = Viewer(graph, host="0.0.0.0", port=free_port())  # reached via 127.0.0.1 only
     contexts = [browser.new_context(), browser.new_context()]
     for context in contexts:
         context.set_default_timeout(BROWSER_DEADLINE * 1000)

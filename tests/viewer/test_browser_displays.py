@@ -17,12 +17,11 @@ from belvedere.sim.kinematic import KinematicSimulation
 from belvedere.sim.physics import PhysicsSimulation
 from belvedere.tf import JointStatePublisher, RobotStatePublisher
 from belvedere.viewer import Viewer, read_rviz
-from tests.conftest import EXAMPLES
+from tests.conftest import EXAMPLES, free_port
 from tests.viewer.test_browser import (
     BROWSER_DEADLINE,
     MBOT,
     VIEWPORT,
-    _free_port,
     browser_page,
     project_from,
     wait_for_pixel,
@@ -105,7 +104,7 @@ def test_a_scan_stays_on_the_walls_while_the_robot_spins(tmp_path: Path) -> None
         "    Current: {Class: rviz/TopDownOrtho, Scale: 70, X: 0, Y: 0, Angle: 0,\n"
         "              Target Frame: <Fixed Frame>, Name: Current View}\n"
     )
-    viewer = Viewer(graph, model=model, port=_free_port(), rviz=read_rviz(config))
+    viewer = Viewer(graph, model=model, port=free_port(), rviz=read_rviz(config))
     cmd = graph.create_node("driver").publisher("/cmd_vel", "geometry_msgs/Twist")
     graph.start(rtf=1.0)
     scan = viewer.displays[0]
@@ -146,7 +145,7 @@ def test_the_view_follows_its_target_frame() -> None:
     model = RobotModel.from_path(MBOT)
     graph = Graph()
     sim = KinematicSimulation(graph, model)
-    viewer = Viewer(graph, model=model, port=_free_port(), fixed_frame=sim.odom_frame, sim=sim)
+    viewer = Viewer(graph, model=model, port=free_port(), fixed_frame=sim.odom_frame, sim=sim)
     cmd = graph.create_node("driver").publisher("/cmd_vel", "geometry_msgs/Twist")
     graph.start(rtf=1.0)
     base = sim.driver.base
@@ -201,7 +200,7 @@ def test_the_displays_tree_shows_statuses_and_refuses_a_wrong_type() -> None:
     RobotStatePublisher(graph.create_node("robot_state_publisher"), model)
     JointStatePublisher(graph.create_node("joint_state_publisher"), model)
     scan_pub = graph.create_node("laser").publisher("/scan", "sensor_msgs/LaserScan")
-    viewer = Viewer(graph, model=model, port=_free_port(), fixed_frame="base_footprint")
+    viewer = Viewer(graph, model=model, port=free_port(), fixed_frame="base_footprint")
     viewer.add_display("Odometry", "/odom")
     viewer.add_display("LaserScan", "/scan", name="Front laser")
     graph.start(rtf=None)

@@ -15,13 +15,12 @@ from belvedere.packages import PackageIndex
 from belvedere.sim.physics import GazeboRos, PhysicsSimulation
 from belvedere.viewer import Viewer
 from belvedere.world import ModelPaths, empty_world, read_world
-from tests.conftest import EXAMPLES
+from tests.conftest import EXAMPLES, free_port
 from tests.viewer.docs_screenshots import docs_screenshot
 from tests.viewer.test_browser import (
     BROWSER_DEADLINE,
     RGB,
     VIEWPORT,
-    _free_port,
     _pixel,
     browser_page,
     project,
@@ -48,7 +47,7 @@ class World:
         GazeboRos(self.sim, packages=packages)
         self.viewer = Viewer(
             self.graph,
-            port=_free_port(),
+            port=free_port(),
             sim=self.sim,
             packages=packages,
             world=world,

@@ -21,12 +21,11 @@ from belvedere.sim.physics import PhysicsSimulation
 from belvedere.tf import JointStatePublisher, RobotStatePublisher
 from belvedere.viewer import Viewer
 from belvedere.world import read_world
-from tests.conftest import EXAMPLES
+from tests.conftest import EXAMPLES, free_port
 from tests.viewer.docs_screenshots import docs_screenshot
 from tests.viewer.test_browser import (
     MBOT,
     RGB,
-    _free_port,
     _pixel,
     browser_page,
     is_base_yellow,
@@ -44,7 +43,7 @@ def test_robot_drives_in_the_viewer_and_resets() -> None:
     model = RobotModel.from_path(MBOT)
     graph = Graph()
     sim = KinematicSimulation(graph, model)
-    viewer = Viewer(graph, model=model, port=_free_port(), fixed_frame=sim.odom_frame, sim=sim)
+    viewer = Viewer(graph, model=model, port=free_port(), fixed_frame=sim.odom_frame, sim=sim)
     cmd = graph.create_node("driver").publisher("/cmd_vel", "geometry_msgs/Twist")
     graph.start(rtf=1.0)
     base = sim.driver.base
@@ -84,7 +83,7 @@ def test_physics_world_and_robot_in_the_viewer() -> None:
     viewer = Viewer(
         graph,
         model=model,
-        port=_free_port(),
+        port=free_port(),
         fixed_frame=sim.odom_frame,
         sim=sim,
         world=world,
@@ -126,7 +125,7 @@ def test_rosrun_rviz_beside_a_running_launch_shows_its_robot() -> None:
                 *BELVEDERE,
                 "run",
                 "--port",
-                str(_free_port()),
+                str(free_port()),
                 "rviz",
                 "rviz",
                 "-d",
@@ -169,7 +168,7 @@ def test_a_2d_nav_goal_clicked_in_the_browser_drives_move_base_there(tmp_path: P
         "/odom", "nav_msgs/Odometry", lambda m: odom.append(m.pose.pose)
     )
     turtlebot = RobotModel.from_path(EXAMPLES / "rbx1_description/urdf/turtlebot.urdf.xacro")
-    viewer = Viewer(graph, model=turtlebot, port=_free_port(), fixed_frame="map")
+    viewer = Viewer(graph, model=turtlebot, port=free_port(), fixed_frame="map")
     viewer.add_display("Map", "/map")  # as the course's rviz shows navigation
     viewer.add_display("Path", "/move_base/NavfnROS/plan")
     graph.start(rtf=4.0)

@@ -65,7 +65,7 @@ def test_display_of_a_broken_model_is_an_error(
     assert err.startswith(f"{bad}:1:1: error: two root links found")
 
 
-def _free_port() -> int:
+def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port: int = s.getsockname()[1]
@@ -84,7 +84,7 @@ def test_grid_is_rviz_lines(values: dict[str, object], lines: int, normal_axis: 
     """The Grid display draws rviz's lines (cell count + 1 each way, a level per normal cell,
     verticals joining them) in the chosen plane, centred on the offset."""
     graph = Graph(sim_time=False)
-    viewer = Viewer(graph, port=_free_port(), fixed_frame="map")
+    viewer = Viewer(graph, port=free_port(), fixed_frame="map")
     try:
         grid = viewer.add_display("Grid", values={**values, "X": 1.0, "Y": -2.0, "Z": 0.5})
         segs = grid.segments()  # type: ignore[attr-defined]
@@ -110,7 +110,7 @@ def test_a_new_scan_moves_the_points_of_the_same_cloud() -> None:
     """Each scan's points go into the one point cloud the display made (a new scene node per
     scan makes the browser build a new material each time); a style change makes a new one."""
     graph = Graph(sim_time=False)
-    viewer = Viewer(graph, port=_free_port(), fixed_frame="laser")
+    viewer = Viewer(graph, port=free_port(), fixed_frame="laser")
     try:
         display = viewer.add_display("LaserScan", "/scan")
         pub = graph.create_node("lidar").publisher("/scan", "sensor_msgs/LaserScan")
@@ -156,7 +156,7 @@ def test_a_growing_map_is_redrawn_as_it_grows() -> None:
     """The Map display shows the latest /map: a SLAM map that grows is drawn again (and a
     map that does not change is not rebuilt every frame)."""
     graph = Graph(sim_time=False)
-    viewer = Viewer(graph, port=_free_port(), fixed_frame="map")
+    viewer = Viewer(graph, port=free_port(), fixed_frame="map")
     try:
         display = viewer.add_display("OccupancyGrid", "/map")
         pub = graph.create_node("slam").publisher("/map", "nav_msgs/OccupancyGrid", latch=True)
@@ -195,7 +195,7 @@ def test_markers_expire_follow_locked_frames_and_are_deleted() -> None:
     """A Marker with a lifetime goes when it is over (graph time, from its arrival); a
     frame_locked one moves with its frame; DELETE removes one (rviz's rules)."""
     graph = Graph(sim_time=True)
-    viewer = Viewer(graph, port=_free_port(), fixed_frame="map")
+    viewer = Viewer(graph, port=free_port(), fixed_frame="map")
     try:
         display = viewer.add_display("Marker", "/visualization_marker")
         node = graph.create_node("markers")
@@ -263,7 +263,7 @@ def test_tf_hides_a_frame_that_stopped_after_frame_timeout() -> None:
     """rviz's Frame Timeout: a frame whose transform stopped coming is not drawn once the
     timeout has passed; a static frame stays."""
     graph = Graph(sim_time=True)
-    viewer = Viewer(graph, port=_free_port(), fixed_frame="map")
+    viewer = Viewer(graph, port=free_port(), fixed_frame="map")
     try:
         tf_display = viewer.add_display("TF", values={"Frame Timeout": 2.0})
         node = graph.create_node("frames")

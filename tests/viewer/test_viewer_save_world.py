@@ -14,8 +14,11 @@ from belvedere.packages import PackageIndex
 from belvedere.sim.physics import GazeboRos, PhysicsSimulation
 from belvedere.viewer import Viewer, ViewerError
 from belvedere.world import read_world
-from tests.conftest import EXAMPLES
-from tests.viewer.test_browser import MBOT, _free_port, browser_page
+from tests.conftest import EXAMPLES, free_port
+from tests.viewer.test_browser import (
+    MBOT,
+    browser_page,
+)
 from tests.waiting import wait_until
 
 PACKAGES = PackageIndex([EXAMPLES])
@@ -35,7 +38,7 @@ class Running:
         self.viewer = Viewer(
             self.graph,
             model=model,
-            port=_free_port(),
+            port=free_port(),
             sim=self.sim,
             world=self.world,
             world_poses=self.sim.model_poses,

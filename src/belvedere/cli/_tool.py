@@ -5,11 +5,13 @@ from __future__ import annotations
 import argparse
 import logging
 import os
+import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from belvedere.errors import BelvedereError
 from belvedere.graph import (
     MAX_DOMAIN,
     Graph,
@@ -133,3 +135,24 @@ def wait_for(condition: object, timeout: float, step: float = 0.05) -> bool:
         if time.monotonic() >= deadline:
             return False
         time.sleep(step)
+
+
+def wait_for_messages(
+    arrived: threading.Semaphore,
+    *,
+    limit: int | None,
+    timeout: float | None,
+    nothing: BelvedereError,
+) -> None:
+    """Until ``limit`` messages have arrived (each releases ``arrived``; None: forever) or
+    ``timeout`` seconds pass; ``nothing`` is raised when none came in that time."""
+    start = time.monotonic()
+    received = 0
+    while limit is None or received < limit:
+        left = None if timeout is None else timeout - (time.monotonic() - start)
+        if left is not None and left <= 0:
+            if received == 0:
+                raise nothing
+            break
+        if arrived.acquire(timeout=min(left, 0.5) if left is not None else 0.5):
+            received += 1

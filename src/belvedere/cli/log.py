@@ -7,10 +7,9 @@ import argparse
 import logging
 import sys
 import threading
-import time
 from typing import Any, Final
 
-from belvedere.cli._tool import Tool, add_graph_options, open_tool
+from belvedere.cli._tool import Tool, add_graph_options, open_tool, wait_for_messages
 from belvedere.errors import BelvedereError
 from belvedere.graph import did_you_mean, resolve_name
 from belvedere.graph._log import LEVEL_NAMES
@@ -106,15 +105,11 @@ def _name_absent(tool: Tool, nodes: set[str]) -> None:
 
 def _wait(shown: threading.Semaphore, count: int | None, timeout: float | None) -> int:
     """Until ``count`` messages are shown (forever: None), or ``timeout`` seconds pass."""
-    start = time.monotonic()
-    received = 0
-    while count is None or received < count:
-        left = None if timeout is None else timeout - (time.monotonic() - start)
-        if left is not None and left <= 0:
-            if received == 0:
-                msg = f"no log message within {timeout:g} s"
-                raise BelvedereError(msg, hint="is a node running and logging?")
-            break
-        if shown.acquire(timeout=min(left, 0.5) if left is not None else 0.5):
-            received += 1
+    nothing = f"no log message within {timeout or 0:g} s"
+    wait_for_messages(
+        shown,
+        limit=count,
+        timeout=timeout,
+        nothing=BelvedereError(nothing, hint="is a node running and logging?"),
+    )
     return 0

@@ -11,7 +11,7 @@ import time
 from collections import deque
 from typing import Any
 
-from belvedere.cli._tool import Tool, action_parsers, open_tool, wait_for
+from belvedere.cli._tool import Tool, action_parsers, open_tool, wait_for, wait_for_messages
 from belvedere.errors import BelvedereError
 from belvedere.graph import GraphInfo, did_you_mean, resolve_name
 from belvedere.msgs import message_from_args, message_to_yaml, short, types
@@ -190,17 +190,14 @@ def _echo(tool: Tool, args: argparse.Namespace) -> int:
         printed.release()
 
     tool.node.subscribe(topic, msg_type, show, queue_size=100)
-    start = time.monotonic()
-    received = 0
-    while limit is None or received < limit:
-        remaining = None if args.timeout is None else args.timeout - (time.monotonic() - start)
-        if remaining is not None and remaining <= 0:
-            if received == 0:
-                msg = f"no message on {topic} within {args.timeout:g} s"
-                raise BelvedereError(msg, hint="is its publisher running?")
-            break
-        if printed.acquire(timeout=min(remaining, 0.5) if remaining is not None else 0.5):
-            received += 1
+    timeout = args.timeout
+    nothing = f"no message on {topic} within {timeout or 0:g} s"
+    wait_for_messages(
+        printed,
+        limit=limit,
+        timeout=timeout,
+        nothing=BelvedereError(nothing, hint="is its publisher running?"),
+    )
     return 0
 
 
