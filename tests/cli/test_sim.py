@@ -213,3 +213,40 @@ def test_a_world_that_already_holds_the_robot(
     err = capsys.readouterr().err
     assert f"{world}:2:3: error: the world already has a model named 'mbot'" in err
     assert "mbot_gazebo.xacro cannot be spawned under that name again" in err
+
+
+def test_a_paused_run_with_a_duration_ends_once_unpaused(endpoint: str) -> None:
+    """--duration is simulated time: a paused simulation says so, and ends after it once
+    something unpauses it (here the gazebo_ros service, from another process)."""
+    run = [sys.executable, "-m", "belvedere", "sim", MBOT, "--paused", "--headless"]
+    with subprocess.Popen([*run, "--duration", "0.5"], stderr=subprocess.PIPE, text=True) as sim:
+        try:
+            assert sim.stderr is not None
+            lines = [sim.stderr.readline() for _ in range(3)]
+            assert any(
+                "note: paused, --duration counts from when the simulation runs" in line
+                for line in lines
+            ), lines
+            wait_until(
+                lambda: (
+                    subprocess.run(
+                        [
+                            sys.executable,
+                            "-m",
+                            "belvedere",
+                            "service",
+                            "call",
+                            "/gazebo/unpause_physics",
+                            "{}",
+                        ],
+                        capture_output=True,
+                        check=False,
+                    ).returncode
+                    == 0
+                ),
+                what="the unpause service to answer",
+            )
+            assert sim.wait(timeout=DEADLINE) == 0
+        finally:
+            if sim.poll() is None:
+                sim.kill()

@@ -130,6 +130,12 @@ def run(args: argparse.Namespace) -> int:
     if args.engine == "kinematic" and (args.world or args.paused):
         msg = "--world and --paused are for --engine physics, not kinematic"
         raise BelvedereError(msg)
+    if args.paused and args.duration is not None:
+        # --duration is simulated time: paused, it passes only once something unpauses
+        notice(
+            "note: paused, --duration counts from when the simulation runs "
+            "(belvedere service call /gazebo/unpause_physics, or the viewer's Paused box)"
+        )
     if args.engine == "physics" and (args.config or args.namespace != "/"):
         msg = "--config and --namespace are for --engine kinematic"
         raise BelvedereError(
