@@ -227,6 +227,8 @@ def test_a_paused_run_with_a_duration_ends_once_unpaused(endpoint: str) -> None:
                 "note: paused, --duration counts from when the simulation runs" in line
                 for line in lines
             ), lines
+            with pytest.raises(subprocess.TimeoutExpired):
+                sim.wait(timeout=2.0)  # paused: half a second of its time never passes
             wait_until(
                 lambda: (
                     subprocess.run(
