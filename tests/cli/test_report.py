@@ -34,7 +34,7 @@ SITES = [
     f"{BASE}:111:13: warning: deprecated macro call <sphere_inertial_matrix>",
     f"{BASE}:164:9: warning: deprecated macro call <caster>",
 ]
-DIFF_DRIVE = f"{BASE}:168:13: warning: diff-drive plugin 'differential_drive_controller'"
+DIFF_DRIVE = f"{BASE}:168:13: note: diff-drive plugin 'differential_drive_controller'"
 
 VERBS = {
     "xacro": ["xacro", str(MBOT)],
@@ -65,7 +65,8 @@ def test_legacy_calls_are_one_line_by_default(
     err = capsys.readouterr().err
     summary = _summary(verb == "launch")
     assert err.count(summary) == 1
-    assert [line for line in err.splitlines() if "legacy" in line and "note:" in line] == [summary]
+    legacy = [line for line in err.replace("legacyMode", "").splitlines() if "legacy" in line]
+    assert [line for line in legacy if "note:" in line] == [summary]
     assert _deprecations(err) == []
 
 
@@ -94,13 +95,28 @@ def test_verbose_lists_every_call_with_its_place(
     assert "-v lists them" not in err
 
 
-def test_quiet_keeps_warnings(capsys: pytest.CaptureFixture[str]) -> None:
-    """-q hides notices, not what is wrong (the course's swapped wheels, here)."""
+def test_quiet_keeps_warnings(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """-q hides notices — the course's swapped wheels that legacyMode turns back are fine as
+    they are — not what is wrong (the same wheels without legacyMode turn the wrong way)."""
+    assert main(["check", str(MBOT)]) == 0
+    assert DIFF_DRIVE in capsys.readouterr().err
     assert main(["-q", "check", str(MBOT)]) == 0
+    assert capsys.readouterr().err == ""
+    base = Path(BASE)
+    plain = tmp_path / base.name
+    for sibling in base.parent.iterdir():
+        text = sibling.read_text()
+        if sibling == base:
+            text = text.replace("<legacyMode>true</legacyMode>", "<legacyMode>false</legacyMode>")
+        text = text.replace("$(find mbot_description)/urdf/xacro/gazebo/", "")  # the copies
+        (tmp_path / sibling.name).write_text(text)
+    top = tmp_path / MBOT.name
+    assert main(["-q", "check", str(top)]) == 0
     err = capsys.readouterr().err
-    assert err.startswith(DIFF_DRIVE)
+    assert err.startswith(f"{plain}:168:13: warning: diff-drive plugin")
+    assert "or the robot turns the wrong way" in err
     assert err.count("\n") == 1
-    assert main(["-qq", "check", str(MBOT)]) == 0
+    assert main(["-qq", "check", str(top)]) == 0
     assert capsys.readouterr().err == ""
 
 

@@ -68,7 +68,8 @@ def _messages(path: Path) -> list[str]:
 def test_seed_diff_drive_wheels_are_swapped_and_legacy_mode_compensates() -> None:
     report = check_file(MBOT)
     assert report.ok
-    [warning] = [w for w in report.warnings if "diff-drive" in w.message]
+    assert not [w for w in report.warnings if "diff-drive" in w.message]
+    [warning] = [w for w in report.notes if "diff-drive" in w.message]  # fine as it is
     assert "leftJoint 'left_wheel_joint' is on the right (y = -0.19 m in base_footprint)" in (
         warning.message
     )
@@ -142,7 +143,7 @@ def test_cli_exit_codes_and_json(tmp_path: Path, capsys: pytest.CaptureFixture[s
     assert main(["check", str(MBOT)]) == 0
     out = capsys.readouterr()
     assert out.out.startswith("robot name is: mbot\n")
-    assert "warning: diff-drive plugin" in out.err
+    assert "note: diff-drive plugin" in out.err
     assert main(["check", "--strict", str(MBOT)]) == 1
     capsys.readouterr()
     assert main(["check", "--json", str(MBOT)]) == 0

@@ -47,6 +47,8 @@ def report_diagnostics(diagnostics: Iterable[Diagnostic], *, source: str) -> Non
                 summary = None
         elif d.severity == "error":
             logger.error("%s", d)
+        elif d.severity == "note":
+            notice(str(d))
         else:
             logger.warning("%s", d)
 

@@ -57,6 +57,10 @@ class CheckReport:
         return [d for d in self.diagnostics if d.severity == "warning"]
 
     @property
+    def notes(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if d.severity == "note"]
+
+    @property
     def ok(self) -> bool:
         """urdfdom's verdict: the file parses into a robot."""
         return self.model is not None and not self.errors
@@ -338,7 +342,7 @@ def _diff_drive(model: RobotModel, plugin: Any) -> list[Diagnostic]:
         )
         out.append(
             Diagnostic(
-                "warning",
+                "note" if legacy else "warning",
                 f"diff-drive plugin '{plugin.name}': leftJoint '{left}' is on the right "
                 f"(y = {y_left:+.3g} m in {base}) and rightJoint '{right}' on the left "
                 f"(y = {y_right:+.3g} m); {compensation}",

@@ -62,7 +62,8 @@ _MAX_DOUBLE: Final = sys.float_info.max
 class Diagnostic:
     """A finding about the input: ``error`` (urdfdom rejects the file) or ``warning``."""
 
-    severity: Literal["error", "warning"]
+    severity: Literal["error", "warning", "note"]
+    """A note tells what was understood, fine as it is (``-q`` hides it)."""
     message: str
     location: SourceLocation | None = None
     legacy: str | None = None
