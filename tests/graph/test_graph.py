@@ -235,3 +235,18 @@ def test_did_you_mean_names_the_closest_graph_names() -> None:
     assert did_you_mean("/cmd_vl", known) == "did you mean /cmd_vel?"
     assert did_you_mean("/camera/image", known) is None
     assert did_you_mean("/x", []) is None
+
+
+def test_every_process_names_its_clock_and_viewer_nodes_its_own() -> None:
+    """Nodes each belvedere process has must not replace another process's by name when
+    they share a graph (a second launch beside a simulation stopped its /clock)."""
+    import os
+
+    from belvedere.graph import process_node_name
+
+    a, b = process_node_name("belvedere_viewer"), process_node_name("belvedere_viewer")
+    assert a != b
+    assert a.startswith(f"belvedere_viewer_{os.getpid()}")
+    assert b.startswith(f"belvedere_viewer_{os.getpid()}_")
+    graph = Graph()
+    assert [n for n in graph.nodes if n.startswith(f"/belvedere_clock_{os.getpid()}")]

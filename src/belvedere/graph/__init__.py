@@ -20,6 +20,7 @@ from belvedere.graph._graph import (
     Subscription,
     Topic,
     Transport,
+    process_node_name,
 )
 from belvedere.graph._log import NodeLogger
 from belvedere.graph._names import RosArgs, did_you_mean, parse_ros_args, resolve_name
@@ -71,5 +72,6 @@ __all__ = [
     "domain_endpoint",
     "graph_running",
     "parse_ros_args",
+    "process_node_name",
     "resolve_name",
 ]

@@ -451,12 +451,15 @@ class Node:
         raise ServiceUnavailableError(msg, hint="is the node that provides it running?")
 
 
-_clock_nodes = itertools.count()
+_named_in_process = itertools.count()
 
 
-def _clock_node_name() -> str:
-    n = next(_clock_nodes)
-    return f"belvedere_clock_{os.getpid()}" + (f"_{n}" if n else "")
+def process_node_name(base: str) -> str:
+    """``base`` made this process's own (``base_<pid>``, then ``base_<pid>_<n>``): a node
+    every belvedere process has (its clock, its viewer) must not replace another's by name
+    when the processes share a graph."""
+    n = next(_named_in_process)
+    return f"{base}_{os.getpid()}" + (f"_{n}" if n else "")
 
 
 class Graph:
@@ -486,7 +489,7 @@ class Graph:
         if sim_time and clock_hz:
             # Named for this process (and graph): another process joining the graph under
             # the same name would replace this node, and its /clock with it.
-            clock = self.create_node(_clock_node_name())
+            clock = self.create_node(process_node_name("belvedere_clock"))
             self._clock = clock
             pub = clock.publisher("/clock", "rosgraph_msgs/Clock", queue_size=1)
             clock_type = types().cls("rosgraph_msgs/Clock")

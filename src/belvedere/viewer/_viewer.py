@@ -23,7 +23,7 @@ import numpy as np
 
 from belvedere.description.urdf import RobotModel
 from belvedere.errors import BelvedereError
-from belvedere.graph import NS, Graph, GraphTopics, Node
+from belvedere.graph import NS, Graph, GraphTopics, Node, process_node_name
 from belvedere.msgs import short
 from belvedere.packages import PackageIndex
 from belvedere.sim import SAVE_WORLD, SAVE_WORLD_TYPE
@@ -123,7 +123,7 @@ class Viewer:
         self.scene.configure_default_lights(True, cast_shadow=False)
         # In their place, light every side a little, as rviz's ambient light does.
         self.scene.add_light_ambient("/ambient_light", intensity=1.2)
-        self.node: Node = graph.create_node("belvedere_viewer")
+        self.node: Node = graph.create_node(process_node_name("belvedere_viewer"))
         self.tf = TransformListener(self.node)
         self.topics = GraphTopics(graph)
         self.model = model
