@@ -3,6 +3,7 @@ the walls while the robot spins; views follow the robot; the Displays tree shows
 
 from __future__ import annotations
 
+import math
 from io import BytesIO
 from pathlib import Path
 from typing import Any
@@ -66,6 +67,11 @@ def _screenshot(page: Any) -> np.ndarray[Any, np.dtype[np.uint8]]:
     return np.asarray(image)
 
 
+def _yaw(sim: PhysicsSimulation) -> float:
+    pose = sim.model_pose("mbot")
+    return math.atan2(float(pose[1, 0]), float(pose[0, 0]))
+
+
 def _scan_pixels(rgb: np.ndarray[Any, np.dtype[np.uint8]]) -> tuple[int, int, float]:
     """Red scan pixels within 0.15 m of the room's walls, those farther, the worst distance."""
     w, h = VIEWPORT
@@ -120,6 +126,7 @@ def test_a_scan_stays_on_the_walls_while_the_robot_spins(tmp_path: Path) -> None
             graph.executor.post(lambda: cmd.publish_data({"angular": {"z": 1.0}}))
             on_walls = off_walls = 0
             worst = 0.0
+            turned, heading = 0.0, _yaw(sim)
             for _ in range(12):
                 start = graph.now_ns()
                 wait_until(
@@ -130,7 +137,10 @@ def test_a_scan_stays_on_the_walls_while_the_robot_spins(tmp_path: Path) -> None
                 on_walls += on
                 off_walls += off
                 worst = max(worst, err)
-            assert sim.model_pose("mbot")[:2, 0] @ [1.0, 0.0] < 0.99  # it did turn
+                now = _yaw(sim)
+                turned += abs(math.remainder(now - heading, math.tau))
+                heading = now
+            assert turned > 2.0  # it did turn (a screenshot's wall time turns it on as well)
             assert on_walls > 2000, (on_walls, off_walls)
             assert off_walls / on_walls < 0.01, (on_walls, off_walls, worst)
     finally:

@@ -81,9 +81,22 @@ def test_the_save_world_as_button(tmp_path: Path, monkeypatch: pytest.MonkeyPatc
     try:
         with browser_page(running.viewer.url) as page:
             page.get_by_text("File", exact=True).click()
-            page.get_by_role("button", name="Save World As").click()
+            button = page.get_by_role("button", name="Save World As")
+            note = running.viewer.world_note
+
+            def pressed() -> bool:
+                """A click the loaded browser dropped is made again (the note says when the
+                viewer got one)."""
+                button.click()
+                try:
+                    wait_until(lambda: note.content != "", what="the click", timeout=10.0)
+                except AssertionError:
+                    return False
+                return True
+
+            wait_until(pressed, what="the viewer to take the click", interval=0.5)
             saved = tmp_path / "saved.world"
-            wait_until(saved.exists, what="saved.world to be written")
+            wait_until(saved.exists, what="saved.world to be written", detail=lambda: note.content)
             wait_until(
                 lambda: running.viewer.world_note.content == f"Saved `{saved}`.",
                 what="the viewer to say where it saved the world",
