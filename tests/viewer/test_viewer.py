@@ -4,6 +4,7 @@ the Map display's updates."""
 from __future__ import annotations
 
 import socket
+import time
 from pathlib import Path
 
 import numpy as np
@@ -291,6 +292,32 @@ def test_tf_hides_a_frame_that_stopped_after_frame_timeout() -> None:
         graph.run(duration=3.0)  # past the timeout
         wait_until(lambda: not shown("moving"), what="the stopped frame hidden")
         assert shown("fixed")
+    finally:
+        viewer.close()
+        graph.shutdown()
+
+
+def test_changing_a_property_while_frames_are_drawn_never_breaks_a_frame() -> None:
+    """The panel's threads change a display while the render thread draws it: a style
+    change takes the cloud apart between frames, never under one (which wrote to a removed
+    scene node and put the display in Error)."""
+    graph = Graph(sim_time=False)
+    viewer = Viewer(graph, port=free_port(), fixed_frame="laser")
+    try:
+        display = viewer.add_display("LaserScan", "/scan")
+        pub = graph.create_node("lidar").publisher("/scan", "sensor_msgs/LaserScan")
+        ranges = {"angle_increment": 0.01, "range_max": 10.0, "ranges": [1.0] * 360}
+        graph.create_node("clock").timer(
+            0.005, lambda: pub.publish_data({"header": {"frame_id": "laser"}, **ranges})
+        )
+        graph.start(rtf=None)
+        wait_until(lambda: "points" in display.handles, what="the first scan drawn")
+        frames = viewer.frames_rendered
+        for i in range(300):  # over some tens of frames
+            display.set_value("Style", "Points" if i % 2 else "Flat Squares")
+            time.sleep(0.002)
+        wait_until(lambda: viewer.frames_rendered > frames + 3, what="more frames")
+        assert display.status.get("Display") is None
     finally:
         viewer.close()
         graph.shutdown()

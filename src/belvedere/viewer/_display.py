@@ -126,6 +126,9 @@ class Display:
         self.ctx = ctx
         self.name = name
         self.status = Status()
+        self.draw_lock = threading.RLock()
+        """Held while drawing (render thread) and while a property change or a reset takes
+        the drawing apart (the panel's threads): a frame never writes to a removed node."""
         self.values: dict[str, Any] = {p.name: p.default for p in self.all_props()}
         for key, value in (values or {}).items():
             self.set_value(key, value)
@@ -179,12 +182,13 @@ class Display:
                 raise BelvedereError(msg) from None
         else:
             value = str(value)
-        old = self.values.get(key)
-        self.values[key] = value
-        if key == "Topic" and old != value and getattr(self, "enabled", False):
-            self.resubscribe()
-        if hasattr(self, "handles") and old != value:
-            self.changed(key)
+        with self.draw_lock:
+            old = self.values.get(key)
+            self.values[key] = value
+            if key == "Topic" and old != value and getattr(self, "enabled", False):
+                self.resubscribe()
+            if hasattr(self, "handles") and old != value:
+                self.changed(key)
 
     def changed(self, key: str) -> None:
         """A property changed (subclasses redraw what depends on it)."""
@@ -273,6 +277,10 @@ class Display:
     # --- drawing (render thread) -----------------------------------------------------------------
     def render(self, fixed: str) -> None:
         """Draw what came since the last frame (render thread)."""
+        with self.draw_lock:
+            self._render(fixed)
+
+    def _render(self, fixed: str) -> None:
         if not self.enabled:
             return
         self.fixed = fixed
@@ -401,13 +409,15 @@ class Display:
 
     def reset(self) -> None:
         """Clear what was drawn and what waits (rviz's Reset; the fixed frame changed)."""
-        with self.lock:
-            self.pending.clear()
-        for key in list(self.handles):
-            self.forget(key)
-        self.status.clear("Transform")
+        with self.draw_lock:
+            with self.lock:
+                self.pending.clear()
+            for key in list(self.handles):
+                self.forget(key)
+            self.status.clear("Transform")
 
     def remove(self) -> None:
         self.unsubscribe()
-        for key in list(self.handles):
-            self.forget(key)
+        with self.draw_lock:
+            for key in list(self.handles):
+                self.forget(key)
