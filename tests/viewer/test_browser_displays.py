@@ -168,6 +168,8 @@ def test_the_view_follows_its_target_frame() -> None:
                 timeout=BROWSER_DEADLINE,
             )
             assert client is not None
+            # the tab's own Views panel is made as it connects: set the view after that
+            page.get_by_text("Views", exact=True).wait_for()
             props = {"Distance": 3.0, "Pitch": 0.6, "Yaw": 3.5, "Target Frame": "base_footprint"}
             from belvedere.viewer._views import ViewState
 

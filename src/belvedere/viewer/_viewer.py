@@ -310,7 +310,12 @@ class Viewer:
                 "Target Frame", sorted({*frames, target_value}), initial_value=target_value
             )
 
+            chosen = [kind.value, target.value]
+
             def changed(_: Any) -> None:
+                if [kind.value, target.value] == chosen:
+                    return  # the browser echoing a value back: the view set elsewhere stays
+                chosen[:] = [kind.value, target.value]
                 if kind.value == "(initial)":
                     self.views.pop(client.client_id, None)
                     return
