@@ -180,11 +180,12 @@ def test_the_trajectory_and_the_map_do_not_depend_on_these_parameters() -> None:
     assert sum(sub.finished for sub in slam.submaps) >= 2
     poses, grid = slam.trajectory()[1], slam.occupancy().data
     small = {"llsamplerange": 0.04, "llsamplestep": 0.02, "lasamplerange": 0.01}
-    for ask, params in [
+    cases: list[tuple[bool, dict[str, float]]] = [
         (True, {"particles": 80}),
         (True, {**small, "lsigma": 0.5, "ogain": 10.0}),
         (False, {"llsamplerange": 0.0, "lasamplerange": 0.0, "resampleThreshold": 0.1}),
-    ]:
+    ]
+    for ask, params in cases:
         other, entropy = run(ask, **params)
         assert np.array_equal(other.trajectory()[1], poses)
         assert np.array_equal(other.occupancy().data, grid)

@@ -1,29 +1,31 @@
 """The pose's uncertainty as GMapping estimates its proposal: the scan's likelihood at a lattice
 of poses around its match, and the weighted covariance of those poses.
 
-GMapping, having matched a scan, evaluates the scan's likelihood at every pose of a small
-lattice around the match — x and y from ``-llsamplerange`` to ``+llsamplerange`` in steps of
+GMapping's scan matcher estimates the Gaussian around a match (the proposal of Grisetti et
+al.'s improved particle filter) by evaluating the scan's likelihood at every pose of a small
+lattice around it — x and y from ``-llsamplerange`` to ``+llsamplerange`` in steps of
 ``llsamplestep``, the heading from ``-lasamplerange`` to ``+lasamplerange`` in steps of
-``lasamplestep`` (offsets in the map's axes) — and takes the mean and covariance of those poses,
-each weighted by its likelihood, as the Gaussian it draws the particle's pose from. A beam's
-log-likelihood is minus the squared distance from its end point to the mean hit of the nearest
-occupied cell within the kernel, over ``lsigma``; a beam with no such cell counts as if it
-were √0.5 m away (GMapping's "no hit": ``-0.5 / lsigma``). A pose's log-likelihood is the sum
-over the beams used for matching. ``ogain`` divides the log-likelihoods before they are
-turned into weights (GMapping: the gain that smooths the weights, so that resampling does not
-keep only the very best), so a larger one flattens them.
+``lasamplestep`` — and taking the mean and covariance of those poses, each weighted by its
+likelihood. A beam's log-likelihood is minus the squared distance from its end point to the
+mean hit of the nearest occupied cell within the kernel, over ``lsigma``; a beam with no such
+cell counts as if it were √0.5 m away (GMapping's "no hit": ``-0.5 / lsigma``). A pose's
+log-likelihood is the sum over the beams used for matching. ``ogain`` divides the
+log-likelihoods before they become weights (GMapping's gain "for smoothing the resampling
+effects"; it divides by the number of particles too, which is 1 here), so a larger one
+flattens them.
 
-Here the squared distance is read off the likelihood field the scan was matched against: a
-cell adds ``w · exp(-d² / (2 sigma²))`` to it (``d`` the distance to the mean of its points,
-``w`` how often its wall was seen, at most 1), and the field keeps the largest, so
-``-2 sigma² ln F`` is the squared distance to the nearest mean, a wall seen only once reading
-a little farther. Where the field is 0 (no wall within its reach, ``kernelSize + 2`` cells)
-or the distance is beyond √0.5 m, the beam is a no-hit. ``lsigma`` and ``ogain`` act only
-through their product: both set how steeply the weights fall off away from the match.
+Here the lattice is laid in the submap's axes (the covariance is then turned into the map's),
+and the squared distance is read off the likelihood field the scan was matched against: each
+cell stamps ``w · exp(-d² / (2 sigma²))`` around it (``d`` the distance to the mean of its
+points, ``w`` how often its wall was seen, at most 1) and the field keeps the largest stamp,
+so ``-2 sigma² ln F`` is the squared distance to the nearest mean, a wall seen only once
+reading a little farther. Where the field is 0 (no wall within its reach, ``kernelSize + 2``
+cells) or the distance is beyond √0.5 m, the beam is a no-hit. ``lsigma`` and ``ogain`` act
+only through their product: both set how steeply the weights fall off away from the match.
 
 An axis the lattice samples at one value only (its range 0, or smaller than its step) says
 nothing about that axis: its variance (and its covariance with other such axes) are taken
-from the match's own estimate instead, uncorrelated with the sampled axes.
+from the match's own least-squares estimate instead, uncorrelated with the sampled axes.
 """
 
 from __future__ import annotations
@@ -35,7 +37,7 @@ import numpy.typing as npt
 
 from belvedere.nav.slam._grid import FieldGrid
 
-__all__ = ["NO_HIT", "lattice", "sampled_covariance"]
+__all__ = ["NO_HIT", "lattice", "log_likelihoods", "sampled_covariance"]
 
 Array = npt.NDArray[np.float64]
 
