@@ -100,11 +100,17 @@ def path() -> Array:
 
 
 def record(
-    seed: int = 3, *, travel: float = 0.08, turn: float = 0.05, creep: float = 1.0
+    seed: int = 3,
+    *,
+    travel: float = 0.08,
+    turn: float = 0.05,
+    creep: float = 1.0,
+    count: int | None = None,
 ) -> Recording:
-    """The run, its scans as ``sensor_msgs/LaserScan`` messages, and drifting odometry."""
+    """The run (its first ``count`` scans only, if given), its scans as ``sensor_msgs/LaserScan``
+    messages, and drifting odometry."""
     rng = np.random.default_rng(seed)
-    truth = path()
+    truth = path()[:count]
     stamps = [round((100.0 + k / RATE) * NS) for k in range(len(truth))]
     scans = [
         message_from_data(

@@ -160,7 +160,12 @@ def run(args: argparse.Namespace) -> int:
     params = _parameters(args)
     core: _Core
     try:
-        core = GMappingCore(params) if args.algorithm == "gmapping" else HectorCore(params)
+        if args.algorithm == "gmapping":
+            core = gmapping = GMappingCore(params)
+            if gmapping.without_effect is not None:
+                logger.warning("slam_gmapping: %s", gmapping.without_effect)
+        else:
+            core = HectorCore(params)
     except ValueError as err:
         raise BelvedereError(str(err)) from None
     reader = _open_bag(args.bag)

@@ -7,7 +7,8 @@ transform is known — and the laser's pose on the base from TF. Out: ``map`` (l
 last map, ``~entropy`` then too, TF ``map`` → ``odom`` every ``~transform_publish_period``
 (stamped ``~tf_delay`` ahead, as slam_gmapping does), and the ``dynamic_map`` service.
 Parameters: slam_gmapping's, with its defaults; see :mod:`belvedere.nav.slam._params` for
-what each does here.
+what each does here. Those that have no effect here (the particle filter's ``particles`` and
+``resampleThreshold``) draw one warning at the node's launch line when they are set.
 
 :class:`GMappingCore` is the part without topics — scans and a TF buffer in, poses and maps
 out — which ``belvedere slam`` runs over a bag.
@@ -31,6 +32,7 @@ from belvedere.nav.slam import GMappingParams, LaserGeometry, ScanPose, SubmapSl
 from belvedere.nodes._registry import (
     NodeSpec,
     ParamLookup,
+    Session,
     Starter,
     TransformClaim,
     stopping_on_bad_values,
@@ -101,6 +103,8 @@ class GMappingCore:
 
     def __init__(self, params: Mapping[str, Any], *, tuning: Tuning | None = None) -> None:
         self.params = GMappingParams.from_mapping(params)
+        self.without_effect = GMappingParams.without_effect(params)
+        """What to warn of (once) for the parameters given that have no effect, or None."""
         self.tuning = tuning
         merged = {**NODE_PARAMETERS, **params}
         self.base_frame = str(merged["base_frame"]).lstrip("/")
@@ -294,9 +298,18 @@ def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
     ]
 
 
-EXECUTABLES: dict[str, Starter] = {
-    "slam_gmapping": stopping_on_bad_values(lambda session, spec, node: _GMappingNode(node))
-}
+def _start(session: Session, spec: NodeSpec, node: Node) -> None:
+    del session
+    started = _GMappingNode(node)
+    text = started.core.without_effect
+    if text is not None:
+        if spec.source is not None:
+            logger.warning("%s: warning: %s: %s", spec.source, spec.full_name, text)
+        else:
+            logger.warning("%s: %s", spec.full_name, text)
+
+
+EXECUTABLES: dict[str, Starter] = {"slam_gmapping": stopping_on_bad_values(_start)}
 JOINING = frozenset(EXECUTABLES)
 """A client of the graph: ``run`` starts it on the graph that runs, as rosrun joins the master."""
 TRANSFORMS: dict[str, TransformClaim] = {"slam_gmapping": _claim}

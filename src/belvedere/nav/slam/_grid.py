@@ -11,7 +11,9 @@ mean's later moves within its cell). Matching samples it bilinearly between cell
 
 from __future__ import annotations
 
+import contextlib
 import math
+from collections.abc import Iterator
 
 import numpy as np
 import numpy.typing as npt
@@ -41,6 +43,10 @@ class FieldGrid:
         self.field: npt.NDArray[np.float64] = np.zeros((0, 0))
         """Float64 while the grid grows: arithmetic on it then needs no conversions."""
         self.points = 0
+        self.version = 0
+        """How many inserts the grid has had: whoever reads it can tell whether it changed."""
+        self._undo: tuple[npt.NDArray[np.intp], Array] | None = None
+        """The cells the last insert raised and their values before it (if it kept them)."""
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -83,10 +89,13 @@ class FieldGrid:
         self.hits = hits
         self.field = field
 
-    def insert(self, points: Array) -> None:
-        """Add end points ``(N, 2)`` given in the grid's frame."""
+    def insert(self, points: Array, *, undoable: bool = False) -> None:
+        """Add end points ``(N, 2)`` given in the grid's frame; ``undoable`` keeps what they
+        overwrite, for :meth:`before_last_insert`."""
         if not len(points):
             return
+        self.version += 1
+        self._undo = (np.zeros(0, dtype=np.intp), np.zeros(0)) if undoable else None
         self._ensure(points.min(axis=0), points.max(axis=0))
         res = self.resolution
         ij = np.floor((points - self.origin) / res).astype(np.int64)
@@ -118,7 +127,31 @@ class FieldGrid:
         d2 = (cx - mean_x[:, None]) ** 2 + (cy - mean_y[:, None]) ** 2
         values = w_new[grown][:, None] * np.exp(d2 * (-0.5 / (self.sigma * self.sigma)))
         idx = (grown_cells[:, None] + offsets[None, :]).reshape(-1)
+        if undoable:
+            self._undo = (idx, self.field.reshape(-1)[idx])
         np.maximum.at(self.field.reshape(-1), idx, values.reshape(-1))
+
+    @property
+    def undoable(self) -> bool:
+        """Whether the last insert kept what it overwrote."""
+        return self._undo is not None
+
+    @contextlib.contextmanager
+    def before_last_insert(self) -> Iterator[None]:
+        """The field as it was before the last insert (which must have been ``undoable``)
+        while the ``with`` lasts; as it is after it again, to the bit, when it ends."""
+        if self._undo is None:
+            message = "the last insert kept nothing to undo"
+            raise RuntimeError(message)
+        idx, before = self._undo
+        flat = self.field.reshape(-1)
+        after = flat[idx]
+        # (a cell stamped twice is listed twice, with the same value both times)
+        flat[idx] = before
+        try:
+            yield
+        finally:
+            flat[idx] = after
 
     def finish(self) -> None:
         """Drop what only growing needs: the counts, and the empty border beyond the
@@ -130,8 +163,16 @@ class FieldGrid:
             pad = 2
             r0 = max(rows[0] - pad, 0)
             c0 = max(cols[0] - pad, 0)
+            width = field.shape[1]
             field = field[r0 : rows[-1] + pad + 1, c0 : cols[-1] + pad + 1]
             self.origin = self.origin + np.array([c0, r0]) * self.resolution
+            if self._undo is not None:
+                # The kept cells, renumbered; those cut off held 0 and hold 0 before too.
+                j, i = np.divmod(self._undo[0], width)
+                j, i = j - r0, i - c0
+                h, w = field.shape
+                inside = (j >= 0) & (j < h) & (i >= 0) & (i < w)
+                self._undo = ((j * w + i)[inside], self._undo[1][inside])
         self.field = np.ascontiguousarray(field, dtype=np.float32)
         self.hits = np.zeros((0, 0), dtype=np.float32)
 

@@ -39,11 +39,21 @@ intent where it has a counterpart:
 ``occ_thresh``, ``map_update_interval``, ``throttle_scans``
     The node's: a cell whose hits over visits exceed ``occ_thresh`` is occupied; a new map
     after ``map_update_interval`` seconds; only every ``throttle_scans``-th scan is used.
-``particles``, ``resampleThreshold``, ``lsigma``, ``ogain``, ``llsamplerange``,
-``llsamplestep``, ``lasamplerange``, ``lasamplestep``
-    The particle filter's: how many trajectories, when to resample, how a beam's likelihood
-    weighs a particle, and how the proposal is sampled. One trajectory and a pose graph
-    take their place here, so these are read (and checked) and have no effect.
+``lsigma``, ``ogain``, ``llsamplerange``, ``llsamplestep``, ``lasamplerange``, ``lasamplestep``
+    The pose's uncertainty, as GMapping estimates its proposal (:mod:`._proposal`): the
+    scan's likelihood at a lattice of poses around its match, x and y within
+    ``llsamplerange`` metres in steps of ``llsamplestep``, the heading within
+    ``lasamplerange`` radians in steps of ``lasamplestep``; a beam's log-likelihood is minus
+    its end point's squared distance to the nearest wall over ``lsigma``, and the weights,
+    ``exp((l - l_max) / ogain)``, are flatter for a larger ``ogain``. The weighted covariance
+    of those poses is :meth:`~belvedere.nav.slam.SubmapSlam.covariance`, and its entropy is
+    what the node publishes on ``~entropy``. They do not change the trajectory or the map.
+    An axis sampled once (range 0, or under its step) takes the match's least-squares
+    variance instead. The steps must be positive and the ranges not negative.
+``particles``, ``resampleThreshold``
+    The particle filter's: how many trajectories, and when to resample them. One trajectory
+    in a pose graph takes their place here, so they have no effect: setting them draws one
+    warning (:meth:`GMappingParams.without_effect`).
 """
 
 from __future__ import annotations
@@ -51,11 +61,20 @@ from __future__ import annotations
 import builtins
 import dataclasses
 import math
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
 __all__ = ["GMappingParams"]
+
+_WITHOUT_EFFECT = (
+    (
+        ("particles", "resampleThreshold"),
+        "belvedere's mapper keeps one trajectory in a pose graph, not a particle filter",
+    ),
+    (("seed",), "the mapper is deterministic and draws no random numbers"),
+)
+"""Parameters read and checked that change nothing, and why."""
 
 
 @dataclass(frozen=True)
@@ -97,11 +116,25 @@ class GMappingParams:
     throttle_scans: int = 1
     seed: int = 0
     """Not a slam_gmapping parameter (it seeds from the clock): the mapper is deterministic
-    and draws no random numbers; kept so that runs name their seed."""
+    and draws no random numbers; kept so that runs name their seed (with a warning that it
+    has no effect)."""
 
     @classmethod
     def names(cls) -> tuple[builtins.str, ...]:
         return tuple(f.name for f in dataclasses.fields(cls))
+
+    @classmethod
+    def without_effect(cls, given: Iterable[builtins.str]) -> builtins.str | None:
+        """What to warn of when the parameters ``given`` (names) include some that have no
+        effect here: one sentence naming them and why, or None."""
+        given = set(given)
+        parts = []
+        for names, why in _WITHOUT_EFFECT:
+            named = [name for name in names if name in given]
+            if named:
+                verb = "has" if len(named) == 1 else "have"
+                parts.append(f"{', '.join(named)} {verb} no effect here: {why}")
+        return "; ".join(parts) or None
 
     @classmethod
     def from_mapping(cls, values: Mapping[builtins.str, Any]) -> GMappingParams:
@@ -142,12 +175,14 @@ class GMappingParams:
             "astep": self.astep,
             "lsigma": self.lsigma,
             "ogain": self.ogain,
+            "llsamplestep": self.llsamplestep,
+            "lasamplestep": self.lasamplestep,
         }
         for name, value in positive.items():
             if value <= 0:
                 message = f"parameter {name} must be positive, got {value}"
                 raise ValueError(message)
-        for name in ("kernelSize", "lskip", "iterations"):
+        for name in ("kernelSize", "lskip", "iterations", "llsamplerange", "lasamplerange"):
             if getattr(self, name) < 0:
                 message = f"parameter {name} must not be negative, got {getattr(self, name)}"
                 raise ValueError(message)

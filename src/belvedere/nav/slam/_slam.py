@@ -24,6 +24,7 @@ Plain arrays in, plain arrays out; deterministic (no random numbers at all).
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import math
 from dataclasses import dataclass, field
@@ -37,6 +38,7 @@ from belvedere.nav.slam._match import Match, refine
 from belvedere.nav.slam._occupancy import OccupancyCounts
 from belvedere.nav.slam._params import GMappingParams
 from belvedere.nav.slam._posegraph import PoseGraph
+from belvedere.nav.slam._proposal import sampled_covariance
 from belvedere.nav.slam._se2 import between, compose, inverse, transform_points
 from belvedere.nav.slam._search import SearchPyramid
 
@@ -234,6 +236,25 @@ def _moved_information(information: Array, local: Array) -> Array:
 
 
 @dataclass
+class _LastMatch:
+    """What the pose's covariance is computed from when it is asked for (not before: a run
+    that never asks pays nothing for it)."""
+
+    submap: int
+    version: int
+    """The submap's grid's :attr:`~FieldGrid.version` the scan was matched against."""
+    pose: Array
+    """The match, in the submap's frame."""
+    points: Array
+    """The end points matched (the base's frame)."""
+    information: Array
+    variance: float
+    """The match's least-squares information and its residuals' variance."""
+    covariance: Array | None = None
+    """Once computed (the submap's frame)."""
+
+
+@dataclass
 class _State:
     scans_stamp: list[float] = field(default_factory=list)
     scans_home: list[int] = field(default_factory=list)
@@ -286,7 +307,7 @@ class SubmapSlam:
         """Closures the scans agreed on that the graph refused: too far from it after
         optimising (``loop_max_error``) or beyond its Mahalanobis gate (``loop_max_chi2``)."""
         self._last_score = 1.0
-        self._covariance_source: tuple[Array, float] | None = None
+        self._last_match: _LastMatch | None = None
         self._pending: list[_Closure] = []
         self._travel = 0.0
         self._map: OccupancyCounts | None = None
@@ -414,10 +435,18 @@ class SubmapSlam:
         if p.minimumScore > 0 and result.score * len(points) < p.minimumScore:
             result = self._recover(grid, points, predicted, info, iterations, result)
         self._local = result.pose
-        # The pose's covariance: the residuals' variance over the information of the match
-        # and of the motion prior together.
+        # The least-squares covariance (the residuals' variance over the information of the
+        # match and of the motion prior together) stands in for axes the lattice of
+        # covariance() does not sample.
         dof = max(len(points) - 3, 1)
-        self._covariance_source = (result.hessian + np.diag(info), result.cost / dof)
+        self._last_match = _LastMatch(
+            submap=self._active[0],
+            version=grid.version,
+            pose=result.pose,
+            points=points,
+            information=result.hessian + np.diag(info),
+            variance=result.cost / dof,
+        )
         return result.score
 
     def _covered(self, sub: _Submap, points: Array) -> npt.NDArray[np.bool_]:
@@ -522,7 +551,7 @@ class SubmapSlam:
         for s in self._active:
             sub = self.submaps[s]
             at = self._local_in(s)
-            sub.grid.insert(transform_points(at, points))
+            sub.grid.insert(transform_points(at, points), undoable=self._keeps_before(s))
             sub.keyframes += 1
             self._add_free(sub, at, ranges)
         g = compose(self.graph.poses[tracking], kf.local)
@@ -540,6 +569,19 @@ class SubmapSlam:
             self.submaps[fresh].grid.insert(points)
             self.submaps[fresh].keyframes += 1
             self._add_free(self.submaps[fresh], np.zeros(3), ranges)
+
+    def _keeps_before(self, submap: int) -> bool:
+        """Whether an insert into ``submap`` must keep what it overwrites: the last match's
+        covariance, not yet asked for, is computed against the grid as it was matched."""
+        last = self._last_match
+        if last is None or last.covariance is not None or last.submap != submap:
+            return False
+        if self.submaps[submap].grid.version != last.version:
+            # A second insert since the match (a scan added without matching, standing
+            # still): only one can be undone, so compute it now.
+            last.covariance = self._sampled_covariance(last)
+            return False
+        return True
 
     def _add_free(self, sub: _Submap, pose: Array, ranges: Array) -> None:
         """Count the scan's beams (up to ``maxUrange``) as passing, in the submap's frame; a
@@ -813,19 +855,57 @@ class SubmapSlam:
         return mixed
 
     def covariance(self) -> Array:
-        """The covariance (x, y, yaw) of the last scan's match (zero before any match)."""
-        if self._covariance_source is None:
+        """The covariance (x, y, yaw; the map's axes) of the last scan's pose, as GMapping
+        estimates its proposal (:mod:`._proposal`): the poses of a lattice around the match
+        (``llsamplerange``/``llsamplestep``, ``lasamplerange``/``lasamplestep``), weighted by
+        the scan's likelihood there (``lsigma``, flattened by ``ogain``), evaluated against
+        the submap the scan was matched to as it was then. Axes the lattice samples once
+        take the match's least-squares covariance. Zero before any match.
+
+        Computed when asked for (once per match)."""
+        last = self._last_match
+        if last is None:
             return np.zeros((3, 3))
-        information, variance = self._covariance_source
+        if last.covariance is None:
+            last.covariance = self._sampled_covariance(last)
+        yaw = float(self.graph.poses[last.submap][2])  # the submap's axes → the map's
+        c, s = math.cos(yaw), math.sin(yaw)
+        rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+        return np.asarray(rot @ last.covariance @ rot.T, dtype=np.float64)
+
+    def _sampled_covariance(self, last: _LastMatch) -> Array:
         try:
-            return np.asarray(np.linalg.inv(information) * max(variance, 1e-12), dtype=np.float64)
+            fallback: Array = np.asarray(
+                np.linalg.inv(last.information) * max(last.variance, 1e-12), dtype=np.float64
+            )
         except np.linalg.LinAlgError:
-            return np.zeros((3, 3))
+            fallback = np.zeros((3, 3))
+        grid = self.submaps[last.submap].grid
+        if grid.version == last.version:
+            as_matched: contextlib.AbstractContextManager[None] = contextlib.nullcontext()
+        elif grid.version == last.version + 1 and grid.undoable:
+            as_matched = grid.before_last_insert()  # the scan itself was added since
+        else:  # (_keeps_before computes it before that can happen)
+            return fallback
+        p = self.params
+        with as_matched:
+            return sampled_covariance(
+                grid,
+                last.points,
+                last.pose,
+                sigma=self._field[0],
+                lsigma=p.lsigma,
+                ogain=p.ogain,
+                linear=(p.llsamplerange, p.llsamplestep),
+                angular=(p.lasamplerange, p.lasamplestep),
+                fallback=fallback,
+            )
 
     def entropy(self) -> float:
         """The differential entropy (nats) of the pose estimate as a Gaussian of
         :meth:`covariance`: lower is surer. (slam_gmapping publishes the entropy of its
-        particles' weights; one hypothesis has none, so this takes its place.)"""
+        particles' weights; one hypothesis has none, so that of its proposal takes its
+        place.) 0 when the covariance is singular (before any match)."""
         det = float(np.linalg.det(self.covariance()))
         if det <= 0.0:
             return 0.0
