@@ -229,3 +229,31 @@ def test_messages_of_another_type_are_dropped_with_one_warning_per_publisher(
     ]
     assert len(warnings) == 3
     assert warnings[2].startswith("dropping messages on /cmd_vel that are not geometry_msgs/Twist:")
+
+
+def test_a_latched_message_reaches_the_subscribers_that_were_there_first(endpoint: str) -> None:
+    """As ROS 1 sends a latched message on every new connection: a publisher that starts
+    after the subscriber and publishes at once reaches it, also when its process had not yet
+    heard of the subscriber (the message went nowhere then), and exactly once."""
+    listener = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint))
+    got: list[str] = []
+    listener.create_node("listener").subscribe(
+        "/map_name", "std_msgs/String", lambda m: got.append(m.data)
+    )
+    listener.start(rtf=None)
+    try:
+        for i in range(8):
+            talker = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint))
+            node = talker.create_node("talker")
+            talker.start(rtf=None)
+            try:
+                node.publisher("/map_name", "std_msgs/String", latch=True).publish_data(
+                    {"data": f"map {i}"}
+                )
+                wait_until(lambda i=i: f"map {i}" in got, what=f"latched message {i}")  # type: ignore[misc]
+            finally:
+                talker.shutdown()
+        time.sleep(1.0)  # a second copy (the resent one) would come within this
+    finally:
+        listener.shutdown()
+    assert got == [f"map {i}" for i in range(8)]

@@ -129,6 +129,9 @@ class Publisher:
         self.queue_size = queue_size
         self.seq_rule: SeqRule = seq_rule
         self.count = 0
+        self.latched: tuple[int, Any] = (0, None)
+        """A latching publisher's last message and its number (one object: a transport's
+        thread reads both at once)."""
 
     @property
     def name(self) -> str:
@@ -160,6 +163,7 @@ class Publisher:
         self.count += 1
         if self.latch:
             topic.latched[self] = msg
+            self.latched = (self.count, msg)
         for sub in topic.subscriptions:
             sub.enqueue(msg)
         transport = graph.transport

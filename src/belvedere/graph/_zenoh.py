@@ -121,6 +121,18 @@ class _Sent:
     type: str | None = None
     node: str | None = None
     """The publisher's node."""
+    latch: tuple[str, int] | None = None
+    """A latching publisher's message: (that publisher, the number of its publication)."""
+
+
+def _sender(text: str) -> tuple[str | None, str | None, tuple[str, int] | None]:
+    """``type\nnode[\npublisher:number]``: what follows a message's stamp, and what a latched
+    reply carries."""
+    type_name, _, rest = text.partition("\n")
+    node, _, tag = rest.partition("\n")
+    who, _, number = tag.rpartition(":")
+    latch = (who, int(number)) if who and number.isdigit() else None
+    return type_name or None, node or None, latch
 
 
 def _sent(attachment: Any) -> _Sent:
@@ -130,9 +142,29 @@ def _sent(attachment: Any) -> _Sent:
     if len(raw) < _STAMP.size:
         return _Sent()
     kind, ns = _STAMP.unpack_from(raw)
-    sender = raw[_STAMP.size :].decode(errors="replace")
-    type_name, _, node = sender.partition("\n")
-    return _Sent((kind == b"s", ns), type_name or None, node or None)
+    return _Sent((kind == b"s", ns), *_sender(raw[_STAMP.size :].decode(errors="replace")))
+
+
+class _LatchedSeen:
+    """Which latched publications each subscription has had, so that it gets each exactly
+    once however it came: published while it listened, replied to its query when it
+    subscribed, or sent again when its publisher first saw a subscriber elsewhere (as ROS 1
+    sends the latched message on every new connection). Used on the executor's thread only."""
+
+    def __init__(self) -> None:
+        self._seen: weakref.WeakKeyDictionary[Subscription, dict[str, int]] = (
+            weakref.WeakKeyDictionary()
+        )
+
+    def fresh(self, subscription: Subscription, latch: tuple[str, int] | None) -> bool:
+        if latch is None:
+            return True
+        who, number = latch
+        seen = self._seen.setdefault(subscription, {})
+        if seen.get(who, -1) >= number:
+            return False
+        seen[who] = number
+        return True
 
 
 def _bulky(msg: Any) -> bool:
@@ -355,6 +387,7 @@ class ZenohTransport:
         self._matching: dict[str, Any] = {}
         self._subscribers: dict[str, Any] = {}
         self._latch_queryables: dict[str, Any] = {}
+        self._latched_seen = _LatchedSeen()
         self._service_queryables: dict[str, Any] = {}
         self._tokens: dict[tuple[str, ...], Any] = {}
         self._param_queryable: Any = None
@@ -497,7 +530,14 @@ class ZenohTransport:
                 self._publishers[topic.name] = zpub
 
                 def matching(status: Any) -> None:
+                    first = bool(status.matching) and not topic.remote
                     topic.remote = bool(status.matching)
+                    graph = self.graph
+                    if first and topic.latched and graph is not None:
+                        # A subscriber elsewhere that was there before this publisher (its
+                        # query at subscribing found nothing) gets the latched messages now;
+                        # ones published before Zenoh saw it went nowhere.
+                        graph.executor.post(partial(self._send_latched, topic))
 
                 self._matching[topic.name] = zpub.declare_matching_listener(matching)
                 # (zenoh's type stubs call this a bool; it is a MatchingStatus)
@@ -505,11 +545,12 @@ class ZenohTransport:
         if publisher.latch and topic.name not in self._latch_queryables:
 
             def latched(query: Any) -> None:
-                for pub, msg in list(topic.latched.items()):
+                for pub in list(topic.latched):
+                    number, msg = pub.latched
                     query.reply(
                         self._key("l", topic.name),
                         types().serialize(msg),
-                        attachment=f"{topic.type}\n{pub.node.full_name}".encode(),
+                        attachment=self._sender(pub, number).encode(),
                     )
 
             self._latch_queryables[topic.name] = self.session.declare_queryable(
@@ -537,7 +578,20 @@ class ZenohTransport:
         else:
             self._put(topic, msg, stamp)
 
-    def _stamp(self, publisher: Publisher) -> bytes:
+    def _send_latched(self, topic: Topic) -> None:
+        for pub in list(topic.latched):
+            number, msg = pub.latched
+            self._put(topic, msg, self._stamp(pub, number))
+
+    def _sender(self, publisher: Publisher, number: int) -> str:
+        """What a message says of its sender: its type and node, and for a latching
+        publisher, which one it is and the number of this publication."""
+        text = f"{publisher.topic.type}\n{publisher.node.full_name}"
+        if publisher.latch:
+            text += f"\n{self._zid}.{id(publisher):x}:{number}"
+        return text
+
+    def _stamp(self, publisher: Publisher, number: int | None = None) -> bytes:
         """When a message is published, in the publishing graph's time: ``s`` (simulated)
         or ``w`` (wall) and nanoseconds, then its type and node. Sent with each message (a
         Zenoh attachment), so a recorder in another process stamps it exactly, whatever order
@@ -545,8 +599,8 @@ class ZenohTransport:
         graph = self.graph
         if graph is None:
             return b""
-        sender = f"{publisher.topic.type}\n{publisher.node.full_name}".encode()
-        return _STAMP.pack(b"s" if graph.sim_time else b"w", graph.now_ns()) + sender
+        sender = self._sender(publisher, publisher.count if number is None else number)
+        return _STAMP.pack(b"s" if graph.sim_time else b"w", graph.now_ns()) + sender.encode()
 
     def flush(self, timeout: float = 5.0) -> bool:
         """Wait until the newest-only topics' messages are handed to Zenoh."""
@@ -573,27 +627,30 @@ class ZenohTransport:
         # the topic has subscribers here already (rospy gives every new subscriber those);
         # asked for once Zenoh delivers the topic's samples here, so none falls in between.
         fetch = threading.Thread(
-            target=self._fetch_latched, args=(topic, subscription.enqueue), daemon=True
+            target=self._fetch_latched, args=(topic, subscription), daemon=True
         )
         with self._lock:
             if topic.name in self._subscribers:
                 fetch.start()
                 return
 
-            def deliver(msg: Any) -> None:
+            seen = self._latched_seen
+
+            def deliver(msg: Any, latch: tuple[str, int] | None) -> None:
                 for sub in list(topic.subscriptions):
-                    sub.enqueue(msg)
+                    if seen.fresh(sub, latch):
+                        sub.enqueue(msg)
 
             # Samples arrive on Zenoh's thread: queue their bytes and wake the executor once
             # per burst, not once per message.
-            arrived: deque[bytes] = deque()
+            arrived: deque[tuple[bytes, tuple[str, int] | None]] = deque()
             scheduled = [False]
 
             def flush() -> None:
                 scheduled[0] = False
                 while arrived:
                     try:
-                        data = arrived.popleft()
+                        data, latch = arrived.popleft()
                     except IndexError:  # the newest-only trim took it meanwhile
                         break
                     try:
@@ -601,7 +658,7 @@ class ZenohTransport:
                     except Exception as err:  # noqa: BLE001 (a peer sent something else)
                         self._mismatch(topic, None, None, str(err))
                         continue
-                    deliver(msg)
+                    deliver(msg, latch)
                     graph.executor.run_ready()  # each message's callbacks run before the next
 
             stats = self._topic_stats(topic.name)
@@ -611,7 +668,7 @@ class ZenohTransport:
                 if sent.type is not None and sent.type != topic.type:
                     self._mismatch(topic, sent.type, sent.node)
                     return
-                arrived.append(sample.payload.to_bytes())
+                arrived.append((sample.payload.to_bytes(), sent.latch))
                 stats.received += 1
                 # Subscriptions that all want only the newest (queue size 1 or 2) keep
                 # that many samples; others keep every one (as before a burst is delivered).
@@ -633,7 +690,7 @@ class ZenohTransport:
             )
         fetch.start()
 
-    def _fetch_latched(self, topic: Topic, deliver: Callable[[Any], None]) -> None:
+    def _fetch_latched(self, topic: Topic, subscription: Subscription) -> None:
         graph = self.graph
         assert graph is not None
         try:
@@ -649,21 +706,26 @@ class ZenohTransport:
                 if reply.ok is None:
                     continue
                 attachment = reply.ok.attachment
-                sender = (
+                sent_type, node, latch = _sender(
                     attachment.to_bytes().decode(errors="replace") if attachment is not None else ""
                 )
-                sent_type, _, node = sender.partition("\n")
                 if sent_type and sent_type != topic.type:
-                    self._mismatch(topic, sent_type, node or None)
+                    self._mismatch(topic, sent_type, node)
                     continue
                 try:
                     msg = types().deserialize(reply.ok.payload.to_bytes(), topic.type)
                 except Exception as err:  # noqa: BLE001 (a peer sent something else)
                     self._mismatch(topic, None, None, str(err))
                     continue
-                graph.executor.post(partial(deliver, msg))
+                graph.executor.post(partial(self._deliver_latched, subscription, msg, latch))
         except zenoh.ZError:
             pass
+
+    def _deliver_latched(
+        self, subscription: Subscription, msg: Any, latch: tuple[str, int] | None
+    ) -> None:
+        if self._latched_seen.fresh(subscription, latch):
+            subscription.enqueue(msg)
 
     def _mismatch(
         self, topic: Topic, sent_type: str | None, node: str | None, why: str = ""
