@@ -26,6 +26,7 @@ from scipy import ndimage
 from belvedere.description.urdf import Pose, RobotModel
 from belvedere.graph import NS, Graph
 from belvedere.maps import OccupancyMap
+from belvedere.nav.slam import LaserGeometry
 from belvedere.sim.physics import PhysicsSimulation
 from belvedere.tf import TFBuffer, TransformListener
 from belvedere.world import read_world
@@ -53,6 +54,19 @@ class Recording:
     """(S, 3) the drifting odometry at each scan (starting at the true start)."""
     laser: tuple[float, float, float]
     """The laser's position on the base (x, y, z)."""
+
+
+def laser_of(rec: Recording) -> LaserGeometry:
+    """The recording's beams, from its first scan, on the laser's place on the base."""
+    first = rec.scans[0]
+    return LaserGeometry.planar(
+        first.angle_min,
+        first.angle_increment,
+        len(first.ranges),
+        first.range_min,
+        first.range_max,
+        (rec.laser[0], rec.laser[1], 0.0),
+    )
 
 
 def _yaw(q: tuple[float, float, float, float]) -> float:

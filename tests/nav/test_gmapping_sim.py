@@ -16,7 +16,7 @@ import pytest
 
 from belvedere.cli import main
 from belvedere.maps import OCCUPIED, load_map, read_tum
-from belvedere.nav.slam import GMappingParams, LaserGeometry, SubmapSlam
+from belvedere.nav.slam import GMappingParams, SubmapSlam
 from tests.nav import simulated
 from tests.nav.simulated import Recording
 
@@ -47,15 +47,7 @@ def bag(recording: Recording, tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def _slam(rec: Recording) -> SubmapSlam:
-    first = rec.scans[0]
-    laser = LaserGeometry.planar(
-        first.angle_min,
-        first.angle_increment,
-        len(first.ranges),
-        first.range_min,
-        first.range_max,
-        (rec.laser[0], rec.laser[1], 0.0),
-    )
+    laser = simulated.laser_of(rec)
     slam = SubmapSlam(laser, GMappingParams.from_mapping(PARAMS))
     for ns, scan, odom in zip(rec.stamps_ns, rec.scans, rec.odom, strict=True):
         slam.add_scan(ns / 1e9, np.asarray(scan.ranges), odom)

@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from belvedere.nav.slam import GMappingParams, LaserGeometry, SubmapSlam
+from belvedere.nav.slam import GMappingParams, SubmapSlam
 from belvedere.nav.slam._slam import Tuning
 from tests.nav import corridor_loop, simulated
 from tests.nav.simulated import Recording
@@ -47,15 +47,7 @@ def corridors() -> Recording:
 
 
 def _slam(rec: Recording, tuning: Tuning | None = None, **params: Any) -> SubmapSlam:
-    first = rec.scans[0]
-    laser = LaserGeometry.planar(
-        first.angle_min,
-        first.angle_increment,
-        len(first.ranges),
-        first.range_min,
-        first.range_max,
-        (rec.laser[0], rec.laser[1], 0.0),
-    )
+    laser = simulated.laser_of(rec)
     slam = SubmapSlam(laser, GMappingParams.from_mapping({**PARAMS, **params}), tuning)
     for ns, scan, odom in zip(rec.stamps_ns, rec.scans, rec.odom, strict=True):
         slam.add_scan(ns / 1e9, np.asarray(scan.ranges), odom)

@@ -157,14 +157,7 @@ def test_a_grid_undoes_its_last_insert_for_a_while() -> None:
 
 def test_the_trajectory_and_the_map_do_not_depend_on_these_parameters() -> None:
     rec = corridor_loop.record(count=100)
-    first = rec.scans[0]
-    laser = LaserGeometry.planar(
-        first.angle_min,
-        first.angle_increment,
-        len(first.ranges),
-        first.range_min,
-        first.range_max,
-    )
+    laser = simulated.laser_of(rec)
 
     def run(ask: bool, **params: Any) -> tuple[SubmapSlam, list[float]]:
         # a keyframe every 0.2 m: submaps are begun and finished within the run
