@@ -257,3 +257,32 @@ def test_a_latched_message_reaches_the_subscribers_that_were_there_first(endpoin
     finally:
         listener.shutdown()
     assert got == [f"map {i}" for i in range(8)]
+
+
+def test_a_process_whose_last_subscription_left_is_sent_nothing(endpoint: str) -> None:
+    """Zenoh's subscriber goes with the process's last subscription on a topic, so publishers
+    elsewhere stop sending (and this process stops decoding) what nobody here reads; a new
+    subscription brings it back."""
+    listener = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint))
+    talker = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint))
+    pub = talker.create_node("talker").publisher("/chatter", "std_msgs/String")
+    node = listener.create_node("listener")
+    got: list[str] = []
+    listener.start(rtf=None)
+    talker.start(rtf=None)
+    try:
+        subs = [node.subscribe("/chatter", "std_msgs/String", lambda m: got.append(m.data))]
+        subs.append(node.subscribe("/chatter", "std_msgs/String", lambda m: None))
+        wait_until(lambda: pub.topic.remote, what="the talker seeing the listener")
+        subs[0].unregister()
+        time.sleep(0.5)  # one subscription is left: the talker still sends
+        assert pub.topic.remote
+        subs[1].unregister()
+        wait_until(lambda: not pub.topic.remote, what="the talker seeing nobody")
+        node.subscribe("/chatter", "std_msgs/String", lambda m: got.append(m.data))
+        wait_until(lambda: pub.topic.remote, what="the talker seeing the listener again")
+        pub.publish_data({"data": "again"})
+        wait_until(lambda: got == ["again"], what="the message on the new subscription")
+    finally:
+        talker.shutdown()
+        listener.shutdown()

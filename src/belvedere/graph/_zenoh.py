@@ -752,6 +752,15 @@ class ZenohTransport:
 
     def unsubscribe(self, topic: Topic, subscription: Subscription) -> None:
         self._drop_token("sub", topic.name, topic.type, subscription.node.full_name)
+        if topic.subscriptions:
+            return
+        # The last subscription here is gone: so is Zenoh's, and publishers elsewhere stop
+        # sending this process what nobody here reads (a viewer or bridge whose last client
+        # left, a display removed).
+        with self._lock:
+            zsub = self._subscribers.pop(topic.name, None)
+        if zsub is not None:
+            zsub.undeclare()
 
     # --- raw access (recorders) ----------------------------------------------------------------
     def tap(
