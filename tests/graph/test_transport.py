@@ -235,11 +235,14 @@ def test_a_latched_message_reaches_the_subscribers_that_were_there_first(endpoin
     """As ROS 1 sends a latched message on every new connection: a publisher that starts
     after the subscriber and publishes at once reaches it, also when its process had not yet
     heard of the subscriber (the message went nowhere then), and exactly once."""
-    listener = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint))
+    transport = ZenohTransport(endpoint=endpoint)
+    listener = Graph(sim_time=False, transport=transport)
     got: list[str] = []
     listener.create_node("listener").subscribe(
         "/map_name", "std_msgs/String", lambda m: got.append(m.data)
     )
+    raw: list[bytes] = []  # as a recorder sees them: not one sent twice
+    tap = transport.tap("/map_name", lambda _topic, data, _sent: raw.append(data))
     listener.start(rtf=None)
     try:
         for i in range(8):
@@ -255,8 +258,10 @@ def test_a_latched_message_reaches_the_subscribers_that_were_there_first(endpoin
                 talker.shutdown()
         time.sleep(1.0)  # a second copy (the resent one) would come within this
     finally:
+        tap.undeclare()
         listener.shutdown()
     assert got == [f"map {i}" for i in range(8)]
+    assert len(raw) == 8
 
 
 def test_a_process_whose_last_subscription_left_is_sent_nothing(endpoint: str) -> None:

@@ -388,6 +388,8 @@ class ZenohTransport:
         self._subscribers: dict[str, Any] = {}
         self._latch_queryables: dict[str, Any] = {}
         self._latched_seen = _LatchedSeen()
+        self._latched_sent: weakref.WeakKeyDictionary[Publisher, int] = weakref.WeakKeyDictionary()
+        """The number of each latching publisher's last message handed to Zenoh."""
         self._service_queryables: dict[str, Any] = {}
         self._tokens: dict[tuple[str, ...], Any] = {}
         self._param_queryable: Any = None
@@ -568,6 +570,8 @@ class ZenohTransport:
 
     def send(self, topic: Topic, msg: Any, publisher: Publisher) -> None:
         stamp = self._stamp(publisher)
+        if publisher.latch:
+            self._latched_sent[publisher] = publisher.count
         depth = max((p.queue_size for p in topic.publishers), default=0)
         if (
             0 < depth <= NEWEST_ONLY
@@ -579,9 +583,13 @@ class ZenohTransport:
             self._put(topic, msg, stamp)
 
     def _send_latched(self, topic: Topic) -> None:
+        """Send the latched messages that were published while nobody elsewhere listened (the
+        ones sent then reached every subscriber there was; later ones ask for them)."""
         for pub in list(topic.latched):
             number, msg = pub.latched
-            self._put(topic, msg, self._stamp(pub, number))
+            if self._latched_sent.get(pub) != number:
+                self._latched_sent[pub] = number
+                self._put(topic, msg, self._stamp(pub, number))
 
     def _sender(self, publisher: Publisher, number: int) -> str:
         """What a message says of its sender: its type and node, and for a latching
