@@ -35,9 +35,9 @@ from belvedere.nav.local._base import (
 from belvedere.nav.local._maps import (
     DistanceMap,
     FootprintModel,
+    follow_plan,
+    footprint_model,
     plan_cells,
-    plan_in_window,
-    prune_plan,
     used_points_cost,
     wavefronts,
 )
@@ -203,17 +203,9 @@ class DWAPlannerROS:
         p = self._params
         x, y, yaw = (float(v) for v in pose)
         vel = (float(velocity[0]), float(velocity[1]), float(velocity[2]))
-        if len(self._plan) == 0:
-            message = "DWAPlannerROS: no plan to follow"
-            raise NoTrajectoryError(message)
-        local = plan_in_window(self._plan, grid, x, y)
-        if p.prune_plan and len(local):
-            drop = prune_plan(local, x, y)
-            local = local[drop:]
-            self._plan = self._plan[drop:]
-        if len(local) == 0:
-            message = "DWAPlannerROS: no pose of the plan lies in the local costmap"
-            raise NoTrajectoryError(message)
+        local, self._plan = follow_plan(
+            self._plan, grid, x, y, prune=p.prune_plan, planner="DWAPlannerROS"
+        )
         cycle = self._prepare(grid, (x, y, yaw), footprint, local)
         if self._position_reached(x, y):
             return self._stop_and_rotate(cycle, (x, y, yaw), vel)
@@ -241,15 +233,7 @@ class DWAPlannerROS:
 
     def _prepare(self, grid: CostGrid, pose: Pose, footprint: Floats, local: Floats) -> _Cycle:
         p = self._params
-        footprint = np.asarray(footprint, dtype=np.float64).reshape(-1, 2)
-        model = self._model
-        if (
-            model is None
-            or model.footprint.shape != footprint.shape
-            or not np.array_equal(model.footprint, footprint)
-            or model.resolution != grid.resolution
-        ):
-            model = self._model = FootprintModel(footprint, grid.resolution)
+        model = self._model = footprint_model(self._model, footprint, grid.resolution)
         columns, rows = plan_cells(grid, local[:, :2])
         # the goal pulls the robot's nose, not its centre: the plan's end moved ahead along
         # the bearing from the robot to the goal

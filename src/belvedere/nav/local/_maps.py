@@ -16,6 +16,7 @@ from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import breadth_first_order
 
 from belvedere.nav.costmap import INSCRIBED, LETHAL, NO_INFORMATION, CostGrid
+from belvedere.nav.local._base import NoTrajectoryError
 
 __all__ = [
     "DistanceMap",
@@ -52,6 +53,26 @@ def prune_plan(plan: Floats, x: float, y: float) -> int:
     robot (prunePlan; all of them when none is)."""
     near = np.flatnonzero(np.hypot(plan[:, 0] - x, plan[:, 1] - y) < 1.0)
     return int(near[0]) if len(near) else len(plan)
+
+
+def follow_plan(
+    plan: Floats, grid: CostGrid, x: float, y: float, *, prune: bool, planner: str
+) -> tuple[Floats, Floats]:
+    """The stretch of ``plan`` this cycle follows and the plan to keep (pruned behind the
+    robot when ``prune``); :class:`NoTrajectoryError` in ``planner``'s name when there is
+    none."""
+    if len(plan) == 0:
+        message = f"{planner}: no plan to follow"
+        raise NoTrajectoryError(message)
+    local = plan_in_window(plan, grid, x, y)
+    if prune and len(local):
+        drop = prune_plan(local, x, y)
+        local = local[drop:]
+        plan = plan[drop:]
+    if len(local) == 0:
+        message = f"{planner}: no pose of the plan lies in the local costmap"
+        raise NoTrajectoryError(message)
+    return local, plan
 
 
 def _densify(points: Floats, step: float) -> Floats:
@@ -347,3 +368,19 @@ class FootprintModel:
         cell = np.take(padded.ravel(), flat)
         valid = inside & ~(cell >= LETHAL).any(axis=1)
         return cell.max(axis=1).astype(np.float64).reshape(shape), valid.reshape(shape)
+
+
+def footprint_model(
+    model: FootprintModel | None, footprint: Floats, resolution: float
+) -> FootprintModel:
+    """The model of ``footprint`` at ``resolution``: ``model`` itself when it is that one
+    (planners keep theirs from cycle to cycle)."""
+    footprint = np.asarray(footprint, dtype=np.float64).reshape(-1, 2)
+    if (
+        model is None
+        or model.footprint.shape != footprint.shape
+        or not np.array_equal(model.footprint, footprint)
+        or model.resolution != resolution
+    ):
+        model = FootprintModel(footprint, resolution)
+    return model

@@ -35,9 +35,9 @@ from belvedere.nav.local._maps import (
     DistanceMap,
     FootprintModel,
     filled_footprint_cells,
+    follow_plan,
+    footprint_model,
     plan_cells,
-    plan_in_window,
-    prune_plan,
     used_points_cost,
     wavefront,
     wavefronts,
@@ -111,17 +111,9 @@ class TrajectoryPlannerROS:
         p = self._params
         x, y, yaw = (float(v) for v in pose)
         vel = (float(velocity[0]), float(velocity[1]), float(velocity[2]))
-        if len(self._plan) == 0:
-            message = "TrajectoryPlannerROS: no plan to follow"
-            raise NoTrajectoryError(message)
-        local = plan_in_window(self._plan, grid, x, y)
-        if p.prune_plan and len(local):
-            drop = prune_plan(local, x, y)
-            local = local[drop:]
-            self._plan = self._plan[drop:]
-        if len(local) == 0:
-            message = "TrajectoryPlannerROS: no pose of the plan lies in the local costmap"
-            raise NoTrajectoryError(message)
+        local, self._plan = follow_plan(
+            self._plan, grid, x, y, prune=p.prune_plan, planner="TrajectoryPlannerROS"
+        )
         cycle = self._prepare(grid, (x, y, yaw), footprint, local)
         goal_x, goal_y, goal_yaw = (float(v) for v in local[-1])
         if self._latched or math.hypot(goal_x - x, goal_y - y) <= p.xy_goal_tolerance:
@@ -140,17 +132,9 @@ class TrajectoryPlannerROS:
         return Command(vx, vy, vth, rollouts.points(s))
 
     def _prepare(self, grid: CostGrid, pose: Pose, footprint: Floats, local: Floats) -> _Cycle:
-        footprint = np.asarray(footprint, dtype=np.float64).reshape(-1, 2)
-        model = self._model
-        if (
-            model is None
-            or model.footprint.shape != footprint.shape
-            or not np.array_equal(model.footprint, footprint)
-            or model.resolution != grid.resolution
-        ):
-            model = self._model = FootprintModel(footprint, grid.resolution)
+        model = self._model = footprint_model(self._model, footprint, grid.resolution)
         # the cells under the robot do not stop the path's wave (MapGrid's within_robot)
-        under = filled_footprint_cells(grid, *pose, footprint)
+        under = filled_footprint_cells(grid, *pose, model.footprint)
         columns, rows = plan_cells(grid, local[:, :2])
         goal_cell = (columns[-1:], rows[-1:])
         if np.any(under & (grid.costs >= INSCRIBED)):
