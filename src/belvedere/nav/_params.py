@@ -57,6 +57,16 @@ class ParamReader:
             raise ValueError(message)
         return raw
 
+    def frame(self, default: str, *names: str) -> str:
+        """A frame's name, without tf1's leading (or a stray trailing) slash."""
+        found = self._raw(names)
+        raw = default if found is None else found[1]
+        if not isinstance(raw, str) or not raw.strip("/"):
+            name = names[0] if found is None else found[0]
+            message = f"parameter {name}: expected a frame name, got {raw!r}"
+            raise ValueError(message)
+        return raw.strip("/")
+
     def numbers(self, default: tuple[float, ...], name: str) -> tuple[float, ...]:
         """A list of numbers, as a YAML list or as the string ``"[-0.3, -0.1, 0.1]"``
         (TrajectoryPlannerROS reads ``y_vels`` as a string and splits it at ``[``, ``]``,
@@ -83,6 +93,20 @@ class ParamReader:
                 raise ValueError(message) from None
             values.append(value)
         return tuple(values)
+
+
+def read_like(read: ParamReader, defaults: Mapping[str, Any]) -> dict[str, Any]:
+    """Each parameter of ``defaults`` read as its default's kind: a flag, a number or (a
+    string) a frame name."""
+    out: dict[str, Any] = {}
+    for name, default in defaults.items():
+        if isinstance(default, bool):
+            out[name] = read.flag(default, name)
+        elif isinstance(default, int | float):
+            out[name] = read.number(float(default), name)
+        else:
+            out[name] = read.frame(str(default), name)
+    return out
 
 
 def read_fields(

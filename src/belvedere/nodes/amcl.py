@@ -31,6 +31,7 @@ import numpy.typing as npt
 from belvedere.graph import NS, GraphError, Node
 from belvedere.maps import OccupancyMap, map_from_message
 from belvedere.msgs import build, types
+from belvedere.nav._params import ParamReader, read_like
 from belvedere.nav.amcl import AmclMap, AmclParams, Localizer, laser_data
 from belvedere.nodes._registry import (
     NodeSpec,
@@ -93,25 +94,7 @@ class NodeParams:
 
     @classmethod
     def from_mapping(cls, values: Mapping[str, Any]) -> NodeParams:
-        merged = {**NODE_PARAMETERS, **values}
-        out: dict[str, Any] = {}
-        for name, default in NODE_PARAMETERS.items():
-            value = merged[name]
-            if isinstance(default, bool):
-                if not isinstance(value, bool):
-                    msg = f"parameter {name}: expected true or false, got {value!r}"
-                    raise ValueError(msg)
-            elif isinstance(default, float):
-                if isinstance(value, bool) or not isinstance(value, int | float):
-                    msg = f"parameter {name}: expected a number, got {value!r}"
-                    raise ValueError(msg)
-                value = float(value)
-            elif not isinstance(value, str) or not value.strip("/"):
-                msg = f"parameter {name}: expected a frame name, got {value!r}"
-                raise ValueError(msg)
-            else:
-                value = value.strip("/")
-            out[name] = value
+        out = read_like(ParamReader(values), NODE_PARAMETERS)
         if out["transform_tolerance"] < 0:
             got = out["transform_tolerance"]
             msg = f"parameter transform_tolerance: expected at least 0, got {got!r}"

@@ -18,6 +18,7 @@ from collections import deque
 from typing import Any
 
 from belvedere.graph import NS, Node
+from belvedere.nav._params import ParamReader, read_like
 from belvedere.nodes._registry import (
     NodeSpec,
     ParamLookup,
@@ -57,21 +58,8 @@ def _pose_transform(pose: Any) -> Transform:
 
 
 def _read(node: Node) -> dict[str, Any]:
-    out: dict[str, Any] = {}
-    for name, default in PARAMETERS.items():
-        value = node.get_param(f"~{name}", default)
-        if isinstance(default, float):
-            if isinstance(value, bool) or not isinstance(value, int | float):
-                msg = f"parameter {name}: expected a number, got {value!r}"
-                raise ValueError(msg)
-            value = float(value)
-        elif not isinstance(value, str) or not value.strip("/"):
-            msg = f"parameter {name}: expected a frame name, got {value!r}"
-            raise ValueError(msg)
-        else:
-            value = value.lstrip("/")
-        out[name] = value
-    return out
+    values = {name: node.get_param(f"~{name}", default) for name, default in PARAMETERS.items()}
+    return read_like(ParamReader(values), PARAMETERS)
 
 
 class _FakeLocalization:
