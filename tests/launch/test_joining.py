@@ -66,3 +66,39 @@ def test_a_launch_of_clients_joins_the_running_simulation(endpoint: str, tmp_pat
             running.terminate()
             running.wait(timeout=DEADLINE)
             probe.shutdown()
+
+
+def test_spawn_model_beside_a_running_simulation(endpoint: str, tmp_path: Path) -> None:
+    """``rosrun gazebo_ros spawn_model -file … -urdf -model …`` in a second terminal puts the
+    robot into the simulation the first one runs, and exits; a second robot of that name is
+    refused as Gazebo refuses it."""
+    urdf = tmp_path / "mbot.urdf"
+    xacro = EXAMPLES / "mbot_description/urdf/xacro/gazebo/mbot_gazebo.xacro"
+    subprocess.run([*BELVEDERE, "xacro", str(xacro), "-o", str(urdf)], check=True)
+    spawn = [*BELVEDERE, "run", "gazebo_ros", "spawn_model", "-file", str(urdf), "-urdf"]
+    alone = subprocess.run([*spawn, "-model", "mbot"], capture_output=True, text=True)
+    assert alone.returncode == 1
+    assert "spawn_model: no simulation is running" in alone.stderr
+    probe = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint))
+    models: list[list[str]] = []
+    probe.create_node("probe").subscribe(
+        "/gazebo/model_states", "gazebo_msgs/ModelStates", lambda m: models.append(list(m.name))
+    )
+    probe.start()
+    world = [*BELVEDERE, "launch", "--headless", "gazebo_ros", "empty_world.launch"]
+    quiet = {"stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL}
+    with subprocess.Popen(world, **quiet) as running:  # type: ignore[call-overload]
+        try:
+            wait_until(lambda: models or running.poll() is not None, what="the empty world")
+            first = subprocess.run([*spawn, "-model", "mbot", "-x", "1"], capture_output=True)
+            assert first.returncode == 0, first.stderr
+            wait_until(lambda: "mbot" in models[-1], what="mbot in /gazebo/model_states")
+            again = subprocess.run([*spawn, "-model", "mbot"], capture_output=True, text=True)
+            assert again.returncode == 1
+            assert "SpawnModel: Failure - a model named 'mbot' already exists" in again.stderr
+            assert "error: spawn_model mbot:" in again.stderr
+            assert running.poll() is None
+        finally:
+            running.terminate()
+            running.wait(timeout=DEADLINE)
+            probe.shutdown()

@@ -8,11 +8,18 @@ import os
 import shlex
 from pathlib import Path
 
-from belvedere.graph import Node
-from belvedere.nodes._registry import FileClaim, NodeSpec, Session, Starter, StartError
+from belvedere.graph import Node, ServiceUnavailableError
+from belvedere.nodes._registry import (
+    FileClaim,
+    NodeSpec,
+    Session,
+    Starter,
+    StartError,
+    end_node,
+)
 from belvedere.packages import BUILTIN_PACKAGES
 
-__all__ = ["EXECUTABLES", "FILES", "PACKAGE"]
+__all__ = ["EXECUTABLES", "FILES", "JOINING", "PACKAGE"]
 
 PACKAGE = "gazebo_ros"
 
@@ -68,16 +75,33 @@ def _spawn_model(session: Session, spec: NodeSpec, node: Node) -> None:
     from belvedere.sim.physics import parse_spawn_args, spawn_model
 
     def spawn() -> None:
-        if session.sim is None:
-            msg = "spawn_model: no simulation is running (include gazebo_ros/empty_world.launch)"
-            raise StartError(msg, spec.source)
         words = shlex.split(spec.args)
+        if session.sim is None:
+            _spawn_elsewhere(session, spec, node, words)
+            return
         name = parse_spawn_args(words).model
         _check_spawn_name(session, spec, name)
         spawn_model(node, words)
         session.spawned[name] = spec
 
     session.deferred.append(spawn)
+
+
+def _spawn_elsewhere(session: Session, spec: NodeSpec, node: Node, words: list[str]) -> None:
+    """``rosrun gazebo_ros spawn_model …`` beside a simulation another process runs: through
+    its ``spawn_*_model`` service (which refuses a name the world has, as Gazebo's does), and
+    the node ends, as spawn_model exits once the model is in."""
+    from belvedere.sim.physics import spawn_model
+
+    try:
+        spawn_model(node, words)
+    except ServiceUnavailableError:
+        msg = (
+            "spawn_model: no simulation is running (start one first, e.g. "
+            "roslaunch gazebo_ros empty_world.launch, or include it in this launch)"
+        )
+        raise StartError(msg, spec.source) from None
+    end_node(session, node, 0)
 
 
 def _check_spawn_name(session: Session, spec: NodeSpec, name: str) -> None:
@@ -112,3 +136,6 @@ EXECUTABLES: dict[str, Starter] = {
     "spawn_model": _spawn_model,
 }
 FILES: dict[str, FileClaim] = {"gzserver": _world_files, "debug": _world_files}
+JOINING = frozenset({"spawn_model"})
+"""``run gazebo_ros spawn_model …`` (or a launch of spawners only) joins the simulation that
+runs, as the spawner of ``rosrun`` finds Gazebo's services through the master."""

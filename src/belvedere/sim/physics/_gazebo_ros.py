@@ -122,7 +122,7 @@ class GazeboRos:
                 packages=self.packages,
             )
         except BelvedereError as err:
-            return {"success": False, "status_message": err.describe()}
+            return {"success": False, "status_message": _spawn_failure(err)}
         return {"success": True, "status_message": "SpawnModel: Successfully spawned entity"}
 
     def _spawn_sdf(self, req: Any) -> dict[str, Any]:
@@ -135,7 +135,7 @@ class GazeboRos:
                 world.models[0], name=req.model_name, pose=_pose_from_msg(req.initial_pose)
             )
         except BelvedereError as err:
-            return {"success": False, "status_message": err.describe()}
+            return {"success": False, "status_message": _spawn_failure(err)}
         return {"success": True, "status_message": "SpawnModel: Successfully spawned entity"}
 
     def _delete(self, req: Any) -> dict[str, Any]:
@@ -247,6 +247,13 @@ def parse_spawn_args(argv: Sequence[str]) -> argparse.Namespace:
         msg = "spawn_model -database: belvedere never downloads models"
         raise BelvedereError(msg, hint="use -file or -param, or put the model in ~/.gazebo/models")
     return args
+
+
+def _spawn_failure(err: BelvedereError) -> str:
+    """Gazebo's ``SpawnModel: Failure - …`` with our account of it (its place in the model's
+    text when it has one); the caller prints it as its own error."""
+    text = err.describe()
+    return "SpawnModel: Failure - " + text.removeprefix("error: ")
 
 
 def spawn_model(node: Node, argv: Sequence[str]) -> Any:
