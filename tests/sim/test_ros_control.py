@@ -70,6 +70,15 @@ def test_position_controllers_reach_their_commands() -> None:
         "joint1_position_controller": "running",
         "joint2_position_controller": "running",
     }
+    claimed = {
+        c.name: [(r.hardware_interface, list(r.resources)) for r in c.claimed_resources]
+        for c in listed.controller
+    }
+    assert claimed == {
+        "joint_state_controller": [("hardware_interface::JointStateInterface", [])],
+        "joint1_position_controller": [("hardware_interface::PositionJointInterface", ["joint1"])],
+        "joint2_position_controller": [("hardware_interface::PositionJointInterface", ["joint2"])],
+    }
 
 
 def test_trajectory_controller_follows_a_trajectory() -> None:

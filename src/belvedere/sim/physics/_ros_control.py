@@ -666,8 +666,11 @@ class ControllerManager:
 
     def _list(self, _: Any) -> dict[str, Any]:
         def interface(c: Controller) -> str:
-            kind = (c.interface or "joint_state").capitalize()
-            return f"hardware_interface/{kind}JointInterface"
+            # ros_control names the interface by its C++ type; a state controller reads the
+            # JointStateInterface, which claims nothing
+            if not c.interface:
+                return "hardware_interface::JointStateInterface"
+            return f"hardware_interface::{c.interface.capitalize()}JointInterface"
 
         return {
             "controller": [
