@@ -158,17 +158,19 @@ def end_when(
     node.timer(period, check)
 
 
-def _module_executables(package: str) -> dict[str, Starter]:
+def _table(package: str, attribute: str, empty: Any) -> Any:
+    """A table of ``package``'s node module (``EXECUTABLES``, ``JOINING``, ``FILES`` …);
+    ``empty`` for a package belvedere has no module for, or a module without that table."""
+    if package not in MODULES:
+        return empty
     module = importlib.import_module(f"belvedere.nodes.{MODULES[package]}")
-    table: dict[str, Starter] = module.EXECUTABLES
-    return table
+    return getattr(module, attribute, empty)
 
 
 def find(package: str, executable: str) -> Starter | None:
     """The starter of ``package``'s ``executable``, if belvedere has it."""
-    if package not in MODULES:
-        return None
-    return _module_executables(package).get(executable)
+    table: dict[str, Starter] = _table(package, "EXECUTABLES", {})
+    return table.get(executable)
 
 
 def joins_running_graph(package: str, executable: str) -> bool:
@@ -187,10 +189,7 @@ def anonymous(package: str, executable: str) -> bool:
 
 
 def _module_set(package: str, attribute: str) -> frozenset[str]:
-    if package not in MODULES:
-        return frozenset()
-    module = importlib.import_module(f"belvedere.nodes.{MODULES[package]}")
-    found: frozenset[str] = getattr(module, attribute, frozenset())
+    found: frozenset[str] = _table(package, attribute, frozenset())
     return found
 
 
@@ -198,10 +197,7 @@ def transforms(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
     """The (parent, child) frames the node of ``spec`` will publish transforms between, for
     the nodes that publish fixed ones (static publishers, localizers, mappers); frames without
     a leading ``/``. A node that cannot say (bad arguments) claims none: its start says why."""
-    if spec.pkg not in MODULES:
-        return []
-    module = importlib.import_module(f"belvedere.nodes.{MODULES[spec.pkg]}")
-    claims: dict[str, TransformClaim] = getattr(module, "TRANSFORMS", {})
+    claims: dict[str, TransformClaim] = _table(spec.pkg, "TRANSFORMS", {})
     claim = claims.get(spec.type)
     if claim is None:
         return []
@@ -216,10 +212,7 @@ def files(spec: NodeSpec) -> list[tuple[str, str]]:
     """The (kind, path) of each file the node of ``spec`` will read (an rviz config, a world,
     a map), as its module's ``FILES`` says; none for a node that cannot say (bad arguments:
     its start says why)."""
-    if spec.pkg not in MODULES:
-        return []
-    module = importlib.import_module(f"belvedere.nodes.{MODULES[spec.pkg]}")
-    claims: dict[str, FileClaim] = getattr(module, "FILES", {})
+    claims: dict[str, FileClaim] = _table(spec.pkg, "FILES", {})
     claim = claims.get(spec.type)
     if claim is None:
         return []
@@ -231,7 +224,7 @@ def files(spec: NodeSpec) -> list[tuple[str, str]]:
 
 def executables(package: str) -> list[str]:
     """The executables belvedere has for ``package`` (none if it has not the package)."""
-    return sorted(_module_executables(package)) if package in MODULES else []
+    return sorted(_table(package, "EXECUTABLES", {}))
 
 
 def package_names() -> list[str]:
