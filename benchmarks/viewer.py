@@ -48,6 +48,12 @@ CHROMIUM_ARGS = [  # as the browser tests run it: headless, software WebGL
     "--disable-sync",
     "--no-first-run",
 ]
+RENDERS = "() => window.__viserTestpoints.rendererInfo.render.frame"
+"""The scene renders three.js has made (viser exposes its renderer's counters)."""
+VIEW = """() => {
+    const c = window.__viserMutable.canvas, box = c.getBoundingClientRect();
+    return [box.width, box.height, c.width, c.height];
+}"""
 COUNT_FRAMES = """() => {
     window.__frames = 0;
     const tick = () => { window.__frames += 1; requestAnimationFrame(tick); };
@@ -62,18 +68,21 @@ def _free_port() -> int:
     return port
 
 
-def _robot_drawn(page: Any, viewport: tuple[int, int]) -> bool:
+def _robot_drawn(page: Any) -> bool:
     from io import BytesIO
 
     from PIL import Image
 
-    w, h = viewport
-    shot = page.screenshot(clip={"x": w // 2, "y": h // 2, "width": 1, "height": 1})
+    box = page.locator("canvas").first.bounding_box()
+    if box is None or box["x"] == 0:
+        return False  # the panel is not docked beside the view yet
+    x, y = round(box["x"] + box["width"] / 2), round(box["y"] + box["height"] / 2)
+    shot = page.screenshot(clip={"x": x, "y": y, "width": 1, "height": 1})
     r, _, b = Image.open(BytesIO(shot)).convert("RGB").getpixel((0, 0))  # type: ignore[misc]
     return bool(r > 200 and r - b > 100)  # URDF "yellow" (rgba 1 0.4 0), lit
 
 
-def measure(seconds: float, viewport: tuple[int, int]) -> None:
+def measure(seconds: float, settle: float, viewport: tuple[int, int]) -> None:
     from playwright.sync_api import sync_playwright
 
     chromium = shutil.which("chromium")
@@ -99,25 +108,31 @@ def measure(seconds: float, viewport: tuple[int, int]) -> None:
             started = time.perf_counter()
             page.goto(viewer.url)
             page.wait_for_selector("canvas")
-            while not _robot_drawn(page, viewport):
+            while not _robot_drawn(page):
                 time.sleep(0.1)
             first = time.perf_counter() - started
+            time.sleep(settle)  # viser's adaptive resolution steps every 2.5 s of slow frames
             page.evaluate(COUNT_FRAMES)
-            sent0, drawn0, t0 = viewer.frames_rendered, 0, time.perf_counter()
-            cpu0 = viewer.render_cpu_s
+            drawn0 = page.evaluate(RENDERS)
+            sent0, t0, cpu0 = viewer.frames_rendered, time.perf_counter(), viewer.render_cpu_s
             time.sleep(seconds)
-            sent1, drawn1 = viewer.frames_rendered, page.evaluate("() => window.__frames")
+            sent1, drawn1 = viewer.frames_rendered, page.evaluate(RENDERS)
+            raf = page.evaluate("() => window.__frames")
             wall = time.perf_counter() - t0
             cpu = (viewer.render_cpu_s - cpu0) / wall
+            view = page.evaluate(VIEW)
             browser.close()
     finally:
         viewer.close()
         graph.shutdown()
     sent, drawn = (sent1 - sent0) / wall, (drawn1 - drawn0) / wall
-    print(f"page {viewport[0]} x {viewport[1]} pixels")
+    width, height, pixels_w, pixels_h = view
+    print(f"page {viewport[0]} x {viewport[1]}; its 3D view {width:g} x {height:g} CSS pixels,")
+    print(f"  drawn at {pixels_w} x {pixels_h} (device pixel ratio {pixels_w / width:.3g})")
     print(f"robot first drawn in the browser: {first:.1f} s after loading the page")
     print(f"viewer updates:  {sent:5.1f} Hz (target {TARGET_HZ:g} Hz; {sent / TARGET_HZ:.0%})")
     print(f"browser frames:  {drawn:5.1f} fps (target {TARGET_HZ:g}; {drawn / TARGET_HZ:.0%})")
+    print(f"  (page frames:  {raf / wall:5.1f} per second, requestAnimationFrame)")
     print(f"render thread:   {cpu:5.1%} of one core (goal <= 10 %; {cpu / 0.10:.2f} of it)")
 
 
@@ -173,10 +188,11 @@ def _publish_world(node: Any, odom: str) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--seconds", type=float, default=10.0, help="measuring window")
+    parser.add_argument("--settle", type=float, default=6.0, help="seconds drawn before measuring")
     parser.add_argument("--viewport", default="1000x700", help="the page's size, WxH pixels")
     args = parser.parse_args()
     w, _, h = args.viewport.partition("x")
-    measure(args.seconds, (int(w), int(h)))
+    measure(args.seconds, args.settle, (int(w), int(h)))
 
 
 if __name__ == "__main__":

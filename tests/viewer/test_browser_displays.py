@@ -22,9 +22,9 @@ from tests.conftest import EXAMPLES, free_port
 from tests.viewer.test_browser import (
     BROWSER_DEADLINE,
     MBOT,
-    VIEWPORT,
     browser_page,
     project_from,
+    view_centre,
     wait_for_pixel,
 )
 from tests.waiting import wait_until
@@ -74,11 +74,11 @@ def _yaw(sim: PhysicsSimulation) -> float:
 
 def _scan_pixels(rgb: np.ndarray[Any, np.dtype[np.uint8]]) -> tuple[int, int, float]:
     """Red scan pixels within 0.15 m of the room's walls, those farther, the worst distance."""
-    w, h = VIEWPORT
+    cx, cy = view_centre()
     red = (rgb[..., 0] > 150) & (rgb[..., 1] < 90) & (rgb[..., 2] < 90)
     rows, cols = np.nonzero(red)
-    x = (cols - w / 2) / SCALE
-    y = -(rows - h / 2) / SCALE
+    x = (cols - cx) / SCALE
+    y = -(rows - cy) / SCALE
     reach = np.maximum(np.abs(x), np.abs(y))
     # not the robot; not the page's corners (viser's axes gizmo is red too)
     error = np.abs(reach[(reach > 0.5) & (reach < HALF + 1.0)] - HALF)

@@ -20,10 +20,10 @@ from tests.viewer.docs_screenshots import docs_screenshot
 from tests.viewer.test_browser import (
     BROWSER_DEADLINE,
     RGB,
-    VIEWPORT,
     _pixel,
     browser_page,
     project,
+    view_centre,
     wait_for_pixel,
 )
 from tests.waiting import wait_until
@@ -96,8 +96,8 @@ def grey(rgb: RGB) -> bool:
     return max(r, g, b) - min(r, g, b) < 25 and 60 < r < 215
 
 
-BOX, POST, MOVED = (-1.5, 1.5), (-0.3, 0.6), (-1.5, -0.5)
-"""Floor points in the initial view, left of the panel."""
+BOX, POST, MOVED = (-1.5, 1.5), (-0.3, 0.6), (0.0, 1.5)
+"""Floor points in the initial view, right of the docked panel."""
 
 
 def test_insert_two_models_and_move_one(world: World, tmp_path: Path) -> None:
@@ -173,8 +173,8 @@ SCALE = 50.0
 
 def _top(xy: tuple[float, float]) -> tuple[float, float]:
     """The pixel of a floor point in the editor's top view (centred on the origin)."""
-    w, h = VIEWPORT
-    return (w / 2 + xy[0] * SCALE, h / 2 - xy[1] * SCALE)
+    cx, cy = view_centre()
+    return (cx + xy[0] * SCALE, cy - xy[1] * SCALE)
 
 
 def test_draw_a_room_with_a_door(world: World, tmp_path: Path) -> None:

@@ -13,7 +13,9 @@ import pytest
 from belvedere.cli import main
 from belvedere.graph import Graph
 from belvedere.maps import OccupancyMap, grid_message
+from belvedere.msgs import message_from_data
 from belvedere.packages import PackageIndex
+from belvedere.tf import Transform
 from belvedere.viewer import (
     MeshAccessError,
     Viewer,
@@ -102,6 +104,48 @@ def test_grid_is_rviz_lines(values: dict[str, object], lines: int, normal_axis: 
         assert np.abs(spread[:, normal_axis]).max() == pytest.approx(normal * size / 2)
         viewer.render_once()
         assert grid.handles["grid"].points.shape == (lines, 2, 3)
+    finally:
+        viewer.close()
+        graph.shutdown()
+
+
+@pytest.mark.parametrize(
+    ("display_type", "values", "message", "style"),
+    [
+        ("Path", {}, {"poses": [{}, {"pose": {"position": {"x": 1.0}}}]}, ("screen", 1.5)),
+        (
+            "Path",
+            {"Line Style": "Billboards", "Line Width": 0.05},
+            {"poses": [{}, {"pose": {"position": {"x": 1.0}}}]},
+            ("world", 0.05),
+        ),
+        ("Polygon", {}, {"polygon": {"points": [{}, {"x": 1.0}, {"y": 1.0}]}}, ("screen", 1.5)),
+        ("PoseArray", {}, {"poses": [{"orientation": {"w": 1.0}}]}, ("screen", 1.5)),
+        (
+            "PoseArray",
+            {"Shape": "Arrow (3D)"},
+            {"poses": [{"orientation": {"w": 1.0}}]},
+            ("world", 0.01),
+        ),
+    ],
+)
+def test_lines_are_a_pixel_wide_unless_billboards(
+    display_type: str,
+    values: dict[str, object],
+    message: dict[str, object],
+    style: tuple[str, float],
+) -> None:
+    """rviz draws a Path's "Lines", a footprint and flat particle arrows a pixel wide on screen,
+    a Path's "Billboards" ``Line Width`` metres wide (and its 3D arrows as solids)."""
+    graph = Graph(sim_time=False)
+    viewer = Viewer(graph, port=free_port(), fixed_frame="map")
+    try:
+        display = viewer.add_display(display_type, values=values)
+        msg = message_from_data(display.msg_type, {"header": {"frame_id": "map"}, **message})
+        display.draw(msg, Transform())
+        handle = display.handles["lines"]
+        assert handle.thickness_units == style[0]
+        assert handle.thickness == pytest.approx(style[1])
     finally:
         viewer.close()
         graph.shutdown()

@@ -11,7 +11,7 @@ import numpy.typing as npt
 
 from belvedere.graph import NS
 from belvedere.tf import Transform
-from belvedere.viewer._display import Display, Prop, transform_points
+from belvedere.viewer._display import Display, Prop, line_style, transform_points
 from belvedere.viewer._displays import msg_pose
 
 __all__ = [
@@ -51,8 +51,9 @@ _ARROW = (
 class _Segments(Display):
     """Shapes made of line segments, all in one scene node per display."""
 
-    def thickness(self) -> float:
-        return 0.01
+    def line(self) -> dict[str, Any]:
+        """viser's line thickness: arrows drawn as rviz's 3D ones are a centimetre thick."""
+        return {"thickness": 0.01}
 
     def show_segments(self, segments: F32) -> None:
         if len(segments) == 0:
@@ -62,7 +63,7 @@ class _Segments(Display):
             f"{self.base}/lines",
             segments.astype(np.float32),
             tuple(self.values["Color"]),
-            thickness=self.thickness(),
+            **self.line(),
         )
         self.keep("lines", handle)
 
@@ -120,8 +121,8 @@ class PathDisplay(_Segments):
         Prop("Buffer Length", 1, "int", low=1, high=100, step=1),
     )
 
-    def thickness(self) -> float:
-        return float(self.values["Line Width"])
+    def line(self) -> dict[str, Any]:
+        return line_style(self.values)
 
     def draw(self, msg: Any, pose: Transform) -> None:
         if len(msg.poses) < 2:
@@ -159,6 +160,10 @@ class PoseArrayDisplay(_Segments):
         Prop("Arrow Length", 0.3, "float", low=0.01, high=5.0),
     )
 
+    def line(self) -> dict[str, Any]:
+        # rviz draws flat arrows (amcl's thousands of particles) as pixel-wide lines
+        return line_style({}) if self.values["Shape"] == "Arrow (Flat)" else super().line()
+
     def draw(self, msg: Any, pose: Transform) -> None:
         length = float(self.values["Arrow Length"])
         segments = [arrow_segments(pose @ msg_pose(p), length) for p in msg.poses]
@@ -173,6 +178,9 @@ class PolygonDisplay(_Segments):
     msg_type = "geometry_msgs/PolygonStamped"
     default_topic = "/move_base/local_costmap/footprint"
     props = (Prop("Color", (25, 255, 0), "color"), Prop("Alpha", 1.0, "float"))
+
+    def line(self) -> dict[str, Any]:
+        return line_style({})  # rviz's footprint is a line strip, a pixel wide
 
     def draw(self, msg: Any, pose: Transform) -> None:
         points = msg.polygon.points

@@ -199,6 +199,9 @@ class Viewer:
     # --- GUI -----------------------------------------------------------------------------------
     def _build_gui(self, jsp: JointStatePublisher | None, sim: SimControls | None) -> None:
         gui = self.gui
+        # rviz's layout: the 3D view beside the Displays panel, not under it (a software
+        # renderer then draws a third fewer pixels, and the view's centre is visible).
+        gui.main_panel.dock_left()
         if jsp is not None:  # `display`: the joints are what the user came for
             self._joint_panel(jsp)
         with gui.add_folder("Global Options"):
