@@ -275,9 +275,18 @@ def test_compose_decompose(
         [
             ("compose_matrix", [scale, shear, euler, t, perspective], {}),
             ("compose_matrix", [], {"angles": euler}),
-            ("decompose_matrix", [composed.tolist()], {}),
         ],
     )
+    call: Call = ("decompose_matrix", [composed.tolist()], {})
+    theirs = oracle.ask({"transformations": [call]})["transformations"][0]
+    mine = ours([call])[0]
+    # A roll of pi or -pi is the sign of an entry within 1e-16 of zero: it differs with
+    # the numpy build's dot (Debian's and the wheel's round differently), not with the code.
+    for result in (mine, theirs):
+        if "tuple" in result:
+            angles = result["tuple"][2]
+            angles[:] = [math.pi if abs(abs(a) - math.pi) < 1e-12 else a for a in angles]
+    assert same(mine, theirs), f"{call}:\n ours   {mine}\n theirs {theirs}"
 
 
 @settings(max_examples=100)
