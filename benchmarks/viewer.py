@@ -3,16 +3,20 @@
 The course's mbot drives in a circle (kinematic engine, real time) while Debian's Chromium,
 headless with software WebGL, shows the viewer with a 360-beam LaserScan at 10 Hz (in the
 laser's frame, drawn with the transform at its stamp), a 400 x 400 Map and a 200-pose Path.
-Measured over a window of wall time:
+After the robot is first drawn and viser's adaptive resolution has settled (``--settle``
+seconds: it lowers the pixel ratio a step per 2.5 s of slow frames), measured over a window of
+wall time:
 
 1. how long the browser takes to draw the robot first (shaders compiled on the CPU), seen in
-   a screenshot: the camera looks at the robot, so the page's centre turns the base's yellow;
+   a screenshot: the camera looks at the robot, so the view's centre turns the base's yellow;
 2. viewer updates per second: scene updates the viewer sends (its render loop, target 30 Hz);
-3. browser frames per second: ``requestAnimationFrame`` callbacks in the page;
+3. browser frames per second: the renders three.js made in the page (and, beside them, the
+   page's ``requestAnimationFrame`` callbacks);
 4. the viewer's render thread's share of one core (CPU time over wall time; goal <= 10 %).
 
-Software WebGL is fill-bound: a surface covering the page (the map, seen from near the robot)
-costs most of a frame, so the rate depends on the page's size (``--viewport``).
+Software WebGL is fill-bound: a surface covering the view (the map, seen from near the robot)
+costs most of a frame, so the rate depends on the view's size: the page's (``--viewport``)
+less the panel docked beside it.
 
     python benchmarks/viewer.py [--seconds 10] [--viewport 1000x700]
 """

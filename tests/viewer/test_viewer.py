@@ -151,6 +151,26 @@ def test_lines_are_a_pixel_wide_unless_billboards(
         graph.shutdown()
 
 
+def test_a_drawn_path_takes_a_new_line_style_and_colour_at_once() -> None:
+    """A latched plan is not sent again: rviz redraws it when its properties change."""
+    graph = Graph(sim_time=False)
+    viewer = Viewer(graph, port=free_port(), fixed_frame="map")
+    try:
+        display = viewer.add_display("Path")
+        poses = [{}, {"pose": {"position": {"x": 1.0}}}]
+        msg = message_from_data(display.msg_type, {"header": {"frame_id": "map"}, "poses": poses})
+        display.draw(msg, Transform())
+        display.set_value("Line Style", "Billboards")
+        display.set_value("Color", (0, 0, 255))
+        handle = display.handles["lines"]
+        assert (handle.thickness_units, handle.thickness) == ("world", 0.03)
+        assert np.asarray(handle.colors).reshape(-1).tolist() == [0, 0, 255]
+        assert np.asarray(handle.points).shape == (1, 2, 3)
+    finally:
+        viewer.close()
+        graph.shutdown()
+
+
 def test_a_new_scan_moves_the_points_of_the_same_cloud() -> None:
     """Each scan's points go into the one point cloud the display made (a new scene node per
     scan makes the browser build a new material each time); a style change makes a new one."""

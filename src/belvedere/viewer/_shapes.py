@@ -51,11 +51,20 @@ _ARROW = (
 class _Segments(Display):
     """Shapes made of line segments, all in one scene node per display."""
 
+    shown: F32 | None = None
+    """The segments drawn last, in the fixed frame."""
+
     def line(self) -> dict[str, Any]:
         """viser's line thickness: arrows drawn as rviz's 3D ones are a centimetre thick."""
         return {"thickness": 0.01}
 
+    def changed(self, key: str) -> None:
+        # rviz redraws a latched path in its new colour or line style at once
+        if self.shown is not None and "lines" in self.handles:
+            self.show_segments(self.shown)
+
     def show_segments(self, segments: F32) -> None:
+        self.shown = segments
         if len(segments) == 0:
             self.forget("lines")
             return
