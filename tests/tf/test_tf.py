@@ -67,6 +67,17 @@ def test_group_axioms(a: Transform, b: Transform, c: Transform) -> None:
     assert Transform.from_matrix(a.matrix()).matrix() == pytest.approx(a.matrix(), abs=1e-6)
 
 
+def test_set_transform_logs_a_refused_one_and_keeps_the_first() -> None:
+    """tf2 ignores a second transform at the same stamp with a warning (it recursed here)."""
+    logged: list[tuple[str, str]] = []
+    buf = TFBuffer(log=lambda level, text: logged.append((level, text)))
+    buf.set_transform("odom", "base", Transform((1, 0, 0)), 1_000_000_000)
+    buf.set_transform("odom", "base", Transform((2, 0, 0)), 1_000_000_000)
+    assert [level for level, _ in logged] == ["Warning"]
+    assert "for frame base at time 1.000000" in logged[0][1]
+    assert buf.lookup_transform("odom", "base").translation == pytest.approx((1, 0, 0))
+
+
 def test_buffer_lookup_interpolation_and_errors() -> None:
     buf = TFBuffer()
     buf.set_transform("map", "odom", Transform((1, 0, 0)), 0, static=True)

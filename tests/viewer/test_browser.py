@@ -133,15 +133,22 @@ def browser_page(url: str) -> Iterator[Any]:
             # viser's notice of software WebGL (SwiftShader here) would cover the view's top left
             page.add_style_tag(content=f"#{SOFTWARE_WEBGL_NOTICE} {{ display: none !important; }}")
             canvas = page.locator("canvas").first
+            boxes: list[dict[str, float] | None] = []
 
             def docked() -> bool:
-                box = canvas.bounding_box()
-                if box is None or box["x"] == 0:
-                    return False  # the panel is not beside the view yet
-                VIEW.update(box)
-                return True
+                """The view beside the docked panel, the same box in three looks running."""
+                boxes.append(canvas.bounding_box())
+                box = boxes[-1]
+                return box is not None and box["x"] > 0 and boxes[-3:] == [box] * 3
 
-            wait_until(docked, what="the panel docked beside the 3D view", interval=0.1)
+            wait_until(
+                docked,
+                what="the panel docked beside the 3D view",
+                timeout=BROWSER_DEADLINE,
+                interval=0.2,
+                detail=lambda: boxes[-3:],
+            )
+            VIEW.update(boxes[-1] or {})
             yield page
         finally:
             browser.close()

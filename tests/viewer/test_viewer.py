@@ -6,6 +6,7 @@ from __future__ import annotations
 import socket
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -15,7 +16,7 @@ from belvedere.graph import Graph
 from belvedere.maps import OccupancyMap, grid_message
 from belvedere.msgs import message_from_data
 from belvedere.packages import PackageIndex
-from belvedere.tf import Transform
+from belvedere.tf import TFBuffer, Transform
 from belvedere.viewer import (
     MeshAccessError,
     Viewer,
@@ -385,3 +386,51 @@ def test_changing_a_property_while_frames_are_drawn_never_breaks_a_frame() -> No
     finally:
         viewer.close()
         graph.shutdown()
+
+
+class _Camera:
+    """The state a browser tab's camera reports back (viser's ``client.camera``)."""
+
+    def __init__(self) -> None:
+        self.position = np.zeros(3)
+        self.look_at = np.zeros(3)
+        self.up_direction = np.array([0.0, 0.0, 1.0])
+        self.fov = 1.0
+        self.image_height = 700
+
+
+def test_a_followed_view_keeps_its_offset_through_a_report_between_eye_and_target() -> None:
+    """The eye and the target reach the browser as two messages: a camera report made
+    between them (a new eye, the older target) is not the user's mouse, and the view keeps
+    following with the offset it had; a camera the user moved follows from where it was put."""
+    from belvedere.viewer._views import ViewState
+
+    buffer = TFBuffer()
+    camera = _Camera()
+    view = ViewState("rviz/Orbit", {"Distance": 3.0, "Target Frame": "base"})
+
+    def base_at(x: float) -> None:
+        buffer.set_transform("odom", "base", Transform((x, 0.0, 0.0)), round(x * 1e10))
+
+    def offset() -> Any:
+        return np.asarray(camera.look_at) - np.asarray(camera.position)
+
+    base_at(0.0)
+    view.follow(camera, buffer, "odom")
+    first = offset().copy()
+    target0 = np.array(camera.look_at, dtype=float)
+    base_at(0.1)
+    view.follow(camera, buffer, "odom")
+    camera.look_at = target0  # reported before the new target came
+    base_at(0.2)
+    view.follow(camera, buffer, "odom")
+    assert camera.look_at[0] == pytest.approx(target0[0] + 0.2)
+    assert offset() == pytest.approx(first)
+    camera.position = np.asarray(camera.position) + np.array([0.0, 0.0, 1.0])  # the mouse
+    base_at(0.3)
+    view.follow(camera, buffer, "odom")  # the camera stays where the user put it
+    assert camera.look_at[0] == pytest.approx(target0[0] + 0.2)
+    base_at(0.4)
+    view.follow(camera, buffer, "odom")  # and moves along from there
+    assert camera.look_at[0] == pytest.approx(target0[0] + 0.3)
+    assert offset() == pytest.approx(first - np.array([0.0, 0.0, 1.0]))

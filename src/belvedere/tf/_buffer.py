@@ -510,7 +510,7 @@ class TFBuffer:
             if level == "Error":
                 problems.append(text)
             else:
-                self.log(level, text)
+                log(level, text)  # the buffer's own log: self.log is this function meanwhile
 
         log, self.log = self.log, keep
         (tx, ty, tz), (qx, qy, qz, qw) = transform.translation, transform.quat_xyzw

@@ -103,9 +103,19 @@ class ViewState:
     placed: bool = False
     local: tuple[Array, Array] | None = None
     """(eye, look_at) in the frame the camera follows."""
-    written: deque[tuple[Array, Array]] = field(default_factory=lambda: deque(maxlen=60))
-    """What this tab's camera was last told: a camera state the browser reports back late
-    is one of these, and is not taken for the user's mouse."""
+    written: deque[tuple[Array, Array]] = field(default_factory=lambda: deque(maxlen=150))
+    """What this tab's camera was last told (5 s of frames): a camera state the browser
+    reports back late is made of these, and is not taken for the user's mouse."""
+
+    def _told(self, seen: tuple[Array, Array]) -> bool:
+        """Whether the browser's camera is one it was told. Its eye and its target are two
+        messages: a report between them pairs an eye with an older target."""
+        eyes = np.array([w[0] for w in self.written])
+        targets = np.array([w[1] for w in self.written])
+        return bool(
+            (np.abs(eyes - seen[0]).max(axis=1) <= 1e-4).any()
+            and (np.abs(targets - seen[1]).max(axis=1) <= 1e-4).any()
+        )
 
     @property
     def target_frame(self) -> str:
@@ -151,7 +161,7 @@ class ViewState:
             self.local = (_apply(inverse, np.array(eye)), _apply(inverse, np.array(look_at)))
         else:
             seen = (np.asarray(camera.position, float), np.asarray(camera.look_at, float))
-            if not any(_same(seen, w) for w in self.written):
+            if not self.written or not self._told(seen):
                 # The user moved the camera: follow from where they put it.
                 self.local = (_apply(inverse, seen[0]), _apply(inverse, seen[1]))
         assert self.local is not None
