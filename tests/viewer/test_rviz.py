@@ -508,6 +508,20 @@ def test_a_config_without_views_or_options_has_rvizs(tmp_path: Path) -> None:
     assert read_rviz(tmp_path / "empty.rviz") == RvizConfig()
 
 
+def test_a_hidden_left_dock_is_read(tmp_path: Path) -> None:
+    """rviz opens a config with ``Hide Left Dock: true`` without its Displays panel; the
+    viewer then opens with its side panel folded."""
+    path = tmp_path / "bare.rviz"
+    path.write_text(
+        "Visualization Manager:\n  Displays: []\n"
+        "Window Geometry: {Width: 1000, Height: 700, Hide Left Dock: true}\n"
+    )
+    assert read_rviz(path).hides_left_dock
+    path.write_text("Window Geometry: {Hide Left Dock: false}\n")
+    assert not read_rviz(path).hides_left_dock
+    assert not RvizConfig.default().hides_left_dock
+
+
 def test_the_course_configs_are_read() -> None:
     config = read_rviz(EXAMPLES / "mbot_description" / "config" / "mbot.rviz")
     assert config.fixed_frame == "base_footprint"

@@ -273,6 +273,12 @@ class RvizConfig:
         }
         return cls(displays=[RvizDisplay("rviz/Grid", "Grid", True)], document=document)
 
+    @property
+    def hides_left_dock(self) -> bool:
+        """Whether rviz opens with its left dock (the Displays panel) hidden."""
+        geometry = self.document.get("Window Geometry")
+        return isinstance(geometry, dict) and geometry.get("Hide Left Dock") is True
+
     def walk(self) -> Iterator[RvizDisplay]:
         """Every display, groups' contents included (depth first, in file order)."""
         for display in self.displays:

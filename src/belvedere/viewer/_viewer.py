@@ -202,6 +202,8 @@ class Viewer:
         # rviz's layout: the 3D view beside the Displays panel, not under it (a software
         # renderer then draws a third fewer pixels, and the view's centre is visible).
         gui.main_panel.dock_left()
+        if self.rviz is not None and self.rviz.hides_left_dock:
+            gui.main_panel.minimize()  # as rviz opens that config; « opens it again
         if jsp is not None:  # `display`: the joints are what the user came for
             self._joint_panel(jsp)
         with gui.add_folder("Global Options"):
