@@ -247,6 +247,8 @@ def test_joint_slider_moves_the_wheel(scene: Scene, page: Any) -> None:
 
 def test_nav_goal_click_publishes_the_floor_point(scene: Scene, page: Any) -> None:
     page.get_by_role("button", name="2D Nav Goal").click()
+    # the button's callback and the click's are two messages: a click before it is no goal
+    wait_until(lambda: scene.viewer.tool == "goal", what="the 2D Nav Goal tool chosen")
     target = (-0.3, -0.8)  # in the view beside the docked panel
     x, y = project((*target, 0.0))
     page.mouse.click(x, y)

@@ -187,6 +187,7 @@ def test_a_2d_nav_goal_clicked_in_the_browser_drives_move_base_there(tmp_path: P
     try:
         with browser_page(viewer.url) as page:
             page.get_by_role("button", name="2D Nav Goal").click()
+            wait_until(lambda: viewer.tool == "goal", what="the 2D Nav Goal tool chosen")
             page.mouse.click(*project((*target, 0.0)))
             page.keyboard.down("Shift")
             page.mouse.click(*project((*towards, 0.0)))
