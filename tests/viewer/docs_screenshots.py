@@ -19,21 +19,20 @@ ROOT = Path(__file__).resolve().parents[2]
 SETTLE = 1.0
 """Seconds for the browser to draw the updates that followed the checked ones (the scan's
 next sweep, a slider's label): the picture shows a scene at rest, not one frame in."""
-SOFTWARE_WEBGL_NOTICE = "webgl-software-rendering"
-"""The id of viser's "Software WebGL rendering detected" notification."""
 COLOURS = 128
 """A palette this size keeps the viewer's flat shading and text, at a fifth of the bytes."""
 
 
 def docs_screenshot(page: Any, name: str) -> Path | None:
-    """With ``BELVEDERE_DOCS_SCREENSHOTS=DIR``: the page as ``DIR/<name>.png``, its path."""
+    """With ``BELVEDERE_DOCS_SCREENSHOTS=DIR``: the page as ``DIR/<name>.png``, its path.
+
+    ``page`` comes from ``browser_page``, which hides the test browser's software-WebGL notice
+    (not what a user's browser with a GPU shows)."""
     directory = os.environ.get(DOCS_SCREENSHOTS)
     if not directory:
         return None
     from PIL import Image
 
-    # the test browser's notice (SwiftShader, no GPU), not what a user's browser shows
-    page.add_style_tag(content=f"#{SOFTWARE_WEBGL_NOTICE} {{ display: none !important; }}")
     page.wait_for_timeout(SETTLE * 1000)
     image = Image.open(BytesIO(page.screenshot())).convert("RGB")
     path = ROOT / directory / f"{name}.png"

@@ -18,7 +18,7 @@ from belvedere.tf import JointStatePublisher, RobotStatePublisher, TransformList
 from belvedere.viewer import Viewer
 from belvedere.viewer._viewer import CAMERA_FOV, CAMERA_LOOK_AT, CAMERA_POSITION
 from tests.conftest import EXAMPLES
-from tests.viewer.docs_screenshots import SOFTWARE_WEBGL_NOTICE, docs_screenshot
+from tests.viewer.docs_screenshots import docs_screenshot
 from tests.waiting import wait_until
 
 pytestmark = pytest.mark.browser
@@ -26,6 +26,8 @@ pytestmark = pytest.mark.browser
 RGB = tuple[int, int, int]
 MBOT = EXAMPLES / "mbot_description" / "urdf" / "xacro" / "gazebo" / "mbot_gazebo.xacro"
 VIEWPORT = (1000, 700)
+SOFTWARE_WEBGL_NOTICE = "webgl-software-rendering"
+"""The id of viser's "Software WebGL rendering detected" notification."""
 VIEW: dict[str, float] = {"x": 0.0, "y": 0.0, "width": VIEWPORT[0], "height": VIEWPORT[1]}
 """The 3D view's box in the page, beside the docked panel: measured when a page opens."""
 CHROMIUM_ARGS = [
