@@ -237,7 +237,8 @@ def occupancy_from_pixels(
         # one-byte pixel counts as opaque.
         alpha = pixels[..., channels - 1] if channels > 1 else np.ones(mean.shape, np.uint8)
         shaded = between & (alpha >= 1)
-        with np.errstate(divide="ignore", invalid="ignore"):
+        # thresholds a hair apart make a huge ratio: clipped to 255 below, as in the loop
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             ratio = (occ - free_thresh) / (occupied_thresh - free_thresh)
             value = np.trunc(1 + 98 * ratio)
         cells[shaded] = np.clip(value[shaded], 0, 255).astype(np.uint8).view(np.int8)
