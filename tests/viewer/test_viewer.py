@@ -434,3 +434,29 @@ def test_a_followed_view_keeps_its_offset_through_a_report_between_eye_and_targe
     view.follow(camera, buffer, "odom")  # and moves along from there
     assert camera.look_at[0] == pytest.approx(target0[0] + 0.3)
     assert offset() == pytest.approx(first - np.array([0.0, 0.0, 1.0]))
+
+
+def test_a_followed_view_tells_a_tab_again_that_reports_an_older_camera() -> None:
+    """A tab whose report stays on an older camera it was told (its report of the newest one
+    lost in a race) is told the newest again after a second, not left behind for good."""
+    from belvedere.viewer._views import RESEND_S, ViewState
+
+    buffer = TFBuffer()
+    camera = _Camera()
+    now = [0.0]
+    view = ViewState("rviz/Orbit", {"Distance": 3.0, "Target Frame": "base"}, clock=lambda: now[0])
+    buffer.set_transform("odom", "base", Transform((1.45, 0.0, 0.0)), 1)
+    view.follow(camera, buffer, "odom")
+    older = (np.array(camera.position, dtype=float), np.array(camera.look_at, dtype=float))
+    buffer.set_transform("odom", "base", Transform((1.5, 0.0, 0.0)), 2)
+    view.follow(camera, buffer, "odom")
+    camera.position, camera.look_at = older  # the tab's last report: the older camera
+    view.follow(camera, buffer, "odom")  # the robot has stopped
+    assert camera.look_at[0] == pytest.approx(1.45)  # a report may lag: no resend at once
+    now[0] += RESEND_S
+    view.follow(camera, buffer, "odom")
+    assert camera.look_at[0] == pytest.approx(1.5)
+    camera.position = np.asarray(camera.position) + np.array([0.0, 0.0, 1.0])  # the mouse
+    now[0] += 2 * RESEND_S
+    view.follow(camera, buffer, "odom")
+    assert camera.position[2] == pytest.approx(older[0][2] + 1.0)  # the user's camera stays

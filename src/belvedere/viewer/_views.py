@@ -8,8 +8,9 @@ view from far above, so that a metre covers ``Scale`` pixels across the map as i
 from __future__ import annotations
 
 import math
+import time
 from collections import deque
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -23,6 +24,9 @@ __all__ = ["VIEW_TYPES", "ViewState", "camera_pose"]
 VIEW_TYPES = ("rviz/Orbit", "rviz/XYOrbit", "rviz/ThirdPersonFollower", "rviz/TopDownOrtho")
 FIXED = "<Fixed Frame>"
 ORTHO_FOV = math.radians(4.0)
+RESEND_S = 1.0
+"""How long a tab may report an older camera than the one it was last told before it is told
+again: a told state can reach viser's server after the tab's report of the newer one."""
 
 
 def _number(properties: Mapping[str, Any], key: str, default: float) -> float:
@@ -106,6 +110,8 @@ class ViewState:
     written: deque[tuple[Array, Array]] = field(default_factory=lambda: deque(maxlen=150))
     """What this tab's camera was last told (5 s of frames): a camera state the browser
     reports back late is made of these, and is not taken for the user's mouse."""
+    clock: Callable[[], float] = time.monotonic
+    sent_at: float = -math.inf
 
     def _told(self, seen: tuple[Array, Array]) -> bool:
         """Whether the browser's camera is one it was told. Its eye and its target are two
@@ -159,6 +165,7 @@ class ViewState:
                 camera.far = max(1000.0, eye[2] * 2)
             self.placed = True
             self.local = (_apply(inverse, np.array(eye)), _apply(inverse, np.array(look_at)))
+            seen = None
         else:
             seen = (np.asarray(camera.position, float), np.asarray(camera.look_at, float))
             if not self.written or not self._told(seen):
@@ -166,9 +173,13 @@ class ViewState:
                 self.local = (_apply(inverse, seen[0]), _apply(inverse, seen[1]))
         assert self.local is not None
         want = (_apply(carrier, self.local[0]), _apply(carrier, self.local[1]))
+        now = self.clock()
         if self.written and _same(want, self.written[-1]):
-            return
-        self.written.append(want)
+            if seen is None or _same(seen, want) or now - self.sent_at < RESEND_S:
+                return
+        else:
+            self.written.append(want)
+        self.sent_at = now
         camera.position, camera.look_at = want
 
     def properties_from(self, camera: Any, buffer: TFBuffer, fixed: str) -> dict[str, Any]:
