@@ -16,7 +16,7 @@ from belvedere.description.urdf import RobotModel
 from belvedere.graph import Graph
 from belvedere.tf import JointStatePublisher, RobotStatePublisher, TransformListener
 from belvedere.viewer import Viewer
-from belvedere.viewer._viewer import CAMERA_FOV, CAMERA_LOOK_AT, CAMERA_POSITION
+from belvedere.viewer._views import CAMERA_FOV, CAMERA_LOOK_AT, CAMERA_POSITION
 from tests.conftest import EXAMPLES
 from tests.viewer.docs_screenshots import docs_screenshot
 from tests.waiting import wait_until

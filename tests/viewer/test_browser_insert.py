@@ -220,6 +220,8 @@ def test_draw_a_room_with_a_door(world: World, tmp_path: Path) -> None:
             detail=lambda: (editor.building.walls, editor.chain, editor.note.content),
         )
         _choose(page, "Draw", "Door")
+        # the dropdown's update and the scene click are two messages: a click first is a wall's
+        wait_until(lambda: editor.mode.value == "Door", what="the door tool chosen")
         page.mouse.click(*_top((1.0, -1.62)))
         wait_until(lambda: world.editor.building.openings, what="the door")
         door = world.editor.building.openings[0]

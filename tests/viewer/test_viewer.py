@@ -460,3 +460,70 @@ def test_a_followed_view_tells_a_tab_again_that_reports_an_older_camera() -> Non
     now[0] += 2 * RESEND_S
     view.follow(camera, buffer, "odom")
     assert camera.position[2] == pytest.approx(older[0][2] + 1.0)  # the user's camera stays
+
+
+def test_a_followed_view_keeps_its_offset_through_a_target_it_never_told() -> None:
+    """viser's position setter sends a target moved with the eye from the camera it last heard
+    of before the target the view sets: a report of a told eye with that target is not the
+    user's mouse (the view once stayed 5 cm behind a stopped robot for good)."""
+    from belvedere.viewer._views import ViewState
+
+    buffer = TFBuffer()
+    camera = _Camera()
+    view = ViewState("rviz/Orbit", {"Distance": 3.0, "Target Frame": "base"})
+    buffer.set_transform("odom", "base", Transform((1.45, 0.0, 0.0)), 1)
+    view.follow(camera, buffer, "odom")
+    first = np.asarray(camera.look_at) - np.asarray(camera.position)
+    buffer.set_transform("odom", "base", Transform((1.5, 0.0, 0.0)), 2)
+    view.follow(camera, buffer, "odom")
+    camera.look_at = np.asarray(camera.look_at) - np.array([0.02, 0.0, 0.0])  # never told
+    view.follow(camera, buffer, "odom")
+    buffer.set_transform("odom", "base", Transform((1.6, 0.0, 0.0)), 3)
+    view.follow(camera, buffer, "odom")
+    assert camera.look_at[0] == pytest.approx(1.6)
+    assert np.asarray(camera.look_at) - np.asarray(camera.position) == pytest.approx(first)
+
+
+def test_a_placed_view_is_not_undone_by_a_report_of_the_camera_before_it() -> None:
+    """The tab may report the camera it had before the view placed it (the previous view's)
+    after the placement: that is not the user's mouse. Once it has reported a camera it was
+    told, a camera it was not told is the user's."""
+    from belvedere.viewer._views import ViewState
+
+    buffer = TFBuffer()
+    camera = _Camera()
+    camera.position, camera.look_at = np.array([3.0, 0.5, 2.0]), np.array([0.0, 0.0, 0.1])
+    before = (camera.position, camera.look_at)
+    view = ViewState("rviz/Orbit", {"Distance": 3.0, "Target Frame": "base"})
+    buffer.set_transform("odom", "base", Transform((0.0, 0.0, 0.0)), 1)
+    view.follow(camera, buffer, "odom")
+    placed = np.asarray(camera.look_at) - np.asarray(camera.position)
+    camera.position, camera.look_at = before  # a late report
+    buffer.set_transform("odom", "base", Transform((0.5, 0.0, 0.0)), 2)
+    view.follow(camera, buffer, "odom")
+    assert np.asarray(camera.look_at) - np.asarray(camera.position) == pytest.approx(placed)
+    assert camera.look_at[0] == pytest.approx(0.5)
+    view.follow(camera, buffer, "odom")  # the tab reports a told camera
+    camera.position, camera.look_at = before  # now it is the user's
+    view.follow(camera, buffer, "odom")
+    assert camera.position == pytest.approx(before[0])
+
+
+def test_a_followed_view_puts_back_a_tab_that_went_back_to_the_initial_camera() -> None:
+    """viser's client may move a tab back to the initial camera after a view has placed it:
+    the view puts it back (after a second, when the target stands still) and keeps its offset."""
+    from belvedere.viewer._views import CAMERA_LOOK_AT, CAMERA_POSITION, RESEND_S, ViewState
+
+    buffer = TFBuffer()
+    camera = _Camera()
+    now = [0.0]
+    view = ViewState("rviz/Orbit", {"Distance": 3.0, "Target Frame": "base"}, clock=lambda: now[0])
+    buffer.set_transform("odom", "base", Transform((0.5, 0.0, 0.0)), 1)
+    view.follow(camera, buffer, "odom")
+    placed = (np.array(camera.position, dtype=float), np.array(camera.look_at, dtype=float))
+    view.follow(camera, buffer, "odom")  # told: synced
+    camera.position, camera.look_at = np.array(CAMERA_POSITION), np.array(CAMERA_LOOK_AT)
+    now[0] += RESEND_S
+    view.follow(camera, buffer, "odom")
+    assert camera.position == pytest.approx(placed[0])
+    assert camera.look_at == pytest.approx(placed[1])

@@ -34,7 +34,13 @@ from belvedere.viewer._display import Display, DisplayContext, color_tuple
 from belvedere.viewer._panel import DisplayPanel, global_status_markdown, set_handle
 from belvedere.viewer._rviz import RvizConfig, RvizDisplay, RvizView, format_color, write_rviz
 from belvedere.viewer._status import Level, Status
-from belvedere.viewer._views import VIEW_TYPES, ViewState
+from belvedere.viewer._views import (
+    CAMERA_FOV,
+    CAMERA_LOOK_AT,
+    CAMERA_POSITION,
+    VIEW_TYPES,
+    ViewState,
+)
 from belvedere.viewer._world import WorldDrawing
 from belvedere.world import WorldModel
 
@@ -51,11 +57,6 @@ class SimControls(Protocol):
     def reset(self) -> None: ...
     def set_rtf(self, rtf: float | None) -> None: ...
 
-
-CAMERA_POSITION = (1.2, -1.6, 1.2)
-CAMERA_LOOK_AT = (0.0, 0.0, 0.1)
-CAMERA_FOV = math.radians(50.0)
-"""The initial view without a config: a robot-sized scene seen from the front right, above."""
 
 STATUS_PERIOD_S = 0.25
 """How often the panel's statuses and topic lists are refreshed (not every frame)."""

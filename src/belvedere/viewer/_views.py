@@ -19,11 +19,23 @@ import numpy.typing as npt
 
 from belvedere.tf import TFBuffer, TFError, Transform, quat_xyzw_to_matrix
 
-__all__ = ["VIEW_TYPES", "ViewState", "camera_pose"]
+__all__ = [
+    "CAMERA_FOV",
+    "CAMERA_LOOK_AT",
+    "CAMERA_POSITION",
+    "VIEW_TYPES",
+    "ViewState",
+    "camera_pose",
+]
 
 VIEW_TYPES = ("rviz/Orbit", "rviz/XYOrbit", "rviz/ThirdPersonFollower", "rviz/TopDownOrtho")
 FIXED = "<Fixed Frame>"
 ORTHO_FOV = math.radians(4.0)
+CAMERA_POSITION = (1.2, -1.6, 1.2)
+CAMERA_LOOK_AT = (0.0, 0.0, 0.1)
+CAMERA_FOV = math.radians(50.0)
+"""The initial view without a config: a robot-sized scene seen from the front right, above.
+viser's client may move a tab's camera back to it a moment after a view has placed it."""
 RESEND_S = 1.0
 """How long a tab may report an older camera than the one it was last told before it is told
 again: a told state can reach viser's server after the tab's report of the newer one."""
@@ -110,18 +122,22 @@ class ViewState:
     written: deque[tuple[Array, Array]] = field(default_factory=lambda: deque(maxlen=150))
     """What this tab's camera was last told (5 s of frames): a camera state the browser
     reports back late is made of these, and is not taken for the user's mouse."""
+    synced: bool = False
+    """Whether the tab has reported a camera it was told: until then its reports are of the
+    camera it had before (viser's initial one, or the previous view's), not the user's mouse."""
     clock: Callable[[], float] = time.monotonic
     sent_at: float = -math.inf
 
     def _told(self, seen: tuple[Array, Array]) -> bool:
-        """Whether the browser's camera is one it was told. Its eye and its target are two
-        messages: a report between them pairs an eye with an older target."""
-        eyes = np.array([w[0] for w in self.written])
-        targets = np.array([w[1] for w in self.written])
-        return bool(
-            (np.abs(eyes - seen[0]).max(axis=1) <= 1e-4).any()
-            and (np.abs(targets - seen[1]).max(axis=1) <= 1e-4).any()
-        )
+        """Whether the browser's camera is one it was told, judged by its eye: the user's mouse
+        moves the eye (orbit, zoom and pan alike), but a report's target can be one the tab was
+        never told. The eye and the target are two messages, so a report between them pairs an
+        eye with an older target; and viser's position setter first sends a target shifted with
+        the eye from the camera it last heard of, which a report can catch. The initial camera is
+        one it was told too: viser's client may go back to it after the view has placed it (its
+        initial-camera effect runs after the messages that placed it), and is told again."""
+        eyes = np.array([*(w[0] for w in self.written), CAMERA_POSITION])
+        return bool((np.abs(eyes - seen[0]).max(axis=1) <= 1e-4).any())
 
     @property
     def target_frame(self) -> str:
@@ -168,7 +184,9 @@ class ViewState:
             seen = None
         else:
             seen = (np.asarray(camera.position, float), np.asarray(camera.look_at, float))
-            if not self.written or not self._told(seen):
+            if self._told(seen):
+                self.synced = True
+            elif self.synced:
                 # The user moved the camera: follow from where they put it.
                 self.local = (_apply(inverse, seen[0]), _apply(inverse, seen[1]))
         assert self.local is not None
