@@ -399,131 +399,124 @@ class _Camera:
         self.image_height = 700
 
 
+class _Following:
+    """An Orbit view following frame ``base`` in ``odom`` into a :class:`_Camera`, on a clock
+    the test moves."""
+
+    def __init__(self, camera: _Camera | None = None) -> None:
+        from belvedere.viewer._views import ViewState
+
+        self.buffer = TFBuffer()
+        self.camera = camera or _Camera()
+        self.now = 0.0
+        self.view = ViewState(
+            "rviz/Orbit", {"Distance": 3.0, "Target Frame": "base"}, clock=lambda: self.now
+        )
+        self._stamp = 0
+
+    def frame(self, base_x: float | None = None) -> None:
+        """One frame of the view, the base first moved to ``base_x`` if given."""
+        if base_x is not None:
+            self._stamp += 1
+            self.buffer.set_transform("odom", "base", Transform((base_x, 0.0, 0.0)), self._stamp)
+        self.view.follow(self.camera, self.buffer, "odom")
+
+    def seen(self) -> tuple[Any, Any]:
+        return (np.array(self.camera.position, dtype=float), np.array(self.camera.look_at, float))
+
+    def offset(self) -> Any:
+        return np.asarray(self.camera.look_at) - np.asarray(self.camera.position)
+
+
 def test_a_followed_view_keeps_its_offset_through_a_report_between_eye_and_target() -> None:
     """The eye and the target reach the browser as two messages: a camera report made
     between them (a new eye, the older target) is not the user's mouse, and the view keeps
     following with the offset it had; a camera the user moved follows from where it was put."""
-    from belvedere.viewer._views import ViewState
-
-    buffer = TFBuffer()
-    camera = _Camera()
-    view = ViewState("rviz/Orbit", {"Distance": 3.0, "Target Frame": "base"})
-
-    def base_at(x: float) -> None:
-        buffer.set_transform("odom", "base", Transform((x, 0.0, 0.0)), round(x * 1e10))
-
-    def offset() -> Any:
-        return np.asarray(camera.look_at) - np.asarray(camera.position)
-
-    base_at(0.0)
-    view.follow(camera, buffer, "odom")
-    first = offset().copy()
-    target0 = np.array(camera.look_at, dtype=float)
-    base_at(0.1)
-    view.follow(camera, buffer, "odom")
-    camera.look_at = target0  # reported before the new target came
-    base_at(0.2)
-    view.follow(camera, buffer, "odom")
-    assert camera.look_at[0] == pytest.approx(target0[0] + 0.2)
-    assert offset() == pytest.approx(first)
-    camera.position = np.asarray(camera.position) + np.array([0.0, 0.0, 1.0])  # the mouse
-    base_at(0.3)
-    view.follow(camera, buffer, "odom")  # the camera stays where the user put it
-    assert camera.look_at[0] == pytest.approx(target0[0] + 0.2)
-    base_at(0.4)
-    view.follow(camera, buffer, "odom")  # and moves along from there
-    assert camera.look_at[0] == pytest.approx(target0[0] + 0.3)
-    assert offset() == pytest.approx(first - np.array([0.0, 0.0, 1.0]))
+    f = _Following()
+    f.frame(0.0)
+    first = f.offset()
+    target0 = f.seen()[1]
+    f.frame(0.1)
+    f.camera.look_at = target0  # reported before the new target came
+    f.frame(0.2)
+    assert f.camera.look_at[0] == pytest.approx(target0[0] + 0.2)
+    assert f.offset() == pytest.approx(first)
+    f.camera.position = np.asarray(f.camera.position) + np.array([0.0, 0.0, 1.0])  # the mouse
+    f.frame(0.3)  # the camera stays where the user put it
+    assert f.camera.look_at[0] == pytest.approx(target0[0] + 0.2)
+    f.frame(0.4)  # and moves along from there
+    assert f.camera.look_at[0] == pytest.approx(target0[0] + 0.3)
+    assert f.offset() == pytest.approx(first - np.array([0.0, 0.0, 1.0]))
 
 
 def test_a_followed_view_tells_a_tab_again_that_reports_an_older_camera() -> None:
     """A tab whose report stays on an older camera it was told (its report of the newest one
     lost in a race) is told the newest again after a second, not left behind for good."""
-    from belvedere.viewer._views import RESEND_S, ViewState
+    from belvedere.viewer._views import RESEND_S
 
-    buffer = TFBuffer()
-    camera = _Camera()
-    now = [0.0]
-    view = ViewState("rviz/Orbit", {"Distance": 3.0, "Target Frame": "base"}, clock=lambda: now[0])
-    buffer.set_transform("odom", "base", Transform((1.45, 0.0, 0.0)), 1)
-    view.follow(camera, buffer, "odom")
-    older = (np.array(camera.position, dtype=float), np.array(camera.look_at, dtype=float))
-    buffer.set_transform("odom", "base", Transform((1.5, 0.0, 0.0)), 2)
-    view.follow(camera, buffer, "odom")
-    camera.position, camera.look_at = older  # the tab's last report: the older camera
-    view.follow(camera, buffer, "odom")  # the robot has stopped
-    assert camera.look_at[0] == pytest.approx(1.45)  # a report may lag: no resend at once
-    now[0] += RESEND_S
-    view.follow(camera, buffer, "odom")
-    assert camera.look_at[0] == pytest.approx(1.5)
-    camera.position = np.asarray(camera.position) + np.array([0.0, 0.0, 1.0])  # the mouse
-    now[0] += 2 * RESEND_S
-    view.follow(camera, buffer, "odom")
-    assert camera.position[2] == pytest.approx(older[0][2] + 1.0)  # the user's camera stays
+    f = _Following()
+    f.frame(1.45)
+    older = f.seen()
+    f.frame(1.5)
+    f.camera.position, f.camera.look_at = older  # the tab's last report: the older camera
+    f.frame()  # the robot has stopped
+    assert f.camera.look_at[0] == pytest.approx(1.45)  # a report may lag: no resend at once
+    f.now += RESEND_S
+    f.frame()
+    assert f.camera.look_at[0] == pytest.approx(1.5)
+    f.camera.position = np.asarray(f.camera.position) + np.array([0.0, 0.0, 1.0])  # the mouse
+    f.now += 2 * RESEND_S
+    f.frame()
+    assert f.camera.position[2] == pytest.approx(older[0][2] + 1.0)  # the user's camera stays
 
 
 def test_a_followed_view_keeps_its_offset_through_a_target_it_never_told() -> None:
     """viser's position setter sends a target moved with the eye from the camera it last heard
     of before the target the view sets: a report of a told eye with that target is not the
-    user's mouse (the view once stayed 5 cm behind a stopped robot for good)."""
-    from belvedere.viewer._views import ViewState
-
-    buffer = TFBuffer()
-    camera = _Camera()
-    view = ViewState("rviz/Orbit", {"Distance": 3.0, "Target Frame": "base"})
-    buffer.set_transform("odom", "base", Transform((1.45, 0.0, 0.0)), 1)
-    view.follow(camera, buffer, "odom")
-    first = np.asarray(camera.look_at) - np.asarray(camera.position)
-    buffer.set_transform("odom", "base", Transform((1.5, 0.0, 0.0)), 2)
-    view.follow(camera, buffer, "odom")
-    camera.look_at = np.asarray(camera.look_at) - np.array([0.02, 0.0, 0.0])  # never told
-    view.follow(camera, buffer, "odom")
-    buffer.set_transform("odom", "base", Transform((1.6, 0.0, 0.0)), 3)
-    view.follow(camera, buffer, "odom")
-    assert camera.look_at[0] == pytest.approx(1.6)
-    assert np.asarray(camera.look_at) - np.asarray(camera.position) == pytest.approx(first)
+    user's mouse."""
+    f = _Following()
+    f.frame(1.45)
+    first = f.offset()
+    f.frame(1.5)
+    f.camera.look_at = np.asarray(f.camera.look_at) - np.array([0.02, 0.0, 0.0])  # never told
+    f.frame()
+    f.frame(1.6)
+    assert f.camera.look_at[0] == pytest.approx(1.6)
+    assert f.offset() == pytest.approx(first)
 
 
 def test_a_placed_view_is_not_undone_by_a_report_of_the_camera_before_it() -> None:
     """The tab may report the camera it had before the view placed it (the previous view's)
     after the placement: that is not the user's mouse. Once it has reported a camera it was
     told, a camera it was not told is the user's."""
-    from belvedere.viewer._views import ViewState
-
-    buffer = TFBuffer()
     camera = _Camera()
     camera.position, camera.look_at = np.array([3.0, 0.5, 2.0]), np.array([0.0, 0.0, 0.1])
     before = (camera.position, camera.look_at)
-    view = ViewState("rviz/Orbit", {"Distance": 3.0, "Target Frame": "base"})
-    buffer.set_transform("odom", "base", Transform((0.0, 0.0, 0.0)), 1)
-    view.follow(camera, buffer, "odom")
-    placed = np.asarray(camera.look_at) - np.asarray(camera.position)
+    f = _Following(camera)
+    f.frame(0.0)
+    placed = f.offset()
     camera.position, camera.look_at = before  # a late report
-    buffer.set_transform("odom", "base", Transform((0.5, 0.0, 0.0)), 2)
-    view.follow(camera, buffer, "odom")
-    assert np.asarray(camera.look_at) - np.asarray(camera.position) == pytest.approx(placed)
+    f.frame(0.5)
+    assert f.offset() == pytest.approx(placed)
     assert camera.look_at[0] == pytest.approx(0.5)
-    view.follow(camera, buffer, "odom")  # the tab reports a told camera
+    f.frame()  # the tab reports a told camera
     camera.position, camera.look_at = before  # now it is the user's
-    view.follow(camera, buffer, "odom")
+    f.frame()
     assert camera.position == pytest.approx(before[0])
 
 
 def test_a_followed_view_puts_back_a_tab_that_went_back_to_the_initial_camera() -> None:
-    """viser's client may move a tab back to the initial camera after a view has placed it:
-    the view puts it back (after a second, when the target stands still) and keeps its offset."""
-    from belvedere.viewer._views import CAMERA_LOOK_AT, CAMERA_POSITION, RESEND_S, ViewState
+    """viser's client may move a tab back to the initial camera after a view has placed it
+    (the view once followed from there, 5 cm behind a stopped robot): the view puts it back,
+    after a second when the target stands still."""
+    from belvedere.viewer._views import CAMERA_LOOK_AT, CAMERA_POSITION, RESEND_S
 
-    buffer = TFBuffer()
-    camera = _Camera()
-    now = [0.0]
-    view = ViewState("rviz/Orbit", {"Distance": 3.0, "Target Frame": "base"}, clock=lambda: now[0])
-    buffer.set_transform("odom", "base", Transform((0.5, 0.0, 0.0)), 1)
-    view.follow(camera, buffer, "odom")
-    placed = (np.array(camera.position, dtype=float), np.array(camera.look_at, dtype=float))
-    view.follow(camera, buffer, "odom")  # told: synced
-    camera.position, camera.look_at = np.array(CAMERA_POSITION), np.array(CAMERA_LOOK_AT)
-    now[0] += RESEND_S
-    view.follow(camera, buffer, "odom")
-    assert camera.position == pytest.approx(placed[0])
-    assert camera.look_at == pytest.approx(placed[1])
+    f = _Following()
+    f.frame(0.5)
+    placed = f.seen()
+    f.frame()  # told: synced
+    f.camera.position, f.camera.look_at = np.array(CAMERA_POSITION), np.array(CAMERA_LOOK_AT)
+    f.now += RESEND_S
+    f.frame()
+    assert f.seen()[0] == pytest.approx(placed[0])
+    assert f.seen()[1] == pytest.approx(placed[1])
