@@ -18,7 +18,18 @@ from typing import Any
 
 import pytest
 
-from belvedere.bags import BagError, Decoder, Player, PlayOptions, open_bag, reindex
+from belvedere.bags import (
+    BagError,
+    Decoder,
+    Player,
+    PlayOptions,
+    Recorder,
+    RecordOptions,
+    Sample,
+    TapRecording,
+    open_bag,
+    reindex,
+)
 from belvedere.cli import main
 from belvedere.description.urdf import Pose, RobotModel
 from belvedere.graph import Graph, ZenohTransport
@@ -100,6 +111,37 @@ def _physics_sim(graph: Graph) -> None:
     )
     drive = graph.create_node("driver").publisher("/cmd_vel", "geometry_msgs/Twist", latch=True)
     drive.publish_data({"linear": {"x": 0.2}, "angular": {"z": 0.5}})
+
+
+@pytest.mark.parametrize("asked_first", [True, False])
+def test_a_latched_publication_is_recorded_once_whichever_way_comes_first(
+    endpoint: str, asked_first: bool
+) -> None:
+    """The recorder hears a latched message through its tap and asks for the latched ones
+    when it sees their publisher: the reply can come before or after the tapped copy (CI once
+    recorded a latched /cmd_vel twice). A publication is recorded once, a later one too."""
+    transport = ZenohTransport(endpoint=endpoint)
+    source = TapRecording(transport, Recorder(RecordOptions(all=True)))
+    try:
+        # what discovering the publisher tells the recorder (its type; that it latches)
+        source._types["/cmd_vel"] = "geometry_msgs/msg/Twist"
+        source._latching["/cmd_vel"] = True
+
+        def sample(number: int, asked: bool) -> Sample:
+            return Sample(
+                "/cmd_vel", None, 1, b"twist", True, 1, fetched=asked, latch=("driver", number)
+            )
+
+        recorded = [
+            *source.ready(sample(1, asked_first)),
+            *source.ready(sample(1, not asked_first)),
+            *source.ready(sample(2, False)),
+            *source.ready(sample(1, True)),  # an older reply, late
+        ]
+    finally:
+        source.close()
+        transport.close()
+    assert [s.latch for s in recorded] == [("driver", 1), ("driver", 2)]
 
 
 @pytest.mark.parametrize("ext", ["bag", "mcap"])

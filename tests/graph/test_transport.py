@@ -8,7 +8,7 @@ from typing import Any
 
 import pytest
 
-from belvedere.graph import Graph, GraphError, ZenohTransport
+from belvedere.graph import Graph, GraphError, Tapped, ZenohTransport
 from belvedere.graph._zenoh import _STAMP, open_session
 from belvedere.msgs import message_from_data, types
 from tests.waiting import DEADLINE, wait_until
@@ -229,6 +229,34 @@ def test_messages_of_another_type_are_dropped_with_one_warning_per_publisher(
     ]
     assert len(warnings) == 3
     assert warnings[2].startswith("dropping messages on /cmd_vel that are not geometry_msgs/Twist:")
+
+
+def test_a_tap_and_a_question_name_the_same_latched_publication(endpoint: str) -> None:
+    """A recorder may hear a latched message through its tap and in the reply to its question
+    for latched messages, in either order: both name the publication (its publisher and its
+    number), so it is recorded once; a new publication has a higher number."""
+    listener = ZenohTransport(endpoint=endpoint)
+    tapped: list[tuple[bytes, Tapped]] = []
+    tap = listener.tap("/cmd_vel", lambda _topic, data, t: tapped.append((data, t)))
+    talker = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint))
+    pub = talker.create_node("driver").publisher("/cmd_vel", "geometry_msgs/Twist", latch=True)
+    talker.start(rtf=None)
+    try:
+        pub.publish_data({"linear": {"x": 0.2}})
+        wait_until(lambda: tapped, what="the tapped message")
+        asked = wait_until(lambda: listener.latched_raw("/cmd_vel"), what="the latched reply")
+        pub.publish_data({"linear": {"x": 0.3}})
+        wait_until(lambda: len(tapped) == 2, what="the second message")
+    finally:
+        tap.undeclare()
+        talker.shutdown()
+        listener.close()
+    (data, first), (_, second) = tapped
+    assert asked == [(data, first.latch)]
+    assert first.latch is not None
+    assert second.latch is not None
+    assert first.latch[0] == second.latch[0]
+    assert second.latch[1] > first.latch[1]
 
 
 def test_a_latched_message_reaches_the_subscribers_that_were_there_first(endpoint: str) -> None:

@@ -31,7 +31,7 @@ from belvedere.bags._files import BagWriter, create_writer
 from belvedere.bags._model import BagError, encode, transcode
 from belvedere.bags._options import RecordOptions, bag_name
 from belvedere.errors import BelvedereError
-from belvedere.graph import GraphError, Node, ZenohTransport
+from belvedere.graph import GraphError, Node, Tapped, ZenohTransport
 from belvedere.msgs import MessageTypeError, types
 
 __all__ = ["GraphRecording", "Recorder", "Sample", "TapRecording"]
@@ -63,6 +63,9 @@ class Sample:
     callerid: str | None = None
     fetched: bool = False
     """A latched message asked for (it may have come through the tap too)."""
+    latch: tuple[str, int] | None = None
+    """Which latching publisher's publication it is (its number): recorded once however it
+    came."""
     sim: bool = False
     """Its stamp is the simulated time its publisher sent it at."""
 
@@ -432,7 +435,8 @@ class TapRecording(Source):
         self._latching: dict[str, bool] = {}
         self._announced: set[str] = set()
         self._pending: deque[Sample] = deque()
-        self._recent: dict[str, deque[bytes]] = {}
+        self._latched_recorded: dict[str, dict[str, int]] = {}
+        """Per topic, each latching publisher's newest publication recorded."""
         self._clock_ns: int | None = None
         self._sim_now = 0
         """The latest simulated time a message was sent at."""
@@ -446,11 +450,14 @@ class TapRecording(Source):
         transport = self.transport
         options = self.options
 
-        def arrived(topic: str, data: bytes, sent: tuple[bool, int] | None) -> None:
+        def arrived(topic: str, data: bytes, tapped: Tapped) -> None:
             # Published in simulated time: that is the graph's time it arrived at (delivery
             # takes no simulated time), exact whatever order the topics' taps deliver in.
+            sent = tapped.stamp
             stamp = sent[1] if sent is not None and sent[0] else None
-            put(Sample(topic, None, stamp, data, True, time.time_ns(), sim=stamp is not None))
+            wall = time.time_ns()
+            sim = stamp is not None
+            put(Sample(topic, None, stamp, data, True, wall, sim=sim, latch=tapped.latch))
 
         if options.all or options.regex:
             self._taps.append(transport.tap(None, arrived))
@@ -486,8 +493,11 @@ class TapRecording(Source):
     def _fetch_latched(self, topic: str) -> None:
         latched = self.transport.latched_raw(topic)
         self._latching[topic] = bool(latched)
-        for data in latched:
-            self.recorder.put(Sample(topic, None, None, data, True, time.time_ns(), fetched=True))
+        for data, latch in latched:
+            wall = time.time_ns()
+            self.recorder.put(
+                Sample(topic, None, None, data, True, wall, fetched=True, latch=latch)
+            )
 
     # --- the recorder's thread ------------------------------------------------------------
     def ready(self, sample: Sample) -> Iterable[Sample]:
@@ -502,13 +512,14 @@ class TapRecording(Source):
                 self._sim_now = max(self._sim_now, sample.stamp_ns)
             else:
                 sample.stamp_ns = None
-        if sample.fetched:
-            recent = self._recent.get(topic)
-            if recent is not None and sample.payload in recent:
-                return ()  # it came through the tap already
-        elif self._latching.get(topic, True):
-            recent = self._recent.setdefault(topic, deque(maxlen=4))
-            recent.append(sample.payload)
+        if sample.latch is not None:
+            # A latched publication comes through the tap, as a reply to the recorder's
+            # question, or again when its publisher first sees a subscriber here, in any order.
+            who, number = sample.latch
+            recorded = self._latched_recorded.setdefault(topic, {})
+            if recorded.get(who, -1) >= number:
+                return ()
+            recorded[who] = number
         if not self.options.wants(topic):
             return ()
         if sample.stamp_ns is None:  # from a publisher in wall time: stamped at receipt

@@ -65,6 +65,7 @@ __all__ = [
     "DEFAULT_ENDPOINT",
     "MAX_DOMAIN",
     "GraphInfo",
+    "Tapped",
     "TransportError",
     "ZenohTransport",
     "check_domain",
@@ -110,6 +111,19 @@ class TopicStats:
 
 BULKY: Final = 64 * 1024
 """Bytes of a message's ``data`` array from which sending it takes long enough to matter."""
+
+
+@dataclass(frozen=True, slots=True)
+class Tapped:
+    """What a tap tells of a message besides its bytes."""
+
+    stamp: tuple[bool, int] | None = None
+    """(simulated?, ns): the publishing graph's time when it was published (None from a
+    publisher that does not say)."""
+    latch: tuple[str, int] | None = None
+    """A latching publisher's message: (that publisher, the number of its publication). The
+    same publication can also come as a reply to :meth:`ZenohTransport.latched_raw`, or be
+    sent again when its publisher first sees a subscriber elsewhere."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -771,22 +785,20 @@ class ZenohTransport:
             zsub.undeclare()
 
     # --- raw access (recorders) ----------------------------------------------------------------
-    def tap(
-        self, topic: str | None, callback: Callable[[str, bytes, tuple[bool, int] | None], None]
-    ) -> Any:
-        """Call ``callback(topic, cdr_bytes, sent)`` on Zenoh's thread for each message other
-        processes publish on ``topic`` (on every topic when None), never deserialized here;
-        ``sent`` is (simulated?, ns): the publishing graph's time when it was published (None
-        from a publisher that does not say). One tap delivers in arrival order; separate taps
-        run on separate threads. Returns the subscriber (``undeclare()`` ends it). A tap on
-        every topic makes every publisher send (as ``rosbag record -a`` subscribes to all)."""
+    def tap(self, topic: str | None, callback: Callable[[str, bytes, Tapped], None]) -> Any:
+        """Call ``callback(topic, cdr_bytes, tapped)`` on Zenoh's thread for each message other
+        processes publish on ``topic`` (on every topic when None), never deserialized here.
+        One tap delivers in arrival order; separate taps run on separate threads. Returns the
+        subscriber (``undeclare()`` ends it). A tap on every topic makes every publisher send
+        (as ``rosbag record -a`` subscribes to all)."""
         prefix = self._key("t")
         key = self._key("t", topic) if topic else self._key("t/**")
         skip = len(prefix)
 
         def on_sample(sample: Any) -> None:
-            sent = _sent(sample.attachment).stamp
-            callback(str(sample.key_expr)[skip:], sample.payload.to_bytes(), sent)
+            sent = _sent(sample.attachment)
+            tapped = Tapped(sent.stamp, sent.latch)
+            callback(str(sample.key_expr)[skip:], sample.payload.to_bytes(), tapped)
 
         return self.session.declare_subscriber(key, on_sample)
 
@@ -805,10 +817,13 @@ class ZenohTransport:
 
         return self.session.liveliness().declare_subscriber(prefix + "**", on_token, history=True)
 
-    def latched_raw(self, topic: str, timeout: float = 2.0) -> list[bytes]:
-        """The CDR bytes of the messages latching publishers in other processes hold on
-        ``topic`` (none if no publisher there latches)."""
-        found: list[bytes] = []
+    def latched_raw(
+        self, topic: str, timeout: float = 2.0
+    ) -> list[tuple[bytes, tuple[str, int] | None]]:
+        """The messages latching publishers in other processes hold on ``topic`` (none if no
+        publisher there latches): their CDR bytes, and which publication each is (as
+        :class:`Tapped` says of one that came through a tap)."""
+        found: list[tuple[bytes, tuple[str, int] | None]] = []
         with contextlib.suppress(zenoh.ZError):
             replies = self.session.get(
                 self._key("l", topic),
@@ -816,7 +831,12 @@ class ZenohTransport:
                 consolidation=zenoh.ConsolidationMode.NONE,
                 allowed_destination=zenoh.Locality.REMOTE,
             )
-            found = [r.ok.payload.to_bytes() for r in replies if r.ok is not None]
+            for reply in replies:
+                if reply.ok is None:
+                    continue
+                attachment = reply.ok.attachment
+                text = attachment.to_bytes().decode(errors="replace") if attachment else ""
+                found.append((reply.ok.payload.to_bytes(), _sender(text)[2]))
         return found
 
     # --- services ------------------------------------------------------------------------------
