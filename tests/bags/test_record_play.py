@@ -113,10 +113,7 @@ def _physics_sim(graph: Graph) -> None:
     drive.publish_data({"linear": {"x": 0.2}, "angular": {"z": 0.5}})
 
 
-@pytest.mark.parametrize("asked_first", [True, False])
-def test_a_latched_publication_is_recorded_once_whichever_way_comes_first(
-    endpoint: str, asked_first: bool
-) -> None:
+def test_a_latched_publication_is_recorded_once_however_often_it_comes(endpoint: str) -> None:
     """The recorder hears a latched message through its tap and asks for the latched ones
     when it sees their publisher: the reply can come before or after the tapped copy (CI once
     recorded a latched /cmd_vel twice). A publication is recorded once, a later one too."""
@@ -127,16 +124,14 @@ def test_a_latched_publication_is_recorded_once_whichever_way_comes_first(
         source._types["/cmd_vel"] = "geometry_msgs/msg/Twist"
         source._latching["/cmd_vel"] = True
 
-        def sample(number: int, asked: bool) -> Sample:
-            return Sample(
-                "/cmd_vel", None, 1, b"twist", True, 1, fetched=asked, latch=("driver", number)
-            )
+        def sample(number: int) -> Sample:
+            return Sample("/cmd_vel", None, 1, b"twist", True, 1, latch=("driver", number))
 
         recorded = [
-            *source.ready(sample(1, asked_first)),
-            *source.ready(sample(1, not asked_first)),
-            *source.ready(sample(2, False)),
-            *source.ready(sample(1, True)),  # an older reply, late
+            *source.ready(sample(1)),
+            *source.ready(sample(1)),  # the other way
+            *source.ready(sample(2)),
+            *source.ready(sample(1)),  # an older reply, late
         ]
     finally:
         source.close()

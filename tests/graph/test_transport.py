@@ -8,7 +8,7 @@ from typing import Any
 
 import pytest
 
-from belvedere.graph import Graph, GraphError, Tapped, ZenohTransport
+from belvedere.graph import Graph, GraphError, Sent, ZenohTransport
 from belvedere.graph._zenoh import _STAMP, open_session
 from belvedere.msgs import message_from_data, types
 from tests.waiting import DEADLINE, wait_until
@@ -236,7 +236,7 @@ def test_a_tap_and_a_question_name_the_same_latched_publication(endpoint: str) -
     for latched messages, in either order: both name the publication (its publisher and its
     number), so it is recorded once; a new publication has a higher number."""
     listener = ZenohTransport(endpoint=endpoint)
-    tapped: list[tuple[bytes, Tapped]] = []
+    tapped: list[tuple[bytes, Sent]] = []
     tap = listener.tap("/cmd_vel", lambda _topic, data, t: tapped.append((data, t)))
     talker = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint))
     pub = talker.create_node("driver").publisher("/cmd_vel", "geometry_msgs/Twist", latch=True)
@@ -252,7 +252,7 @@ def test_a_tap_and_a_question_name_the_same_latched_publication(endpoint: str) -
         talker.shutdown()
         listener.close()
     (data, first), (_, second) = tapped
-    assert asked == [(data, first.latch)]
+    assert [(raw, sent.latch) for raw, sent in asked] == [(data, first.latch)]
     assert first.latch is not None
     assert second.latch is not None
     assert first.latch[0] == second.latch[0]

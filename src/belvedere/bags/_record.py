@@ -31,7 +31,7 @@ from belvedere.bags._files import BagWriter, create_writer
 from belvedere.bags._model import BagError, encode, transcode
 from belvedere.bags._options import RecordOptions, bag_name
 from belvedere.errors import BelvedereError
-from belvedere.graph import GraphError, Node, Tapped, ZenohTransport
+from belvedere.graph import GraphError, LatchedOnce, Node, Sent, ZenohTransport
 from belvedere.msgs import MessageTypeError, types
 
 __all__ = ["GraphRecording", "Recorder", "Sample", "TapRecording"]
@@ -61,11 +61,9 @@ class Sample:
     wall_ns: int = 0
     latching: bool = False
     callerid: str | None = None
-    fetched: bool = False
-    """A latched message asked for (it may have come through the tap too)."""
     latch: tuple[str, int] | None = None
-    """Which latching publisher's publication it is (its number): recorded once however it
-    came."""
+    """Which latching publisher's publication it is (its number): recorded once, whether it
+    came through the tap or as the reply to the recorder's question for latched messages."""
     sim: bool = False
     """Its stamp is the simulated time its publisher sent it at."""
 
@@ -435,8 +433,7 @@ class TapRecording(Source):
         self._latching: dict[str, bool] = {}
         self._announced: set[str] = set()
         self._pending: deque[Sample] = deque()
-        self._latched_recorded: dict[str, dict[str, int]] = {}
-        """Per topic, each latching publisher's newest publication recorded."""
+        self._latched_recorded: dict[str, LatchedOnce] = {}
         self._clock_ns: int | None = None
         self._sim_now = 0
         """The latest simulated time a message was sent at."""
@@ -450,14 +447,14 @@ class TapRecording(Source):
         transport = self.transport
         options = self.options
 
-        def arrived(topic: str, data: bytes, tapped: Tapped) -> None:
+        def arrived(topic: str, data: bytes, sent: Sent) -> None:
             # Published in simulated time: that is the graph's time it arrived at (delivery
             # takes no simulated time), exact whatever order the topics' taps deliver in.
-            sent = tapped.stamp
-            stamp = sent[1] if sent is not None and sent[0] else None
+            when = sent.stamp
+            stamp = when[1] if when is not None and when[0] else None
             wall = time.time_ns()
             sim = stamp is not None
-            put(Sample(topic, None, stamp, data, True, wall, sim=sim, latch=tapped.latch))
+            put(Sample(topic, None, stamp, data, True, wall, sim=sim, latch=sent.latch))
 
         if options.all or options.regex:
             self._taps.append(transport.tap(None, arrived))
@@ -493,11 +490,9 @@ class TapRecording(Source):
     def _fetch_latched(self, topic: str) -> None:
         latched = self.transport.latched_raw(topic)
         self._latching[topic] = bool(latched)
-        for data, latch in latched:
+        for data, sent in latched:
             wall = time.time_ns()
-            self.recorder.put(
-                Sample(topic, None, None, data, True, wall, fetched=True, latch=latch)
-            )
+            self.recorder.put(Sample(topic, None, None, data, True, wall, latch=sent.latch))
 
     # --- the recorder's thread ------------------------------------------------------------
     def ready(self, sample: Sample) -> Iterable[Sample]:
@@ -512,14 +507,11 @@ class TapRecording(Source):
                 self._sim_now = max(self._sim_now, sample.stamp_ns)
             else:
                 sample.stamp_ns = None
-        if sample.latch is not None:
-            # A latched publication comes through the tap, as a reply to the recorder's
-            # question, or again when its publisher first sees a subscriber here, in any order.
-            who, number = sample.latch
-            recorded = self._latched_recorded.setdefault(topic, {})
-            if recorded.get(who, -1) >= number:
-                return ()
-            recorded[who] = number
+        once = self._latched_recorded.get(topic)
+        if once is None:
+            once = self._latched_recorded[topic] = LatchedOnce()
+        if not once.fresh(sample.latch):
+            return ()  # a latched publication recorded already (it comes in several ways)
         if not self.options.wants(topic):
             return ()
         if sample.stamp_ns is None:  # from a publisher in wall time: stamped at receipt

@@ -65,7 +65,8 @@ __all__ = [
     "DEFAULT_ENDPOINT",
     "MAX_DOMAIN",
     "GraphInfo",
-    "Tapped",
+    "LatchedOnce",
+    "Sent",
     "TransportError",
     "ZenohTransport",
     "check_domain",
@@ -114,20 +115,7 @@ BULKY: Final = 64 * 1024
 
 
 @dataclass(frozen=True, slots=True)
-class Tapped:
-    """What a tap tells of a message besides its bytes."""
-
-    stamp: tuple[bool, int] | None = None
-    """(simulated?, ns): the publishing graph's time when it was published (None from a
-    publisher that does not say)."""
-    latch: tuple[str, int] | None = None
-    """A latching publisher's message: (that publisher, the number of its publication). The
-    same publication can also come as a reply to :meth:`ZenohTransport.latched_raw`, or be
-    sent again when its publisher first sees a subscriber elsewhere."""
-
-
-@dataclass(frozen=True, slots=True)
-class _Sent:
+class Sent:
     """What a message carries besides its bytes (a Zenoh attachment)."""
 
     stamp: tuple[bool, int] | None = None
@@ -136,7 +124,8 @@ class _Sent:
     node: str | None = None
     """The publisher's node."""
     latch: tuple[str, int] | None = None
-    """A latching publisher's message: (that publisher, the number of its publication)."""
+    """A latching publisher's message: (that publisher, the number of its publication). The
+    same publication can come again: see :class:`LatchedOnce`."""
 
 
 def _sender(text: str) -> tuple[str | None, str | None, tuple[str, int] | None]:
@@ -149,36 +138,50 @@ def _sender(text: str) -> tuple[str | None, str | None, tuple[str, int] | None]:
     return type_name or None, node or None, latch
 
 
-def _sent(attachment: Any) -> _Sent:
+def _sent(attachment: Any) -> Sent:
     if attachment is None:
-        return _Sent()
+        return Sent()
     raw = attachment.to_bytes()
     if len(raw) < _STAMP.size:
-        return _Sent()
+        return Sent()
     kind, ns = _STAMP.unpack_from(raw)
-    return _Sent((kind == b"s", ns), *_sender(raw[_STAMP.size :].decode(errors="replace")))
+    return Sent((kind == b"s", ns), *_sender(raw[_STAMP.size :].decode(errors="replace")))
+
+
+class LatchedOnce:
+    """The latched publications one receiver has had, so that it takes each exactly once
+    however it came: published while it listened, replied to its question for latched
+    messages, or sent again when its publisher first saw a subscriber elsewhere (as ROS 1
+    sends the latched message on every new connection)."""
+
+    def __init__(self) -> None:
+        self._newest: dict[str, int] = {}
+        """Each latching publisher's newest publication had."""
+
+    def fresh(self, latch: tuple[str, int] | None) -> bool:
+        """Whether a message (``latch``: see :attr:`Sent.latch`) is new to this receiver."""
+        if latch is None:
+            return True
+        who, number = latch
+        if self._newest.get(who, -1) >= number:
+            return False
+        self._newest[who] = number
+        return True
 
 
 class _LatchedSeen:
-    """Which latched publications each subscription has had, so that it gets each exactly
-    once however it came: published while it listened, replied to its query when it
-    subscribed, or sent again when its publisher first saw a subscriber elsewhere (as ROS 1
-    sends the latched message on every new connection). Used on the executor's thread only."""
+    """A :class:`LatchedOnce` for each subscription. Used on the executor's thread only."""
 
     def __init__(self) -> None:
-        self._seen: weakref.WeakKeyDictionary[Subscription, dict[str, int]] = (
+        self._seen: weakref.WeakKeyDictionary[Subscription, LatchedOnce] = (
             weakref.WeakKeyDictionary()
         )
 
     def fresh(self, subscription: Subscription, latch: tuple[str, int] | None) -> bool:
-        if latch is None:
-            return True
-        who, number = latch
-        seen = self._seen.setdefault(subscription, {})
-        if seen.get(who, -1) >= number:
-            return False
-        seen[who] = number
-        return True
+        once = self._seen.get(subscription)
+        if once is None:
+            once = self._seen[subscription] = LatchedOnce()
+        return once.fresh(latch)
 
 
 def _bulky(msg: Any) -> bool:
@@ -785,8 +788,8 @@ class ZenohTransport:
             zsub.undeclare()
 
     # --- raw access (recorders) ----------------------------------------------------------------
-    def tap(self, topic: str | None, callback: Callable[[str, bytes, Tapped], None]) -> Any:
-        """Call ``callback(topic, cdr_bytes, tapped)`` on Zenoh's thread for each message other
+    def tap(self, topic: str | None, callback: Callable[[str, bytes, Sent], None]) -> Any:
+        """Call ``callback(topic, cdr_bytes, sent)`` on Zenoh's thread for each message other
         processes publish on ``topic`` (on every topic when None), never deserialized here.
         One tap delivers in arrival order; separate taps run on separate threads. Returns the
         subscriber (``undeclare()`` ends it). A tap on every topic makes every publisher send
@@ -797,8 +800,7 @@ class ZenohTransport:
 
         def on_sample(sample: Any) -> None:
             sent = _sent(sample.attachment)
-            tapped = Tapped(sent.stamp, sent.latch)
-            callback(str(sample.key_expr)[skip:], sample.payload.to_bytes(), tapped)
+            callback(str(sample.key_expr)[skip:], sample.payload.to_bytes(), sent)
 
         return self.session.declare_subscriber(key, on_sample)
 
@@ -817,13 +819,11 @@ class ZenohTransport:
 
         return self.session.liveliness().declare_subscriber(prefix + "**", on_token, history=True)
 
-    def latched_raw(
-        self, topic: str, timeout: float = 2.0
-    ) -> list[tuple[bytes, tuple[str, int] | None]]:
+    def latched_raw(self, topic: str, timeout: float = 2.0) -> list[tuple[bytes, Sent]]:
         """The messages latching publishers in other processes hold on ``topic`` (none if no
-        publisher there latches): their CDR bytes, and which publication each is (as
-        :class:`Tapped` says of one that came through a tap)."""
-        found: list[tuple[bytes, tuple[str, int] | None]] = []
+        publisher there latches): their CDR bytes and what they say of their sender (no
+        stamp)."""
+        found: list[tuple[bytes, Sent]] = []
         with contextlib.suppress(zenoh.ZError):
             replies = self.session.get(
                 self._key("l", topic),
@@ -836,7 +836,7 @@ class ZenohTransport:
                     continue
                 attachment = reply.ok.attachment
                 text = attachment.to_bytes().decode(errors="replace") if attachment else ""
-                found.append((reply.ok.payload.to_bytes(), _sender(text)[2]))
+                found.append((reply.ok.payload.to_bytes(), Sent(None, *_sender(text))))
         return found
 
     # --- services ------------------------------------------------------------------------------

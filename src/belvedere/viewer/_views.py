@@ -172,6 +172,7 @@ class ViewState:
             return
         carrier = self._carrier(target)
         inverse: Array = np.linalg.inv(carrier).astype(np.float64)
+        seen = (np.asarray(camera.position, float), np.asarray(camera.look_at, float))
         if not self.placed:
             height = int(getattr(camera, "image_height", 0) or 700)
             eye, look_at, up, fov = camera_pose(self.cls, self.properties, target, height)
@@ -181,19 +182,16 @@ class ViewState:
                 camera.far = max(1000.0, eye[2] * 2)
             self.placed = True
             self.local = (_apply(inverse, np.array(eye)), _apply(inverse, np.array(look_at)))
-            seen = None
-        else:
-            seen = (np.asarray(camera.position, float), np.asarray(camera.look_at, float))
-            if self._told(seen):
-                self.synced = True
-            elif self.synced:
-                # The user moved the camera: follow from where they put it.
-                self.local = (_apply(inverse, seen[0]), _apply(inverse, seen[1]))
+        elif self._told(seen):
+            self.synced = True
+        elif self.synced:
+            # The user moved the camera: follow from where they put it.
+            self.local = (_apply(inverse, seen[0]), _apply(inverse, seen[1]))
         assert self.local is not None
         want = (_apply(carrier, self.local[0]), _apply(carrier, self.local[1]))
         now = self.clock()
         if self.written and _same(want, self.written[-1]):
-            if seen is None or _same(seen, want) or now - self.sent_at < RESEND_S:
+            if _same(seen, want) or now - self.sent_at < RESEND_S:
                 return
         else:
             self.written.append(want)
