@@ -76,14 +76,12 @@ class Client(threading.Thread):
                         self.last = time.perf_counter()
                 continue
             doc = json.loads(frame)
-            if doc["op"] == "advertise":
+            if doc["op"] == "advertise" and channel is None:
                 found = [c["id"] for c in doc["channels"] if c["topic"] == "/scan"]
-                channel = found[0] if found else channel
-            if channel is not None and doc["op"] in ("advertise", "status"):
-                # (again after a status: foxglove-sdk may refuse a subscription that comes
-                # right after an advertisement)
-                sub = {"id": 1, "channelId": channel}
-                self.ws.send(json.dumps({"op": "subscribe", "subscriptions": [sub]}))
+                if found:
+                    channel = found[0]
+                    sub = {"id": 1, "channelId": channel}
+                    self.ws.send(json.dumps({"op": "subscribe", "subscriptions": [sub]}))
         self.ws.close()
 
 

@@ -47,10 +47,12 @@ class Message:
 class FoxgloveClient:
     """One connection; :meth:`pump` reads frames into the lists below."""
 
-    def __init__(self, url: str) -> None:
+    def __init__(self, url: str, *, origin: str | None = None) -> None:
+        """``origin``: the ``Origin`` a web page would send (None: not a web page)."""
         self.ws: ClientConnection = connect(
             url,
             subprotocols=list(SUBPROTOCOLS),
+            origin=origin,  # type: ignore[arg-type]
             proxy=None,
             open_timeout=DEADLINE,
             max_size=None,
@@ -66,8 +68,6 @@ class FoxgloveClient:
         self.parameters: dict[str, list[dict[str, Any]]] = {}
         """parameterValues replies, by request id."""
         self._next_id = 1
-        self._subscribing: dict[int, int] = {}
-        """Subscription ids, by channel."""
         self.wait(lambda: self.server_info, what="the server's info")
 
     @property
@@ -109,13 +109,7 @@ class FoxgloveClient:
                 self.channels.pop(cid, None)
                 self.withdrawn.append(cid)
         elif op == "status":
-            refused = doc["message"].removeprefix("Unknown channel ID: ")
-            if refused.isdigit() and int(refused) in self._subscribing:
-                # foxglove-sdk 0.30 can refuse a subscription that comes right after the
-                # channel's advertisement (the channel is not in its table yet): ask again
-                self._send_subscribe(self._subscribing[int(refused)], int(refused))
-            else:
-                self.statuses.append(doc)
+            self.statuses.append(doc)
         elif op == "parameterValues":
             self.parameters[doc.get("id", "")] = doc["parameters"]
 
@@ -157,7 +151,6 @@ class FoxgloveClient:
         """Subscribe to ``topic``'s channel; the subscription's id."""
         sub = self._id()
         channel = self.channel(topic)["id"]
-        self._subscribing[channel] = sub
         self._send_subscribe(sub, channel)
         return sub
 

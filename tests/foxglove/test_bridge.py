@@ -18,8 +18,6 @@ from belvedere.graph import Graph, Node
 from tests.foxglove.client import FoxgloveClient
 from tests.waiting import wait_until
 
-pytest.importorskip("foxglove")
-
 BEAMS = 360
 PI32 = float(np.float32(np.pi))
 

@@ -1,5 +1,5 @@
 """``--foxglove [PORT]`` on sim and launch, the ``belvedere foxglove`` verb beside a running
-graph, and their errors: no SDK, a port taken, a bad port."""
+graph, and their errors: a port taken, a bad port, a bad origin."""
 
 from __future__ import annotations
 
@@ -19,8 +19,6 @@ from tests.conftest import EXAMPLES
 from tests.foxglove.client import FoxgloveClient
 from tests.foxglove.test_bridge import plain, ros1_decoder
 from tests.waiting import DEADLINE
-
-pytest.importorskip("foxglove")
 
 MBOT = str(EXAMPLES / "mbot_description/urdf/xacro/gazebo/mbot_gazebo.xacro")
 MBOT_YAML = str(EXAMPLES / "mbot_description/config/fake_mbot_arbotix.yaml")
@@ -188,19 +186,6 @@ def test_a_port_in_use_is_one_error(endpoint: str, capsys: pytest.CaptureFixture
         args = ["sim", MBOT, "--headless", "--rtf", "max", "--duration", "1"]
         assert main([*args, "--foxglove", str(port)]) == 1
         assert f"error: cannot serve Foxglove on 127.0.0.1:{port}: " in capsys.readouterr().err
-
-
-def test_without_the_sdk_one_error_says_how_to_install_it(
-    endpoint: str, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
-) -> None:
-    monkeypatch.setitem(sys.modules, "foxglove", None)  # as if it were not installed
-    assert main(["foxglove", "--port", "0", "--duration", "1"]) == 1
-    err = capsys.readouterr().err
-    assert err.startswith(
-        "error: the Foxglove bridge needs the foxglove-sdk package, which is not installed"
-    )
-    assert "hint: pip install 'belvedere[foxglove]'" in err
-    assert len(err.splitlines()) == 2
 
 
 def test_a_bad_port_is_a_usage_error(capsys: pytest.CaptureFixture[str]) -> None:

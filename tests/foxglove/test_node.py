@@ -17,8 +17,6 @@ from belvedere.packages import PackageIndex
 from tests.conftest import free_port
 from tests.foxglove.client import FoxgloveClient
 
-pytest.importorskip("foxglove")
-
 
 @pytest.fixture
 def graph() -> Iterator[Graph]:

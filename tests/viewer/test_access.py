@@ -16,9 +16,10 @@ import viser
 import websockets.exceptions
 from websockets.sync.client import connect
 
+from belvedere.access import AccessError, ServerAccess, check_origin
 from belvedere.cli import main
 from belvedere.graph import Graph
-from belvedere.viewer import Viewer, ViewerAccess, ViewerError, check_origin
+from belvedere.viewer import Viewer
 
 PROTOCOL = f"viser-v{viser.__version__}"
 
@@ -111,8 +112,8 @@ def test_allowed_origins_are_accepted(open_viewer: Any) -> None:
     assert handshake(port, origin="https://example.org")
     reason = refused(port, origin="http://localhost:3001")
     assert reason == (
-        "origin http://localhost:3001 is not allowed (only the viewer's own page and "
-        "http://localhost:3000, https://example.org; see --allow-origin)\n"
+        "origin http://localhost:3001 is not allowed (only the viewer's own page, "
+        "http://localhost:3000 and https://example.org; see --allow-origin)\n"
     )
     anyone = open_viewer(allow_origins=["*"])
     assert handshake(anyone.server.get_port(), origin="http://evil.example")
@@ -160,16 +161,16 @@ def test_the_page_with_the_token_lets_its_websocket_in_by_cookie(open_viewer: An
 
 
 def test_access_rules_without_a_server() -> None:
-    assert ViewerAccess("127.0.0.1").token is None
-    assert ViewerAccess("localhost").token is None
-    assert ViewerAccess("::1").token is None
-    assert ViewerAccess("0.0.0.0").token is not None
-    assert ViewerAccess("192.0.2.7").token is not None
-    assert ViewerAccess("127.0.0.1", token="given").token == "given"
+    assert ServerAccess("127.0.0.1").token is None
+    assert ServerAccess("localhost").token is None
+    assert ServerAccess("::1").token is None
+    assert ServerAccess("0.0.0.0").token is not None
+    assert ServerAccess("192.0.2.7").token is not None
+    assert ServerAccess("127.0.0.1", token="given").token == "given"
     assert check_origin("http://LOCALHOST:80") == "http://localhost"
     assert check_origin("http://[::1]:8080/") == "http://[::1]:8080"
     for bad in ("localhost:3000", "ftp://x", "http://x/path", "http://user@x", ""):
-        with pytest.raises(ViewerError, match=r"is not scheme://host\[:port\]"):
+        with pytest.raises(AccessError, match=r"is not scheme://host\[:port\]"):
             check_origin(bad)
 
 

@@ -7,11 +7,12 @@ import argparse
 from belvedere.description.xacro._command import split_mappings
 from belvedere.errors import BelvedereError
 
-__all__ = ["add_viewer_options", "mappings_only"]
+__all__ = ["add_viewer_options", "mappings_only", "origin"]
 
 
-def _origin(text: str) -> str:
-    from belvedere.viewer._access import check_origin  # only when the option is given
+def origin(text: str) -> str:
+    """An ``--allow-origin`` value, normalised (a usage error if it is no origin)."""
+    from belvedere.access import check_origin
 
     try:
         return check_origin(text)
@@ -32,7 +33,7 @@ def add_viewer_options(p: argparse.ArgumentParser) -> None:
         "--allow-origin",
         action="append",
         default=[],
-        type=_origin,
+        type=origin,
         dest="allow_origins",
         metavar="ORIGIN",
         help="also accept the viewer's websocket from pages of ORIGIN (scheme://host[:port]; "

@@ -6,6 +6,8 @@ import argparse
 import sys
 from typing import TYPE_CHECKING
 
+from belvedere.access import is_loopback
+from belvedere.cli._args import origin
 from belvedere.graph import Graph
 
 if TYPE_CHECKING:
@@ -29,6 +31,17 @@ def port(text: str) -> int:
     return value
 
 
+ORIGINS_HELP = (
+    "also accept Foxglove clients from web pages of ORIGIN (scheme://host[:port]; repeatable; "
+    "* for any): by default pages of this machine and Foxglove's web app "
+    "(https://app.foxglove.dev) may connect, and clients that are no web page"
+)
+HOST_HELP = (
+    "address the Foxglove bridge listens on (default: this machine only; another address "
+    "needs the token in the printed URL)"
+)
+
+
 def add_foxglove_options(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--foxglove",
@@ -36,14 +49,17 @@ def add_foxglove_options(p: argparse.ArgumentParser) -> None:
         const=DEFAULT_PORT,
         type=port,
         metavar="PORT",
-        help=f"also serve the graph's topics to Foxglove on PORT (default: {DEFAULT_PORT}; "
-        "needs belvedere[foxglove])",
+        help=f"also serve the graph's topics to Foxglove on PORT (default: {DEFAULT_PORT})",
     )
+    p.add_argument("--foxglove-host", default="127.0.0.1", metavar="HOST", help=HOST_HELP)
     p.add_argument(
-        "--foxglove-host",
-        default="127.0.0.1",
-        metavar="HOST",
-        help="address the Foxglove bridge listens on (default: this machine only)",
+        "--foxglove-allow-origin",
+        action="append",
+        default=[],
+        type=origin,
+        dest="foxglove_origins",
+        metavar="ORIGIN",
+        help=ORIGINS_HELP,
     )
 
 
@@ -56,6 +72,17 @@ def start_foxglove(
         return None
     from belvedere.foxglove import FoxgloveBridge
 
-    bridge = FoxgloveBridge(graph, host=args.foxglove_host, port=wanted, node_name=node_name)
+    bridge = FoxgloveBridge(
+        graph,
+        host=args.foxglove_host,
+        port=wanted,
+        node_name=node_name,
+        allow_origins=getattr(args, "foxglove_origins", ()),
+    )
+    if not is_loopback(bridge.host):
+        sys.stderr.write(
+            f"foxglove: serving beyond this machine on {bridge.host}: "
+            "clients need the token in this URL\n"
+        )
     sys.stderr.write(f"foxglove: {bridge.url}\n")
     return bridge

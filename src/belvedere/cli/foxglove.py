@@ -7,7 +7,8 @@ import argparse
 import os
 import time
 
-from belvedere.cli._foxglove import DEFAULT_PORT, port, start_foxglove
+from belvedere.cli._args import origin
+from belvedere.cli._foxglove import DEFAULT_PORT, HOST_HELP, ORIGINS_HELP, port, start_foxglove
 from belvedere.cli._tool import add_graph_options, join_graph
 
 __all__ = ["add_parser", "run"]
@@ -21,7 +22,7 @@ def add_parser(
         parents=[common],
         help="serve the graph's topics to Foxglove",
         description="Join the running graph and serve its topics over Foxglove's WebSocket "
-        "protocol (open the printed ws:// URL in Foxglove). Needs belvedere[foxglove].",
+        "protocol (open the printed ws:// URL in Foxglove).",
     )
     p.add_argument(
         "--port",
@@ -30,11 +31,15 @@ def add_parser(
         dest="foxglove",
         help=f"port to serve on (default: {DEFAULT_PORT}; 0: any free port)",
     )
+    p.add_argument("--host", default="127.0.0.1", dest="foxglove_host", help=HOST_HELP)
     p.add_argument(
-        "--host",
-        default="127.0.0.1",
-        dest="foxglove_host",
-        help="address to listen on (default: this machine only)",
+        "--allow-origin",
+        action="append",
+        default=[],
+        type=origin,
+        dest="foxglove_origins",
+        metavar="ORIGIN",
+        help=ORIGINS_HELP,
     )
     p.add_argument("--duration", type=float, help="exit after SECONDS (for scripts)")
     add_graph_options(p)
@@ -42,9 +47,6 @@ def add_parser(
 
 
 def run(args: argparse.Namespace) -> int:
-    from belvedere.foxglove import require_sdk
-
-    require_sdk()  # before joining the graph
     graph = join_graph(args)
     try:
         bridge = start_foxglove(args, graph, node_name=f"foxglove_bridge_{os.getpid()}")

@@ -1,42 +1,45 @@
 """The bridge: topics become channels, a client's subscription becomes the graph's.
 
-Three threads meet here. The SDK calls the listener (a client subscribes, publishes, asks
-for parameters) on threads of its own; the graph delivers messages on its executor thread;
-the bridge's own thread turns them into ROS 1 bytes, hands them to the SDK and keeps the
-channel list in step with the graph. The executor only appends to a queue, so a simulation
-is not slowed by serialization for Foxglove.
+Three threads meet here. The server's loop tells the bridge what clients ask (a client
+subscribes, publishes, asks for parameters); the graph delivers messages on its executor
+thread; the bridge's own thread turns them into ROS 1 bytes, hands them to the server and
+keeps the channel list in step with the graph. The executor only appends to a queue, so a
+simulation is not slowed by serialization for Foxglove.
+
+Who may connect is :mod:`belvedere.access`'s rules: web pages of this machine, Foxglove's
+web app (:data:`FOXGLOVE_APP`) and the origins given with ``--allow-origin``; clients that
+are no web page (Foxglove's desktop app, scripts) send no ``Origin`` and pass. Served beyond
+this machine, a client also needs the run's token (``ws://HOST:PORT/?token=…``, printed).
 """
 
 from __future__ import annotations
 
+import itertools
 import logging
 import re
 import threading
 import time
 from collections import deque
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from functools import cache, partial
-from types import ModuleType
-from typing import TYPE_CHECKING, Any, Final
+from typing import Any, Final
 
+from belvedere.access import AccessError, ServerAccess
 from belvedere.errors import BelvedereError
 from belvedere.foxglove._inbound import ClientPublishing, Parameters
-from belvedere.graph import Graph, GraphError, GraphTopics, Node, Subscription
+from belvedere.foxglove._protocol import ClientChannel
+from belvedere.foxglove._server import ChannelInfo, Server
+from belvedere.graph import Graph, GraphTopics, Node, Subscription
 from belvedere.msgs import MessageTypeError, types
-
-if TYPE_CHECKING:
-    from foxglove.websocket import ChannelView, Client, ClientChannel, WebSocketServer
-
-    import foxglove
 
 __all__ = [
     "DEFAULT_PORT",
+    "FOXGLOVE_APP",
     "MESSAGE_ENCODING",
     "SCHEMA_ENCODING",
     "FoxgloveBridge",
     "FoxgloveBridgeError",
-    "require_sdk",
     "ros1_schema",
 ]
 
@@ -55,24 +58,13 @@ POLL_S: Final = 0.5
 are announced at once)."""
 TIME_PERIOD_S: Final = 0.05
 """Wall seconds between broadcasts of the graph's time (when it moved)."""
+FOXGLOVE_APP: Final = "https://app.foxglove.dev"
+"""Foxglove's web app: trusted by default, as the app the bridge is for."""
+CAPABILITIES: Final = ("time", "clientPublish", "parameters", "parametersSubscribe")
 
 
 class FoxgloveBridgeError(BelvedereError):
-    """The bridge cannot start as asked (no SDK, the port taken)."""
-
-
-def require_sdk() -> ModuleType:
-    """The ``foxglove`` package, or one error saying how to install it."""
-    try:
-        import foxglove.websocket
-
-        import foxglove
-    except ImportError as err:
-        msg = f"the Foxglove bridge needs the foxglove-sdk package, which is not installed ({err})"
-        raise FoxgloveBridgeError(
-            msg, hint="pip install 'belvedere[foxglove]' (or: pip install foxglove-sdk)"
-        ) from None
-    return foxglove
+    """The bridge cannot start as asked (the port taken, a bad origin)."""
 
 
 @cache
@@ -91,7 +83,6 @@ class _Channel:
 
     topic: str
     msgtype: str
-    channel: foxglove.Channel
     id: int
     clients: set[int] = field(default_factory=set)
     """Clients subscribed to it."""
@@ -103,7 +94,10 @@ class _Channel:
 class FoxgloveBridge:
     """Serves ``graph``'s topics to Foxglove clients on ``host:port`` (0: any free port).
 
-    ``node_name``: the bridge's node on the graph. Stop with :meth:`close`.
+    ``node_name``: the bridge's node on the graph. Stop with :meth:`close`. ``allow_origins``:
+    web origins trusted besides this machine's pages and :data:`FOXGLOVE_APP`; ``token``: what
+    a client must show (default: a new one when ``host`` is not loopback, none when it is; it
+    is in :attr:`url`).
     """
 
     def __init__(
@@ -116,13 +110,23 @@ class FoxgloveBridge:
         node: Node | None = None,
         topic_whitelist: Sequence[str] = (".*",),
         poll: float = POLL_S,
+        allow_origins: Iterable[str] = (),
+        token: str | None = None,
     ) -> None:
         """``node``: the bridge's node, when one exists already (a launch file's); else one
         named ``node_name`` is made. ``topic_whitelist``: regular expressions, one of which
         must match a topic's whole name for it to be served (foxglove_bridge's parameter)."""
-        fox = require_sdk()
-        from foxglove.websocket import Capability
-
+        try:
+            self.access = ServerAccess(
+                host,
+                what="Foxglove bridge",
+                allow_origins=allow_origins,
+                default_origins=[FOXGLOVE_APP],
+                local_pages=True,
+                token=token,
+            )
+        except AccessError as err:
+            raise FoxgloveBridgeError(err.message) from None
         try:
             self._whitelist = [re.compile(pattern) for pattern in topic_whitelist]
         except re.error as err:
@@ -141,30 +145,29 @@ class FoxgloveBridge:
         """Other processes' publishers: topic → {(type, node)}."""
         self._skipped: set[tuple[str, str]] = set()
         self._outbox: deque[tuple[_Channel, int, Any]] = deque()
+        self._ids = itertools.count(1)
         self._wake = threading.Event()
         self._dirty = threading.Event()
         self._stop = threading.Event()
-        self._context = fox.Context()
         self._publishing = ClientPublishing(self.node)
         self._params = Parameters(graph)
         try:
-            self.server: WebSocketServer = fox.start_server(
-                name="belvedere",
+            self.server = Server(
+                _Listener(self),
                 host=host,
                 port=port,
-                context=self._context,
-                server_listener=_Listener(self),
-                capabilities=[Capability.Time, Capability.ClientPublish, Capability.Parameters],
-                supported_encodings=list(ClientPublishing.ENCODINGS),
+                access=self.access,
+                name="belvedere",
+                capabilities=CAPABILITIES,
+                encodings=ClientPublishing.ENCODINGS,
             )
-        except RuntimeError as err:
-            reason = str(err).removeprefix("FoxgloveError: ")
-            msg = f"cannot serve Foxglove on {host}:{port}: {reason}"
+        except OSError as err:
+            msg = f"cannot serve Foxglove on {host}:{port}: {err.strerror or err}"
             self._leave()
             raise FoxgloveBridgeError(
                 msg, hint="choose another port: --foxglove PORT (0: any free one)"
             ) from None
-        self._publishing.status = self.server.publish_status
+        self._publishing.status = self.server.status
         self.host = host
         self.port = self.server.port
         self._topics = GraphTopics(graph, on_change=self._publishers_changed)
@@ -174,9 +177,11 @@ class FoxgloveBridge:
 
     @property
     def url(self) -> str:
-        """``ws://host:port``: what Foxglove's "Open connection" asks for."""
+        """``ws://host:port`` (``/?token=…`` when it needs one): what Foxglove's "Open
+        connection" asks for."""
         host = f"[{self.host}]" if ":" in self.host else self.host
-        return f"ws://{host}:{self.port}"
+        base = f"ws://{host}:{self.port}"
+        return f"{base}/?token={self.access.token}" if self.access.token else base
 
     def topics(self) -> dict[str, str]:
         """The advertised topics and their types (the store's names)."""
@@ -198,7 +203,6 @@ class FoxgloveBridge:
             self._by_id.clear()
         for ch in channels:
             ch.closed = True
-            ch.channel.close()
         self._leave()
 
     def _leave(self) -> None:
@@ -241,27 +245,24 @@ class FoxgloveBridge:
             self._advertise(name, msgtype)
 
     def _advertise(self, topic: str, msgtype: str) -> None:
-        import foxglove
-
         try:
             name, text = ros1_schema(msgtype)
         except BelvedereError as err:
             self._skip(topic, msgtype, err.message)
             return
-        schema = foxglove.Schema(name=name, encoding=SCHEMA_ENCODING, data=text.encode())
-        channel = foxglove.Channel(
-            topic, schema=schema, message_encoding=MESSAGE_ENCODING, context=self._context
-        )
-        ch = _Channel(topic, msgtype, channel, channel.id())
+        ch = _Channel(topic, msgtype, next(self._ids))
         with self._lock:
             self._channels[topic] = ch
             self._by_id[ch.id] = ch
+        self.server.add_channel(
+            ChannelInfo(ch.id, topic, MESSAGE_ENCODING, name, text, SCHEMA_ENCODING)
+        )
         logger.debug("foxglove: advertised %s [%s]", topic, name)
 
     def _withdraw(self, ch: _Channel) -> None:
         ch.closed = True
         ch.clients.clear()
-        ch.channel.close()
+        self.server.remove_channel(ch.id)
         with self._lock:
             self._by_id.pop(ch.id, None)
         self.graph.executor.post(partial(self._unsubscribe, ch))
@@ -301,7 +302,7 @@ class FoxgloveBridge:
             ch.subscription = self.node.subscribe(
                 ch.topic, ch.msgtype, partial(self._received, ch), queue_size=SUBSCRIPTION_QUEUE
             )
-        except GraphError as err:
+        except BelvedereError as err:
             logger.warning("foxglove: cannot subscribe to %s: %s", ch.topic, err.message)
 
     def _unsubscribe(self, ch: _Channel) -> None:
@@ -341,12 +342,13 @@ class FoxgloveBridge:
                         self.server.broadcast_time(graph_ns)
                         told = graph_ns
                     last_time = now
-            except Exception:  # the bridge keeps serving; the cause is in the log
+            except Exception:  # the bridge keeps serving; the cause is logged
                 logger.exception("foxglove: bridge error")
 
     def _send(self) -> None:
         serialize = types().store.serialize_ros1
         outbox = self._outbox
+        batch: list[tuple[int, int, bytes]] = []
         while outbox:
             try:
                 ch, stamp, msg = outbox.popleft()
@@ -354,39 +356,44 @@ class FoxgloveBridge:
                 break
             if ch.closed:
                 continue
-            ch.channel.log(bytes(serialize(msg, ch.msgtype)), log_time=stamp)
-            self.sent += 1
+            try:
+                batch.append((ch.id, stamp, bytes(serialize(msg, ch.msgtype))))
+            except Exception as err:  # noqa: BLE001 (a publisher's bad message skips itself)
+                self._skip(ch.topic, ch.msgtype, f"a message does not serialize ({err})")
+        if batch:
+            self.server.log(batch)
+            self.sent += len(batch)
 
 
 class _Listener:
-    """The SDK's callbacks (its threads), passed on."""
+    """The server's listener: what clients ask, passed on (the server's loop, or a worker
+    thread for parameters)."""
 
     def __init__(self, bridge: FoxgloveBridge) -> None:
         self.bridge = bridge
 
-    def on_subscribe(self, client: Client, channel: ChannelView) -> None:
-        self.bridge.subscribed(client.id, channel.id)
+    def on_subscribe(self, client: int, channel: int) -> None:
+        self.bridge.subscribed(client, channel)
 
-    def on_unsubscribe(self, client: Client, channel: ChannelView) -> None:
-        self.bridge.unsubscribed(client.id, channel.id)
+    def on_unsubscribe(self, client: int, channel: int) -> None:
+        self.bridge.unsubscribed(client, channel)
 
-    def on_client_advertise(self, client: Client, channel: ClientChannel) -> None:
-        self.bridge._publishing.advertise(
-            client.id, channel.id, channel.topic, channel.encoding, channel.schema_name
-        )
+    def on_client_advertise(self, client: int, channel: ClientChannel) -> None:
+        self.bridge._publishing.advertise(client, channel)
 
-    def on_client_unadvertise(self, client: Client, client_channel_id: int) -> None:
-        self.bridge._publishing.unadvertise(client.id, client_channel_id)
+    def on_client_unadvertise(self, client: int, channel: int) -> None:
+        self.bridge._publishing.unadvertise(client, channel)
 
-    def on_message_data(self, client: Client, client_channel_id: int, data: bytes) -> None:
-        self.bridge._publishing.message(client.id, client_channel_id, data)
+    def on_client_message(self, client: int, channel: int, data: bytes) -> None:
+        self.bridge._publishing.message(client, channel, data)
 
-    def on_get_parameters(
-        self, client: Client, param_names: list[str], request_id: str | None = None
-    ) -> list[foxglove.Parameter]:
-        return self.bridge._params.get(param_names)
+    def get_parameters(self, names: Sequence[str]) -> list[dict[str, Any]]:
+        return self.bridge._params.get(names)
 
-    def on_set_parameters(
-        self, client: Client, parameters: list[foxglove.Parameter], request_id: str | None = None
-    ) -> list[foxglove.Parameter]:
-        return self.bridge._params.set(parameters)
+    def set_parameters(
+        self, parameters: Sequence[tuple[str, Any]]
+    ) -> tuple[list[dict[str, Any]], list[str]]:
+        values, refused = self.bridge._params.set(parameters)
+        for text in refused:
+            logger.warning("foxglove: %s", text)
+        return values, refused

@@ -24,6 +24,7 @@ from belvedere.graph._graph import (
 )
 from belvedere.graph._log import NodeLogger
 from belvedere.graph._names import RosArgs, did_you_mean, parse_ros_args, resolve_name
+from belvedere.graph._names import validate as validate_name
 from belvedere.graph._params import ParamError, ParamTree
 from belvedere.graph._topics import GraphTopics
 from belvedere.graph._zenoh import (
@@ -78,4 +79,5 @@ __all__ = [
     "parse_ros_args",
     "process_node_name",
     "resolve_name",
+    "validate_name",
 ]

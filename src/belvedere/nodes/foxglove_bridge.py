@@ -2,8 +2,10 @@
 
 Its parameters ``port`` (8765), ``address`` and ``topic_whitelist`` apply. ``address``
 defaults to the loopback interface here (ROS's node listens on every interface): give
-``0.0.0.0`` to serve other machines. The bridge's other parameters (TLS, compression,
-service and parameter whitelists …) are not applied; one warning names those that are set.
+``0.0.0.0`` to serve other machines, whose clients then need the run's token (the URL with
+it is logged as a warning). Web pages of this machine and Foxglove's web app may connect,
+and clients that are no web page. The bridge's other parameters (TLS, compression, service
+and parameter whitelists …) are not applied; one warning names those that are set.
 """
 
 from __future__ import annotations
@@ -82,7 +84,15 @@ def _start(session: Session, spec: NodeSpec, node: Node) -> None:
         msg = f"{spec.full_name}: {err.message}"
         raise StartError(msg, spec.source, hint=err.hint) from None
     session.closers.append(bridge.close)
-    logger.info("%s: Foxglove can connect to %s", spec.full_name, bridge.url)
+    if bridge.access.token is None:
+        logger.info("%s: Foxglove can connect to %s", spec.full_name, bridge.url)
+    else:
+        logger.warning(
+            "%s: serving beyond this machine on %s: Foxglove clients need the token in %s",
+            spec.full_name,
+            host,
+            bridge.url,
+        )
 
 
 EXECUTABLES: dict[str, Starter] = {"foxglove_bridge": stopping_on_bad_values(_start)}

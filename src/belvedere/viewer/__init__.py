@@ -1,6 +1,6 @@
 """The browser viewer (rviz and joint_state_publisher_gui in any browser), built on viser."""
 
-from belvedere.viewer._access import ViewerAccess, ViewerError, check_origin
+from belvedere.viewer._access import ViewerError, viewer_access
 from belvedere.viewer._catalog import DISPLAYS
 from belvedere.viewer._display import Display
 from belvedere.viewer._robot import MeshAccessError, RobotDrawing, allowed_mesh_path
@@ -25,13 +25,12 @@ __all__ = [
     "RvizView",
     "SimControls",
     "Viewer",
-    "ViewerAccess",
     "ViewerError",
     "allowed_mesh_path",
-    "check_origin",
     "floor_point",
     "format_color",
     "parse_color",
     "read_rviz",
+    "viewer_access",
     "write_rviz",
 ]

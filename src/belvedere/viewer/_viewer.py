@@ -28,7 +28,7 @@ from belvedere.msgs import short
 from belvedere.packages import PackageIndex
 from belvedere.sim import SAVE_WORLD, SAVE_WORLD_TYPE
 from belvedere.tf import JointStatePublisher, Transform, TransformListener, quat_xyzw_from_rpy
-from belvedere.viewer._access import ViewerAccess, ViewerError, guard_viser
+from belvedere.viewer._access import ViewerError, guard_viser, viewer_access
 from belvedere.viewer._catalog import DISPLAYS, UnsupportedDisplay, display_type
 from belvedere.viewer._display import Display, DisplayContext, color_tuple
 from belvedere.viewer._panel import DisplayPanel, global_status_markdown, set_handle
@@ -105,7 +105,7 @@ class Viewer:
         import viser  # heavy: only the viewer uses it
 
         self.graph = graph
-        self.access = ViewerAccess(host, allow_origins=allow_origins, token=token)
+        self.access = viewer_access(host, allow_origins=allow_origins, token=token)
         # viser prints a banner on stdout whatever ``verbose`` says: stdout is for data (the
         # URL, echoed messages), and the banner's URL lacks the token.
         with guard_viser(self.access), contextlib.redirect_stdout(io.StringIO()):
