@@ -4,10 +4,12 @@ foxglove_bridge.launch`` (or a ``<node>``) serves the launch's graph, with the b
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+import websockets.exceptions
 
 from belvedere.errors import BelvedereError
 from belvedere.graph import Graph
@@ -99,3 +101,34 @@ def test_bad_parameters_are_one_error_at_the_node(
         )
     location = err.value.describe()
     assert "bad.launch:2:" in location, location
+
+
+def test_an_address_beyond_this_machine_needs_the_logged_token(
+    graph: Graph, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture
+) -> None:
+    # 127.0.0.1 stands for another address here (tests stay on loopback)
+    monkeypatch.setattr("belvedere.access.is_loopback", lambda host: host == "localhost")
+    port = free_port()
+    with caplog.at_level(logging.INFO, logger="belvedere.launch"):
+        runtime = _launch(
+            graph,
+            tmp_path / "fox.launch",
+            "<launch>\n"
+            '  <node pkg="foxglove_bridge" type="foxglove_bridge" name="fox">\n'
+            f'    <param name="port" value="{port}"/>\n'
+            '    <param name="address" value="127.0.0.1"/>\n'
+            "  </node>\n"
+            "</launch>\n",
+        )
+    try:
+        (record,) = (r for r in caplog.records if "token" in r.getMessage())
+        assert record.levelno == logging.WARNING
+        text = record.getMessage()
+        assert text.startswith("/fox: serving beyond this machine on 127.0.0.1: Foxglove clients")
+        url = text.rsplit(" ", 1)[1]
+        assert url.startswith(f"ws://127.0.0.1:{port}/?token=")
+        with pytest.raises(websockets.exceptions.InvalidStatus):
+            FoxgloveClient(f"ws://127.0.0.1:{port}")
+        FoxgloveClient(url).close()
+    finally:
+        runtime.close()
