@@ -9,12 +9,8 @@ file and line.
 
 from __future__ import annotations
 
-import math
 import os
 import re
-import shlex
-import subprocess
-import sys
 import uuid
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
@@ -22,13 +18,12 @@ from pathlib import Path
 from typing import Any
 
 from belvedere.description.xacro import XacroError
-from belvedere.description.xacro._command import is_xacro_program, parse_xacro_argv
 from belvedere.description.xacro._interpreter import ExpressionError
-from belvedere.description.xacro._run import run_command
 from belvedere.description.xacro._substitutions import Substitutions
 from belvedere.errors import BelvedereError, ParseError, SourceLocation, did_you_mean, pinpoint
 from belvedere.launch._model import LaunchConfig, LaunchError, LaunchFile, LaunchNode
 from belvedere.launch._names import canonical, child_namespace, global_ns, is_legal, ns_join
+from belvedere.launch._values import param_bool, param_command, typed_value
 from belvedere.packages import PackageIndex
 from belvedere.xmldom import Element, parse_file
 from belvedere.yamlfile import YamlDocument, load_yaml, load_yaml_file
@@ -219,7 +214,7 @@ class _Loader:
         value = self.attr(el, name, scope)
         if value is None:
             return default
-        return _bool(value, f"{name}={value!r}", el.loc)
+        return param_bool(value, f"{name}={value!r}", el.loc)
 
     def active(self, el: Element, scope: _Scope) -> bool:
         if_value = self.attr(el, "if", scope)
@@ -228,9 +223,9 @@ class _Loader:
             msg = "an element cannot have both 'if' and 'unless'"
             raise LaunchError(msg, el.loc)
         if if_value is not None:
-            return _bool(if_value, f"if={if_value!r}", el.loc)
+            return param_bool(if_value, f"if={if_value!r}", el.loc)
         if unless_value is not None:
-            return not _bool(unless_value, f"unless={unless_value!r}", el.loc)
+            return not param_bool(unless_value, f"unless={unless_value!r}", el.loc)
         return True
 
     # --- tags ------------------------------------------------------------------------------------
@@ -302,7 +297,7 @@ class _Loader:
         source = sources[0]
         raw = self.attr(el, source, scope) or ""
         if source == "value":
-            return _typed(raw.strip(), kind, el.loc)
+            return typed_value(raw.strip(), kind, el.loc)
         if source in ("textfile", "binfile"):
             try:
                 data = Path(raw).read_bytes()
@@ -313,41 +308,9 @@ class _Loader:
             self.config.files.append(LaunchFile(read, raw))
             if source == "binfile":
                 return data
-            return _typed(data.decode("utf-8", errors="replace"), kind, el.loc)
-        return _typed(self.command(raw, el.loc), kind, el.loc)
-
-    def command(self, command: str, at: SourceLocation | None) -> str:
-        """A ``<param command>``: xacro runs here, in process; anything else as a program."""
-        try:
-            words = shlex.split(command)
-        except ValueError as err:
-            msg = f"cannot split command {command!r}: {err}"
-            raise LaunchError(msg, at) from None
-        if not words:
-            msg = "empty command"
-            raise LaunchError(msg, at)
-        if is_xacro_program(words[0]):
-            try:
-                cmd = parse_xacro_argv(words[1:])
-                result = run_command(cmd, packages=self.packages)
-            except ParseError as err:
-                if at is not None:
-                    err.add_trail("in the <param command> at", at)
-                raise
-            self.config.files.extend(
-                LaunchFile("yaml" if f.endswith((".yaml", ".yml")) else "xacro", f)
-                for f in result.files
-            )
-            return result.text or ""
-        try:
-            done = subprocess.run(words, capture_output=True, text=True, timeout=60, check=False)
-        except (OSError, subprocess.TimeoutExpired) as err:
-            msg = f"command {command!r} could not run: {err}"
-            raise LaunchError(msg, at) from None
-        if done.returncode != 0:
-            msg = f"command {command!r} failed (exit {done.returncode}): {done.stderr.strip()}"
-            raise LaunchError(msg, at)
-        return done.stdout
+            return typed_value(data.decode("utf-8", errors="replace"), kind, el.loc)
+        output = param_command(raw, el.loc, self.packages, self.config.files)
+        return typed_value(output, kind, el.loc)
 
     def tag_rosparam(self, el: Element, scope: _Scope, node_ns: str | None = None) -> None:
         """``<rosparam>``: ``ns`` and ``param`` join (either may be global), then join the
@@ -476,7 +439,7 @@ class _Loader:
                 args=self.attr(el, "args", scope, "") or "",
                 output=self.attr(el, "output", scope, "log") or "log",
                 respawn=self.boolean(el, "respawn", scope, False),
-                respawn_delay=_typed(
+                respawn_delay=typed_value(
                     self.attr(el, "respawn_delay", scope, "0") or "0", "double", el.loc
                 ),
                 required=self.boolean(el, "required", scope, False),
@@ -590,59 +553,6 @@ def _declared_hint(unused: list[str], scope: _Scope) -> str:
 def _remapped(remaps: list[tuple[str, str]], pair: tuple[str, str]) -> list[tuple[str, str]]:
     """A later remapping of the same name replaces the earlier one, and comes last."""
     return [r for r in remaps if r[0] != pair[0]] + [pair]
-
-
-def _bool(value: str, what: str, at: SourceLocation | None) -> bool:
-    low = value.strip().lower()
-    if low in ("true", "1"):
-        return True
-    if low in ("false", "0"):
-        return False
-    msg = f"{what}: expected true, false, 1 or 0"
-    raise LaunchError(msg, at)
-
-
-def _typed(raw: str, kind: str, at: SourceLocation | None) -> Any:
-    """A ``<param>`` value of ``type`` ``kind`` (``auto`` guesses as roslaunch does)."""
-    try:
-        if kind == "str" or kind == "string":
-            return raw
-        if kind == "int":
-            return int(raw.strip())
-        if kind == "double":
-            return _finite(float(raw.strip()), raw, at)
-        if kind in ("bool", "boolean"):
-            return _bool(raw, f"bool value {raw!r}", at)
-        if kind == "yaml":
-            return load_yaml(raw, path=str(at.path) if at else "<param>").data
-    except ValueError:
-        msg = f"param value {raw!r} is not a valid {kind}"
-        raise LaunchError(msg, at) from None
-    if kind != "auto":
-        msg = f"unknown param type {kind!r} (str, int, double, bool, yaml, auto)"
-        raise LaunchError(msg, at)
-    # roslaunch's guess: a '.' means a double, else an int (but "1_000" stays text: Python
-    # would read it as 1000), then true/false in any case, else the text itself
-    try:
-        if "." in raw:
-            return _finite(float(raw), raw, at)
-        if "_" not in raw:
-            return int(raw)
-    except ValueError:
-        pass
-    if raw.lower() in ("true", "false"):
-        return raw.lower() == "true"
-    return raw
-
-
-def _finite(value: float, raw: str, at: SourceLocation | None) -> float:
-    """roslaunch would pass ``nan``/``inf``/``1e309`` on as a float; we refuse it here, where
-    the line is known, rather than let a node meet it."""
-    if not math.isfinite(value):
-        msg = f"param value {raw!r} is not a finite number"
-        hint = f'the largest double is ±{sys.float_info.max:.17g}; for text, add type="str"'
-        raise LaunchError(msg, at, hint=hint)
-    return value
 
 
 def _with_conflict_hint(err: ParseError, path: Path) -> ParseError:
