@@ -6,16 +6,20 @@ beams) is checked here against one of the caps below *before* it is made, and a 
 one :class:`LimitError` that names the file, the place and the cap. The README's
 *Reliability* section lists these caps; change them here and there together.
 
-- :func:`open_regular` / :func:`read_regular`: a regular file only (a FIFO, a device such as
-  ``/dev/zero`` or a directory is refused without blocking), at most ``limit`` bytes.
+- :func:`open_regular` / :func:`read_regular` / :func:`read_regular_text`: a regular file
+  only (a FIFO, a device such as ``/dev/zero`` or a directory is refused without blocking),
+  at most ``limit`` bytes.
 - :func:`inflate`: a compressed block that must inflate to exactly its declared size, never
   past it, streamed so a bomb stops at the cap.
 - :func:`check_count`: a count (pixels, cells, beams, a declared length) against its cap.
+- :func:`check_pixels`: an image's size, read from its header, against :data:`IMAGE_PIXELS`
+  before it is decoded.
 """
 
 from __future__ import annotations
 
 import bz2
+import math
 import os
 import stat
 import zlib
@@ -31,26 +35,38 @@ __all__ = [
     "IMAGE_FILE_BYTES",
     "IMAGE_PIXELS",
     "INFLATED_BYTES",
+    "MESH_FILE_BYTES",
     "SCAN_BEAMS",
     "SCRIPT_BYTES",
     "TEXT_FILE_BYTES",
+    "YAML_TEXT_BYTES",
     "LimitError",
     "check_count",
+    "check_pixels",
     "describe_size",
     "inflate",
     "open_regular",
     "read_regular",
+    "read_regular_text",
 ]
 
 MiB: Final = 1 << 20
 
 TEXT_FILE_BYTES: Final = 64 * MiB
 """A text file read whole: XML (URDF, xacro, SDF, launch), YAML, .rviz, a PGM's header."""
+YAML_TEXT_BYTES: Final = 4 * MiB
+"""One YAML document (a rosparam file, an rviz config, a map's YAML, a ``type="yaml"`` value):
+PyYAML's pure-Python loader, which keeps the lines belvedere reports, reads about 250 KiB/s
+and holds about 100 bytes per byte of text, so 4 MiB is some 15 s and 500 MiB. Real ones
+are a few KiB."""
 IMAGE_FILE_BYTES: Final = 512 * MiB
 """An image file (map, texture) read to be decoded."""
 IMAGE_PIXELS: Final = 1 << 26
 """Pixels of one decoded image (a map or a texture): 67,108,864, 8192 x 8192 — an 8K texture,
 or a 410 m square map at 5 cm. Pillow's own guard warns at 89 Mpx and stops only at 179."""
+MESH_FILE_BYTES: Final = 128 * MiB
+"""A mesh file (STL, OBJ, Collada) handed to trimesh: 2.7 million triangles of binary STL,
+which trimesh holds in about 1 GiB; robot meshes are a few MiB."""
 INFLATED_BYTES: Final = 512 * MiB
 """What one compressed block (a bag's or MCAP file's chunk) may declare it inflates to;
 rosbag writes 768 KiB chunks and MCAP writers a few MiB."""
@@ -112,36 +128,43 @@ def _kind(mode: int) -> str:
     return "not a regular file"
 
 
+def _label(what: str, name: str) -> str:
+    return f"{what} {name}" if what else name
+
+
 def open_regular(
     path: str | os.PathLike[str],
     *,
     limit: int = TEXT_FILE_BYTES,
     what: str = "file",
     at: SourceLocation | None = None,
+    name: str | None = None,
 ) -> IO[bytes]:
     """``path`` opened for reading in binary, if it is a regular file of at most ``limit``
     bytes (after following symlinks).
 
     The file is opened without blocking first, so a FIFO with no writer is refused rather than
-    waited for. ``what`` names it in errors (``map image``); ``at`` is where it was asked for.
+    waited for. ``what`` names it in errors (``map image``; empty for none); ``name`` is how
+    the file is shown there (default: ``path``); ``at`` is where it was asked for. Errors read
+    ``cannot read {what} {name}: {why}``.
 
     Raises:
         LimitError: it cannot be opened, is not a regular file, or is larger than ``limit``.
     """
-    shown = os.fspath(path)
+    shown = _label(what, os.fspath(path) if name is None else name)
     try:
-        fd = os.open(shown, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC)
+        fd = os.open(os.fspath(path), os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC)
     except OSError as err:
-        msg = f"cannot read {what} {shown}: {err.strerror or err}"
+        msg = f"cannot read {shown}: {err.strerror or err}"
         raise LimitError(msg, at) from None
     try:
         info = os.fstat(fd)
         if not stat.S_ISREG(info.st_mode):
-            msg = f"cannot read {what} {shown}: it is {_kind(info.st_mode)}, not a regular file"
+            msg = f"cannot read {shown}: it is {_kind(info.st_mode)}, not a regular file"
             raise LimitError(msg, at)
         if info.st_size > limit:
             msg = (
-                f"cannot read {what} {shown}: it is {describe_size(info.st_size)}, "
+                f"cannot read {shown}: it is {describe_size(info.st_size)}, "
                 f"more than the {describe_size(limit)} belvedere reads"
             )
             raise LimitError(msg, at)
@@ -158,19 +181,44 @@ def read_regular(
     limit: int = TEXT_FILE_BYTES,
     what: str = "file",
     at: SourceLocation | None = None,
+    name: str | None = None,
 ) -> bytes:
     """The bytes of ``path`` (see :func:`open_regular`); a file that grows past ``limit``
     while being read is refused too."""
-    with open_regular(path, limit=limit, what=what, at=at) as f:
+    shown = _label(what, os.fspath(path) if name is None else name)
+    with open_regular(path, limit=limit, what=what, at=at, name=name) as f:
         try:
             data = f.read(limit + 1)
         except OSError as err:
-            msg = f"cannot read {what} {os.fspath(path)}: {err.strerror or err}"
+            msg = f"cannot read {shown}: {err.strerror or err}"
             raise LimitError(msg, at) from None
     if len(data) > limit:
-        msg = f"cannot read {what} {os.fspath(path)}: it grew past {describe_size(limit)}"
+        msg = f"cannot read {shown}: it grew past {describe_size(limit)}"
         raise LimitError(msg, at)
     return data
+
+
+def read_regular_text(
+    path: str | os.PathLike[str],
+    *,
+    limit: int = TEXT_FILE_BYTES,
+    what: str = "file",
+    at: SourceLocation | None = None,
+    name: str | None = None,
+) -> str:
+    """The UTF-8 text of ``path`` (see :func:`open_regular`). Bytes that are not UTF-8 are
+    refused at their own line and column (``path:3:7``, the column in bytes)."""
+    data = read_regular(path, limit=limit, what=what, at=at, name=name)
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as err:
+        line = data.count(b"\n", 0, err.start) + 1
+        col = err.start - (data.rfind(b"\n", 0, err.start) + 1) + 1
+        msg = (
+            f"cannot read {_label(what, os.fspath(path) if name is None else name)}: "
+            f"it is not UTF-8 text (byte 0x{data[err.start]:02x})"
+        )
+        raise LimitError(msg, SourceLocation(os.fspath(path), line, col)) from None
 
 
 def check_count(
@@ -182,6 +230,24 @@ def check_count(
         return count
     prefix = f"{where}: " if where else ""
     msg = f"{prefix}{what}: {count:,} is more than the cap of {cap:,}"
+    raise LimitError(msg, at)
+
+
+def check_pixels(
+    width: int, height: int, *, what: str = "the image", at: SourceLocation | None = None
+) -> int:
+    """The pixel count of a ``width`` x ``height`` image if it is at most :data:`IMAGE_PIXELS`
+    (check it from the header, before decoding); else one :class:`LimitError`:
+    ``{what} is 13,000 x 13,000 pixels (169,000,000), more than the 67,108,864
+    (8192 x 8192) belvedere decodes``."""
+    count = width * height
+    if count <= IMAGE_PIXELS:
+        return count
+    side = math.isqrt(IMAGE_PIXELS)
+    msg = (
+        f"{what} is {width:,} x {height:,} pixels ({count:,}), more than the "
+        f"{IMAGE_PIXELS:,} ({side} x {side}) belvedere decodes"
+    )
     raise LimitError(msg, at)
 
 
