@@ -17,6 +17,13 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
+from belvedere.bounded import (
+    TEXT_FILE_BYTES,
+    YAML_TEXT_BYTES,
+    LimitError,
+    read_regular,
+    read_regular_text,
+)
 from belvedere.description.xacro import XacroError
 from belvedere.description.xacro._interpreter import ExpressionError
 from belvedere.description.xacro._substitutions import Substitutions
@@ -100,13 +107,15 @@ class _Loader:
             chain = " -> ".join([*self.including, key])
             msg = f"include cycle: {chain}"
             raise LaunchError(msg, at)
-        if not os.path.isfile(path):
+        if not os.path.exists(path):
             msg = f"launch file {str(path)!r} does not exist"
             siblings = path.parent.glob("*.launch*") if path.parent.is_dir() else []
             raise LaunchError(msg, at, hint=did_you_mean(path.name, (p.name for p in siblings)))
         try:
             doc = parse_file(path, namespaces=False, keep_blank=False)
         except ParseError as err:
+            if err.location is None:  # not a file it can read (a FIFO, a directory…)
+                err.location = at
             raise _with_conflict_hint(err, path) from None
         root = doc.root
         if root.tag != "launch":
@@ -300,10 +309,11 @@ class _Loader:
             return typed_value(raw.strip(), kind, el.loc)
         if source in ("textfile", "binfile"):
             try:
-                data = Path(raw).read_bytes()
-            except OSError as err:
-                msg = f"cannot read {source} {raw!r}: {err.strerror}"
-                raise LaunchError(msg, el.loc) from None
+                data = read_regular(
+                    raw, limit=TEXT_FILE_BYTES, what=source, name=repr(raw), at=el.loc
+                )
+            except LimitError as err:
+                raise LaunchError(err.message, err.location) from None
             read = "binary" if source == "binfile" else "urdf" if raw.endswith(".urdf") else "text"
             self.config.files.append(LaunchFile(read, raw))
             if source == "binfile":
@@ -339,10 +349,11 @@ class _Loader:
         if file:
             if subst_value:
                 try:
-                    text = Path(file).read_text(encoding="utf-8")
-                except OSError as err:
-                    msg = f"cannot read {file!r}: {err.strerror}"
-                    raise LaunchError(msg, el.loc) from None
+                    text = read_regular_text(
+                        file, limit=YAML_TEXT_BYTES, what="", name=repr(file), at=el.loc
+                    )
+                except LimitError as err:
+                    raise LaunchError(err.message, err.location) from None
                 doc = load_yaml(self.subst(text, scope, el.loc), path=file)
             else:
                 doc = load_yaml_file(file, requested_at=el.loc)
@@ -558,8 +569,8 @@ def _remapped(remaps: list[tuple[str, str]], pair: tuple[str, str]) -> list[tupl
 def _with_conflict_hint(err: ParseError, path: Path) -> ParseError:
     """Malformed XML; say so when the cause is a git merge conflict left in the file."""
     try:
-        lines = path.read_text(errors="replace").splitlines()
-    except OSError:
+        lines = read_regular(path).decode(errors="replace").splitlines()
+    except LimitError:
         return err
     markers = [i + 1 for i, line in enumerate(lines) if line.startswith(("<<<<<<<", ">>>>>>>"))]
     if markers:

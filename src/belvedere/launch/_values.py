@@ -1,14 +1,22 @@
 """A ``<param>``'s value: typed as roslaunch types it (``type=`` or its guess), or printed by
-a command (xacro in process, any other program as a subprocess)."""
+a command (xacro in process, any other program as a bounded subprocess: see
+:func:`run_program`)."""
 
 from __future__ import annotations
 
+import contextlib
 import math
+import os
+import selectors
 import shlex
+import signal
 import subprocess
 import sys
+import time
 from typing import Any
 
+from belvedere import bounded
+from belvedere.bounded import describe_size
 from belvedere.description.xacro._command import is_xacro_program, parse_xacro_argv
 from belvedere.description.xacro._run import run_command
 from belvedere.errors import ParseError, SourceLocation
@@ -16,7 +24,7 @@ from belvedere.launch._model import LaunchError, LaunchFile
 from belvedere.packages import PackageIndex
 from belvedere.yamlfile import load_yaml
 
-__all__ = ["finite", "param_bool", "param_command", "typed_value"]
+__all__ = ["finite", "param_bool", "param_command", "run_program", "typed_value"]
 
 
 def param_command(
@@ -44,15 +52,113 @@ def param_command(
             for f in result.files
         )
         return result.text or ""
+    return run_program(words, command, at)
+
+
+def run_program(words: list[str], command: str, at: SourceLocation | None) -> str:
+    """What a program prints on stdout, decoded as roslaunch decodes it (strict UTF-8).
+
+    The program reads no input (stdin is ``/dev/null``) and is bounded: its stdout and its
+    stderr are read as they come, at most :data:`~belvedere.bounded.COMMAND_OUTPUT_BYTES`
+    each, and it may run :data:`~belvedere.bounded.COMMAND_SECONDS`; past either it is
+    killed (with whatever it started: it runs in a process group of its own) and the
+    ``<param>`` is an error at ``at``.
+
+    Raises:
+        LaunchError: it cannot start, fails, runs or prints too long, or prints bytes that
+            are not UTF-8 (roslaunch fails on them too).
+    """
+    limit, seconds = bounded.COMMAND_OUTPUT_BYTES, bounded.COMMAND_SECONDS
     try:
-        done = subprocess.run(words, capture_output=True, text=True, timeout=60, check=False)
-    except (OSError, subprocess.TimeoutExpired) as err:
+        process = subprocess.Popen(
+            words,
+            stdin=subprocess.DEVNULL,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            start_new_session=True,
+        )
+    except OSError as err:
         msg = f"command {command!r} could not run: {err}"
         raise LaunchError(msg, at) from None
-    if done.returncode != 0:
-        msg = f"command {command!r} failed (exit {done.returncode}): {done.stderr.strip()}"
+    try:
+        out, err_text, problem = _collect(process, limit, time.monotonic() + seconds)
+    finally:
+        _kill(process)
+    if problem == "time":
+        msg = f"command {command!r} did not end within {seconds:g} s: stopped"
         raise LaunchError(msg, at)
-    return done.stdout
+    if problem:
+        msg = (
+            f"command {command!r} printed more than {describe_size(limit)} on {problem}: "
+            "stopped (belvedere keeps at most that much of a command's output)"
+        )
+        raise LaunchError(msg, at)
+    status = process.returncode
+    if status != 0:
+        how = f"exit {status}" if status > 0 else f"killed by signal {-status}"
+        msg = f"command {command!r} failed ({how}): {_tail(err_text)}"
+        raise LaunchError(msg, at)
+    try:
+        return out.decode("utf-8")
+    except UnicodeDecodeError as bad:
+        msg = (
+            f"command {command!r} printed bytes that are not UTF-8 (0x{out[bad.start]:02x} "
+            f"at byte {bad.start}); roslaunch refuses them too"
+        )
+        raise LaunchError(msg, at) from None
+
+
+def _collect(
+    process: subprocess.Popen[bytes], limit: int, deadline: float
+) -> tuple[bytes, bytes, str]:
+    """(stdout, stderr, what went wrong: ``""``, ``"time"``, ``"stdout"`` or ``"stderr"``),
+    reading both pipes as they fill until both close and the program ends."""
+    assert process.stdout is not None
+    assert process.stderr is not None
+    streams = {
+        process.stdout.fileno(): ("stdout", bytearray()),
+        process.stderr.fileno(): ("stderr", bytearray()),
+    }
+    with selectors.DefaultSelector() as selector:
+        for fd in streams:
+            selector.register(fd, selectors.EVENT_READ)
+        while selector.get_map():
+            left = deadline - time.monotonic()
+            if left <= 0:
+                return b"", b"", "time"
+            for key, _ in selector.select(left):
+                chunk = os.read(key.fd, 1 << 16)
+                name, got = streams[key.fd]
+                if not chunk:
+                    selector.unregister(key.fd)
+                    continue
+                got += chunk
+                if len(got) > limit:
+                    return b"", b"", name
+    try:
+        process.wait(max(0.0, deadline - time.monotonic()))
+    except subprocess.TimeoutExpired:
+        return b"", b"", "time"
+    out, err = (bytes(got) for _, got in streams.values())
+    return out, err, ""
+
+
+def _kill(process: subprocess.Popen[bytes]) -> None:
+    """End the program and what it started (its process group), if still there; close its
+    pipes."""
+    if process.returncode is None:
+        with contextlib.suppress(ProcessLookupError, PermissionError):
+            os.killpg(process.pid, signal.SIGKILL)
+        process.wait()
+    for pipe in (process.stdout, process.stderr):
+        if pipe is not None:
+            pipe.close()
+
+
+def _tail(stderr: bytes, most: int = 2000) -> str:
+    """The end of what a failed command wrote on stderr, for its error message."""
+    text = stderr.decode("utf-8", errors="replace").strip()
+    return text if len(text) <= most else "…" + text[-most:]
 
 
 def param_bool(value: str, what: str, at: SourceLocation | None) -> bool:
