@@ -4,15 +4,9 @@ a command (xacro in process, any other program as a bounded subprocess: see
 
 from __future__ import annotations
 
-import contextlib
 import math
-import os
-import selectors
 import shlex
-import signal
-import subprocess
 import sys
-import time
 from typing import Any
 
 from belvedere import bounded
@@ -70,34 +64,25 @@ def run_program(words: list[str], command: str, at: SourceLocation | None) -> st
     """
     limit, seconds = bounded.COMMAND_OUTPUT_BYTES, bounded.COMMAND_SECONDS
     try:
-        process = subprocess.Popen(
-            words,
-            stdin=subprocess.DEVNULL,
-            stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE,
-            start_new_session=True,
-        )
+        ran = bounded.run_bounded(words, seconds=seconds, limit=limit)
     except OSError as err:
         msg = f"command {command!r} could not run: {err}"
         raise LaunchError(msg, at) from None
-    try:
-        out, err_text, problem = _collect(process, limit, time.monotonic() + seconds)
-    finally:
-        _kill(process)
-    if problem == "time":
+    if ran.stopped == "time":
         msg = f"command {command!r} did not end within {seconds:g} s: stopped"
         raise LaunchError(msg, at)
-    if problem:
+    if ran.stopped:
         msg = (
-            f"command {command!r} printed more than {describe_size(limit)} on {problem}: "
+            f"command {command!r} printed more than {describe_size(limit)} on {ran.stopped}: "
             "stopped (belvedere keeps at most that much of a command's output)"
         )
         raise LaunchError(msg, at)
-    status = process.returncode
-    if status != 0:
+    if ran.status != 0:
+        status = ran.status or 0
         how = f"exit {status}" if status > 0 else f"killed by signal {-status}"
-        msg = f"command {command!r} failed ({how}): {_tail(err_text)}"
+        msg = f"command {command!r} failed ({how}): {_tail(ran.stderr)}"
         raise LaunchError(msg, at)
+    out = ran.stdout
     try:
         return out.decode("utf-8")
     except UnicodeDecodeError as bad:
@@ -106,53 +91,6 @@ def run_program(words: list[str], command: str, at: SourceLocation | None) -> st
             f"at byte {bad.start}); roslaunch refuses them too"
         )
         raise LaunchError(msg, at) from None
-
-
-def _collect(
-    process: subprocess.Popen[bytes], limit: int, deadline: float
-) -> tuple[bytes, bytes, str]:
-    """(stdout, stderr, what went wrong: ``""``, ``"time"``, ``"stdout"`` or ``"stderr"``),
-    reading both pipes as they fill until both close and the program ends."""
-    assert process.stdout is not None
-    assert process.stderr is not None
-    streams = {
-        process.stdout.fileno(): ("stdout", bytearray()),
-        process.stderr.fileno(): ("stderr", bytearray()),
-    }
-    with selectors.DefaultSelector() as selector:
-        for fd in streams:
-            selector.register(fd, selectors.EVENT_READ)
-        while selector.get_map():
-            left = deadline - time.monotonic()
-            if left <= 0:
-                return b"", b"", "time"
-            for key, _ in selector.select(left):
-                chunk = os.read(key.fd, 1 << 16)
-                name, got = streams[key.fd]
-                if not chunk:
-                    selector.unregister(key.fd)
-                    continue
-                got += chunk
-                if len(got) > limit:
-                    return b"", b"", name
-    try:
-        process.wait(max(0.0, deadline - time.monotonic()))
-    except subprocess.TimeoutExpired:
-        return b"", b"", "time"
-    out, err = (bytes(got) for _, got in streams.values())
-    return out, err, ""
-
-
-def _kill(process: subprocess.Popen[bytes]) -> None:
-    """End the program and what it started (its process group), if still there; close its
-    pipes."""
-    if process.returncode is None:
-        with contextlib.suppress(ProcessLookupError, PermissionError):
-            os.killpg(process.pid, signal.SIGKILL)
-        process.wait()
-    for pipe in (process.stdout, process.stderr):
-        if pipe is not None:
-            pipe.close()
 
 
 def _tail(stderr: bytes, most: int = 2000) -> str:
