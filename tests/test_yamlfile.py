@@ -77,3 +77,12 @@ def test_every_key_is_located_on_its_own_line(data: dict[str, int]) -> None:
     assert doc.data == data
     for line, key in enumerate(data, start=1):
         assert doc.location(key).line == line
+
+
+def test_a_character_yaml_does_not_allow_is_an_error_at_its_place() -> None:
+    with pytest.raises(
+        ParseError,
+        match=r"^x\.yaml:2:4: error: invalid YAML: character U\+0000: special characters are "
+        "not allowed$",
+    ):
+        load_yaml("a: 1\nb: \x00\n", path="x.yaml")

@@ -213,7 +213,13 @@ def load_yaml(text: str, *, path: str = "<yaml>") -> YamlDocument:
                 f"{describe_size(YAML_TEXT_BYTES)} belvedere reads"
             )
             raise ParseError(msg, SourceLocation(path))
-    loader = Loader(text)
+    try:
+        loader = Loader(text)  # PyYAML's reader checks every character here, at once
+    except yaml.reader.ReaderError as err:
+        at = err.position
+        line, col = text.count("\n", 0, at) + 1, at - (text.rfind("\n", 0, at) + 1) + 1
+        msg = f"invalid YAML: character U+{err.character:04X}: {err.reason}"
+        raise ParseError(msg, SourceLocation(path, line, col)) from None
     try:
         root = loader.get_single_node()
         data = loader.construct_document(root) if root is not None else None

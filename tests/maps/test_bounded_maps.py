@@ -202,3 +202,11 @@ def test_occupancy_a_block_of_rows_at_a_time_is_the_whole_image_at_once(
     blocks = occupancy_from_pixels(image, **options)  # type: ignore[arg-type]
     assert blocks.tolist() == whole.tolist()
     assert blocks.tolist()[0] == whole[0].tolist()  # row 0 is the image's bottom row
+
+
+def test_a_number_too_large_for_a_double_is_an_error_at_its_place(tmp_path: Path) -> None:
+    (tmp_path / "m.pgm").write_bytes(b"P5\n1 1\n255\n\0")
+    path = _map(tmp_path, "m.pgm")
+    path.write_text(path.read_text().replace("[0.0, 0.0, 0.0]", f"[0.0, {'9' * 400}, 0.0]"))
+    with pytest.raises(MapError, match=r"map\.yaml:3:15: error: origin must be \[x, y, yaw\]"):
+        load_map(path)

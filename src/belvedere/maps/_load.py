@@ -82,7 +82,10 @@ def _number(doc: YamlDocument, *keys: str | int) -> float | None:
     if isinstance(value, bool):
         return None
     if isinstance(value, int | float):
-        return float(value)
+        try:
+            return float(value)
+        except OverflowError:  # an int of hundreds of digits: yaml-cpp fails to convert it too
+            return None
     if isinstance(value, str):
         try:
             return float(value.strip())
@@ -92,15 +95,18 @@ def _number(doc: YamlDocument, *keys: str | int) -> float | None:
 
 
 def _shown(doc: YamlDocument, *keys: str | int) -> str:
-    """A value for a message: strings quoted, the rest as YAML writes them."""
+    """A value for a message: strings quoted, the rest as YAML writes them (a long one cut
+    to its start)."""
     value: Any = doc.data
     for key in keys:
         value = value[key]
     if isinstance(value, str):
-        return repr(value)
-    if isinstance(value, bool):
-        return str(value).lower()
-    return "nothing" if value is None else str(value)
+        text = repr(value)
+    elif isinstance(value, bool):
+        text = str(value).lower()
+    else:
+        text = "nothing" if value is None else str(value)
+    return text if len(text) <= 80 else text[:76] + "…"
 
 
 def _scalar_text(doc: YamlDocument, key: str) -> str | None:
