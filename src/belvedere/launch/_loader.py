@@ -5,6 +5,14 @@ Tags: ``launch``, ``arg``, ``param``, ``rosparam``, ``node``, ``include``, ``gro
 Substitutions: ``$(find)``, ``$(arg)``, ``$(env)``, ``$(optenv)``, ``$(eval)``, ``$(anon)``,
 ``$(dirname)``. ``if``/``unless`` accept true/false/1/0 only, as roslaunch. Errors name the
 file and line.
+
+Launch files from elsewhere are read within bounds: every file they name (``<include>``,
+``textfile``/``binfile``, ``<rosparam file>``) must be a regular file — a FIFO, a device or a
+directory is refused without waiting on it — of at most
+:data:`~belvedere.bounded.TEXT_FILE_BYTES` (:data:`~belvedere.bounded.YAML_TEXT_BYTES` for
+YAML); a ``<param command>`` is bounded in output and time (:func:`.run_program`). ``$(eval)``
+runs no program (its expressions are evaluated, never executed), and ``<rosparam
+command>`` is load, dump or delete only. Each refusal is an error at the element's line.
 """
 
 from __future__ import annotations
