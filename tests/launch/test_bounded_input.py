@@ -52,12 +52,14 @@ def test_a_flood_on_stderr_is_stopped_too(tmp_path: Path, monkeypatch: pytest.Mo
 def test_a_command_that_does_not_end_is_stopped_with_what_it_started(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    monkeypatch.setattr(bounded, "COMMAND_SECONDS", 0.3)
+    monkeypatch.setattr(bounded, "COMMAND_SECONDS", 1.0)
     marker = tmp_path / "child.pid"
     # a shell whose child sleeps: the child is in the command's process group, and goes too
     command = f"sh -c 'sleep 600 &amp; echo $! &gt; {marker}; wait'"
-    with pytest.raises(LaunchError, match=r"robot\.launch:2:3: .* did not end within 0\.3 s"):
+    with pytest.raises(LaunchError, match=r"robot\.launch:2:3: .* did not end within 1 s"):
         _load(tmp_path, f'<param name="x" command="{command}"/>')
+    if not marker.exists():  # a machine too busy to start the shell within the second
+        pytest.skip("the command's shell did not start its child in time")
     pid = int(marker.read_text())
     wait_until(lambda: not _alive(pid), what="the command's child to be killed", timeout=30)
 
