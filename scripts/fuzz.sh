@@ -2,7 +2,8 @@
 # The long fuzz run: tests/fuzz with SCALE times the CI's examples (default 50) and fresh
 # randomness each run; hypothesis keeps failures in .hypothesis/ and replays them first.
 #   scripts/fuzz.sh            # 50x: xacro, URDF, SDF, launch 10000 examples each, messages 30000,
-#                              #      a live Foxglove bridge 7500 (about a minute)
+#                              #   maps 25000 (YAML 7500, images 12500, PNG headers 5000),
+#                              #   a live Foxglove bridge 7500 (about a minute)
 #   scripts/fuzz.sh 200 -k sdf # 200x, only the SDF fuzzer
 set -euo pipefail
 cd "$(dirname "$0")/.."

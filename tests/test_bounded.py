@@ -14,9 +14,12 @@ from belvedere.bounded import (
     LimitError,
     _zstd,
     check_count,
+    check_pixels,
     describe_size,
     inflate,
     read_regular,
+    read_regular_text,
+    run_bounded,
 )
 from belvedere.errors import SourceLocation
 
@@ -110,3 +113,46 @@ def test_counts_and_sizes() -> None:
         check_count(5_000_000, 65_536, "beams", where="scan.bag")
     assert describe_size(812) == "812 bytes"
     assert describe_size(3 << 29) == "1.5 GiB"
+
+
+def test_a_file_is_named_as_the_caller_shows_it(tmp_path: Path) -> None:
+    with pytest.raises(LimitError, match=r"^error: cannot read 'x\.yaml': No such file"):
+        read_regular(tmp_path / "x.yaml", what="", name="'x.yaml'")
+
+
+def test_text_that_is_not_utf8_is_refused_at_its_line_and_column(tmp_path: Path) -> None:
+    path = tmp_path / "a.txt"
+    path.write_bytes("é\nab\xff".encode("latin-1"))  # é is not UTF-8 either: line 1 first
+    with pytest.raises(LimitError, match=r"a\.txt:1:1: error: .*not UTF-8 text \(byte 0xe9\)"):
+        read_regular_text(path)
+    path.write_bytes("é\nab".encode() + b"\xff")
+    with pytest.raises(LimitError, match=r"a\.txt:2:3: error: .*not UTF-8 text \(byte 0xff\)"):
+        read_regular_text(path)
+    path.write_bytes("é\n".encode())
+    assert read_regular_text(path) == "é\n"
+
+
+def test_pixels_past_the_cap_are_refused_with_the_size() -> None:
+    assert check_pixels(8192, 8192) == 1 << 26
+    with pytest.raises(
+        LimitError,
+        match=r"^error: the map is 8,193 x 8,192 pixels \(67,117,056\), more than the "
+        r"67,108,864 \(8192 x 8192\) belvedere decodes$",
+    ):
+        check_pixels(8193, 8192, what="the map")
+
+
+def test_a_program_gets_its_input_and_gives_its_output() -> None:
+    data = bytes(range(256)) * 2000  # more than a pipe holds: written as it is read
+    ran = run_bounded(["cat"], seconds=60, limit=len(data), stdin=data)
+    assert (ran.status, ran.stdout, ran.stderr, ran.stopped) == (0, data, b"", "")
+
+
+def test_a_program_that_prints_past_the_limit_is_stopped() -> None:
+    ran = run_bounded(["yes"], seconds=60, limit=1 << 16)
+    assert (ran.status, ran.stdout, ran.stopped) == (None, b"", "stdout")
+
+
+def test_a_program_that_does_not_stop_reading_its_input_is_not_waited_on() -> None:
+    ran = run_bounded(["sleep", "60"], seconds=0.2, limit=1 << 16, stdin=b"x" * (1 << 20))
+    assert (ran.status, ran.stopped) == (None, "time")

@@ -5,11 +5,13 @@ way."""
 from __future__ import annotations
 
 import logging
+import os
 import subprocess
 from pathlib import Path
 
 import pytest
 
+from belvedere import bounded, pyscripts
 from belvedere.pyscripts import ScriptError, script_command
 
 PY2 = """#!/usr/bin/env python
@@ -88,3 +90,66 @@ def test_a_translated_scripts_traceback_names_the_original_line(tmp_path: Path) 
     done = _run(script_command(script))
     assert done.returncode == 1
     assert f'File "{script}", line 4' in done.stderr
+
+
+# --- scripts from the internet ------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("body", "why"),
+    [
+        ('print "2"\nx = ' + "(" * 1000 + "1" + ")" * 1000, "nested too deeply to translate"),
+        ('print "2"\nx = ' + "[" * 1000 + "]" * 1000, "nested too deeply to translate"),
+        ('print "2"\nx = ' + "-" * 100_000 + "1", "nested too deeply to translate"),
+        ("x = " + "-" * 100_000 + "1", "it nests deeper than Python can compile"),
+    ],
+    ids=["parentheses", "lists", "unary-minus-2", "unary-minus-3"],
+)
+def test_a_script_nested_past_what_python_or_the_translator_follow_is_one_error(
+    tmp_path: Path, body: str, why: str
+) -> None:
+    script = tmp_path / "deep.py"
+    script.write_text(body + "\n")
+    with pytest.raises(ScriptError, match=rf"/deep\.py: error: .*{why}") as caught:
+        script_command(script)
+    assert caught.value.location is not None
+    assert caught.value.location.path == str(script)
+
+
+def test_a_translation_that_takes_too_long_is_stopped(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(bounded, "SCRIPT_SECONDS", 0.01)  # less than Python needs to start
+    script = tmp_path / "slow.py"
+    script.write_text(PY2)
+    with pytest.raises(
+        ScriptError, match=r"slow\.py: error: .*translating it from Python 2 took more than 0\.01 s"
+    ):
+        script_command(script)
+    assert not (tmp_path / "cache").exists()
+
+
+def test_a_script_past_the_cap_runs_as_it_is_unchecked(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture
+) -> None:
+    monkeypatch.setattr(pyscripts, "SCRIPT_BYTES", 16)
+    script = tmp_path / "big.py"
+    script.write_text("print('a script of more than 16 bytes')\n")
+    with caplog.at_level(logging.WARNING, logger="belvedere.scripts"):
+        command = script_command(script)
+    assert [r.getMessage() for r in caplog.records] == [
+        f"{script}: more than 16 bytes: run as it is, unchecked (belvedere checks and "
+        "translates from Python 2 only scripts of up to that size)"
+    ]
+    assert _run(command).stdout == "a script of more than 16 bytes\n"
+
+
+@pytest.mark.parametrize("kind", ["fifo", "dir"])
+def test_a_script_that_is_not_a_regular_file_is_refused_unread(tmp_path: Path, kind: str) -> None:
+    script = tmp_path / "node.py"
+    if kind == "fifo":
+        os.mkfifo(script)
+    else:
+        script.mkdir()
+    with pytest.raises(ScriptError, match=r"node\.py: error: cannot read the script: it is a"):
+        script_command(script)

@@ -2,13 +2,21 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
 
 from belvedere.cli import main
 from belvedere.errors import ParseError
-from belvedere.xmldom import MAX_DEPTH, Comment, Element, parse_string, write_pretty
+from belvedere.xmldom import (
+    MAX_DEPTH,
+    Comment,
+    Element,
+    parse_file,
+    parse_string,
+    write_pretty,
+)
 
 HEAD = '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
 
@@ -76,3 +84,14 @@ def test_xacro_expansion_deeper_than_the_limit(
         f"{path}:3:5: error: elements nest more than 256 levels deep (the nesting limit)\n"
         "  hint: no robot, world or launch file needs as many\n"
     )
+
+
+@pytest.mark.parametrize(("make", "kind"), [("fifo", "a FIFO"), ("dir", "a directory")])
+def test_parse_file_reads_only_regular_files(tmp_path: Path, make: str, kind: str) -> None:
+    path = tmp_path / "robot.urdf"
+    if make == "fifo":
+        os.mkfifo(path)
+    else:
+        path.mkdir()
+    with pytest.raises(ParseError, match=rf"^error: cannot read .*robot\.urdf: it is {kind}"):
+        parse_file(path)

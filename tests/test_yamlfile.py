@@ -3,13 +3,15 @@
 from __future__ import annotations
 
 import math
+import os
 from pathlib import Path
 
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from belvedere.errors import ParseError
+from belvedere.bounded import YAML_TEXT_BYTES
+from belvedere.errors import ParseError, SourceLocation
 from belvedere.yamlfile import load_yaml, load_yaml_file
 
 
@@ -41,6 +43,32 @@ def test_missing_file(tmp_path: Path) -> None:
         load_yaml_file(tmp_path / "none.yaml")
 
 
+def test_a_fifo_is_refused_where_it_is_asked_for(tmp_path: Path) -> None:
+    os.mkfifo(tmp_path / "gains.yaml")
+    at = SourceLocation("robot.launch", 4, 3)
+    with pytest.raises(
+        ParseError, match=r"^robot\.launch:4:3: error: cannot read YAML file .*: it is a FIFO"
+    ):
+        load_yaml_file(tmp_path / "gains.yaml", requested_at=at)
+
+
+def test_text_that_is_not_utf8_is_refused_at_its_byte(tmp_path: Path) -> None:
+    (tmp_path / "a.yaml").write_bytes(b"a: 1\nbb: \xe9t\xe9\n")
+    with pytest.raises(ParseError, match=r"a\.yaml:2:5: error: .*not UTF-8 text \(byte 0xe9\)"):
+        load_yaml_file(tmp_path / "a.yaml")
+
+
+def test_yaml_past_the_cap_is_refused_unread(tmp_path: Path) -> None:
+    big = "a: 1\n" + "#" * YAML_TEXT_BYTES
+    with pytest.raises(ParseError, match=r"^big\.yaml: error: the YAML is 4\.0 MiB, more than"):
+        load_yaml(big, path="big.yaml")
+    (tmp_path / "big.yaml").write_text(big)
+    with pytest.raises(ParseError, match=r"it is 4\.0 MiB, more than the 4 MiB belvedere reads"):
+        load_yaml_file(tmp_path / "big.yaml")
+    # the blank lines an inline <rosparam> is padded with (to keep its lines) do not count
+    assert load_yaml("\n" * YAML_TEXT_BYTES + "a: 1\n").data == {"a": 1}
+
+
 @given(st.dictionaries(st.from_regex(r"k_[a-z]{1,8}", fullmatch=True), st.integers(), min_size=1))
 def test_every_key_is_located_on_its_own_line(data: dict[str, int]) -> None:
     # (keys start with k_ so YAML 1.1 does not read 'no' or 'on' as booleans)
@@ -49,3 +77,12 @@ def test_every_key_is_located_on_its_own_line(data: dict[str, int]) -> None:
     assert doc.data == data
     for line, key in enumerate(data, start=1):
         assert doc.location(key).line == line
+
+
+def test_a_character_yaml_does_not_allow_is_an_error_at_its_place() -> None:
+    with pytest.raises(
+        ParseError,
+        match=r"^x\.yaml:2:4: error: invalid YAML: character U\+0000: special characters are "
+        "not allowed$",
+    ):
+        load_yaml("a: 1\nb: \x00\n", path="x.yaml")

@@ -6,19 +6,32 @@ beams) is checked here against one of the caps below *before* it is made, and a 
 one :class:`LimitError` that names the file, the place and the cap. The README's
 *Reliability* section lists these caps; change them here and there together.
 
-- :func:`open_regular` / :func:`read_regular`: a regular file only (a FIFO, a device such as
-  ``/dev/zero`` or a directory is refused without blocking), at most ``limit`` bytes.
+- :func:`open_regular` / :func:`read_regular` / :func:`read_regular_text`: a regular file
+  only (a FIFO, a device such as ``/dev/zero`` or a directory is refused without blocking),
+  at most ``limit`` bytes.
 - :func:`inflate`: a compressed block that must inflate to exactly its declared size, never
   past it, streamed so a bomb stops at the cap.
 - :func:`check_count`: a count (pixels, cells, beams, a declared length) against its cap.
+- :func:`check_pixels`: an image's size, read from its header, against :data:`IMAGE_PIXELS`
+  before it is decoded.
+- :func:`run_bounded`: a program whose output is read as it comes, within a size and a time,
+  and killed (with what it started) past either.
 """
 
 from __future__ import annotations
 
 import bz2
+import contextlib
+import math
 import os
+import selectors
+import signal
 import stat
+import subprocess
+import time
 import zlib
+from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import IO, Any, Final
 
 from belvedere.errors import BelvedereError, SourceLocation
@@ -31,26 +44,41 @@ __all__ = [
     "IMAGE_FILE_BYTES",
     "IMAGE_PIXELS",
     "INFLATED_BYTES",
+    "MESH_FILE_BYTES",
     "SCAN_BEAMS",
     "SCRIPT_BYTES",
+    "SCRIPT_SECONDS",
     "TEXT_FILE_BYTES",
+    "YAML_TEXT_BYTES",
     "LimitError",
+    "Ran",
     "check_count",
+    "check_pixels",
     "describe_size",
     "inflate",
     "open_regular",
     "read_regular",
+    "read_regular_text",
+    "run_bounded",
 ]
 
 MiB: Final = 1 << 20
 
 TEXT_FILE_BYTES: Final = 64 * MiB
 """A text file read whole: XML (URDF, xacro, SDF, launch), YAML, .rviz, a PGM's header."""
+YAML_TEXT_BYTES: Final = 4 * MiB
+"""One YAML document (a rosparam file, an rviz config, a map's YAML, a ``type="yaml"`` value):
+PyYAML's pure-Python loader, which keeps the lines belvedere reports, reads about 250 KiB/s
+and holds about 100 bytes per byte of text, so 4 MiB is some 15 s and 500 MiB. Real ones
+are a few KiB."""
 IMAGE_FILE_BYTES: Final = 512 * MiB
 """An image file (map, texture) read to be decoded."""
 IMAGE_PIXELS: Final = 1 << 26
 """Pixels of one decoded image (a map or a texture): 67,108,864, 8192 x 8192 — an 8K texture,
 or a 410 m square map at 5 cm. Pillow's own guard warns at 89 Mpx and stops only at 179."""
+MESH_FILE_BYTES: Final = 128 * MiB
+"""A mesh file (STL, OBJ, Collada) handed to trimesh: 2.7 million triangles of binary STL,
+which trimesh holds in about 1 GiB; robot meshes are a few MiB."""
 INFLATED_BYTES: Final = 512 * MiB
 """What one compressed block (a bag's or MCAP file's chunk) may declare it inflates to;
 rosbag writes 768 KiB chunks and MCAP writers a few MiB."""
@@ -66,10 +94,15 @@ SCAN_BEAMS: Final = 1 << 16
 COMMAND_OUTPUT_BYTES: Final = 64 * MiB
 """What one ``<param command="…">`` (or ``$(eval …)`` command) may print, stdout and stderr
 each."""
-COMMAND_SECONDS: Final = 120.0
+COMMAND_SECONDS: Final = 60.0
 """How long such a command may run before it is stopped."""
-SCRIPT_BYTES: Final = 2 * MiB
-"""A Python 2 script translated to Python 3 (course scripts are a few KiB)."""
+SCRIPT_BYTES: Final = 512 << 10
+"""A script checked (compiled) and translated from Python 2 in process (course scripts are a
+few KiB): fissix translates some 60 KiB/s holding ~450 bytes per byte, so 512 KiB is ~9 s
+and ~250 MiB (2 MiB, the first choice, was 35 s and 1 GiB). A larger script runs unchecked."""
+SCRIPT_SECONDS: Final = 20.0
+"""How long translating one script may take: fissix's time grows faster than the script in
+some shapes (20,000 adjacent string literals take 11 s), so a byte cap alone bounds no time."""
 
 
 class LimitError(BelvedereError):
@@ -112,36 +145,43 @@ def _kind(mode: int) -> str:
     return "not a regular file"
 
 
+def _label(what: str, name: str) -> str:
+    return f"{what} {name}" if what else name
+
+
 def open_regular(
     path: str | os.PathLike[str],
     *,
     limit: int = TEXT_FILE_BYTES,
     what: str = "file",
     at: SourceLocation | None = None,
+    name: str | None = None,
 ) -> IO[bytes]:
     """``path`` opened for reading in binary, if it is a regular file of at most ``limit``
     bytes (after following symlinks).
 
     The file is opened without blocking first, so a FIFO with no writer is refused rather than
-    waited for. ``what`` names it in errors (``map image``); ``at`` is where it was asked for.
+    waited for. ``what`` names it in errors (``map image``; empty for none); ``name`` is how
+    the file is shown there (default: ``path``); ``at`` is where it was asked for. Errors read
+    ``cannot read {what} {name}: {why}``.
 
     Raises:
         LimitError: it cannot be opened, is not a regular file, or is larger than ``limit``.
     """
-    shown = os.fspath(path)
+    shown = _label(what, os.fspath(path) if name is None else name)
     try:
-        fd = os.open(shown, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC)
+        fd = os.open(os.fspath(path), os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC)
     except OSError as err:
-        msg = f"cannot read {what} {shown}: {err.strerror or err}"
+        msg = f"cannot read {shown}: {err.strerror or err}"
         raise LimitError(msg, at) from None
     try:
         info = os.fstat(fd)
         if not stat.S_ISREG(info.st_mode):
-            msg = f"cannot read {what} {shown}: it is {_kind(info.st_mode)}, not a regular file"
+            msg = f"cannot read {shown}: it is {_kind(info.st_mode)}, not a regular file"
             raise LimitError(msg, at)
         if info.st_size > limit:
             msg = (
-                f"cannot read {what} {shown}: it is {describe_size(info.st_size)}, "
+                f"cannot read {shown}: it is {describe_size(info.st_size)}, "
                 f"more than the {describe_size(limit)} belvedere reads"
             )
             raise LimitError(msg, at)
@@ -158,19 +198,44 @@ def read_regular(
     limit: int = TEXT_FILE_BYTES,
     what: str = "file",
     at: SourceLocation | None = None,
+    name: str | None = None,
 ) -> bytes:
     """The bytes of ``path`` (see :func:`open_regular`); a file that grows past ``limit``
     while being read is refused too."""
-    with open_regular(path, limit=limit, what=what, at=at) as f:
+    shown = _label(what, os.fspath(path) if name is None else name)
+    with open_regular(path, limit=limit, what=what, at=at, name=name) as f:
         try:
             data = f.read(limit + 1)
         except OSError as err:
-            msg = f"cannot read {what} {os.fspath(path)}: {err.strerror or err}"
+            msg = f"cannot read {shown}: {err.strerror or err}"
             raise LimitError(msg, at) from None
     if len(data) > limit:
-        msg = f"cannot read {what} {os.fspath(path)}: it grew past {describe_size(limit)}"
+        msg = f"cannot read {shown}: it grew past {describe_size(limit)}"
         raise LimitError(msg, at)
     return data
+
+
+def read_regular_text(
+    path: str | os.PathLike[str],
+    *,
+    limit: int = TEXT_FILE_BYTES,
+    what: str = "file",
+    at: SourceLocation | None = None,
+    name: str | None = None,
+) -> str:
+    """The UTF-8 text of ``path`` (see :func:`open_regular`). Bytes that are not UTF-8 are
+    refused at their own line and column (``path:3:7``, the column in bytes)."""
+    data = read_regular(path, limit=limit, what=what, at=at, name=name)
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as err:
+        line = data.count(b"\n", 0, err.start) + 1
+        col = err.start - (data.rfind(b"\n", 0, err.start) + 1) + 1
+        msg = (
+            f"cannot read {_label(what, os.fspath(path) if name is None else name)}: "
+            f"it is not UTF-8 text (byte 0x{data[err.start]:02x})"
+        )
+        raise LimitError(msg, SourceLocation(os.fspath(path), line, col)) from None
 
 
 def check_count(
@@ -183,6 +248,143 @@ def check_count(
     prefix = f"{where}: " if where else ""
     msg = f"{prefix}{what}: {count:,} is more than the cap of {cap:,}"
     raise LimitError(msg, at)
+
+
+def check_pixels(
+    width: int, height: int, *, what: str = "the image", at: SourceLocation | None = None
+) -> int:
+    """The pixel count of a ``width`` x ``height`` image if it is at most :data:`IMAGE_PIXELS`
+    (check it from the header, before decoding); else one :class:`LimitError`:
+    ``{what} is 13,000 x 13,000 pixels (169,000,000), more than the 67,108,864
+    (8192 x 8192) belvedere decodes``."""
+    count = width * height
+    if count <= IMAGE_PIXELS:
+        return count
+    side = math.isqrt(IMAGE_PIXELS)
+    msg = (
+        f"{what} is {width:,} x {height:,} pixels ({count:,}), more than the "
+        f"{IMAGE_PIXELS:,} ({side} x {side}) belvedere decodes"
+    )
+    raise LimitError(msg, at)
+
+
+@dataclass(frozen=True)
+class Ran:
+    """What a program run by :func:`run_bounded` did."""
+
+    status: int | None
+    """Its exit status (negative: the signal that ended it); None if it was stopped."""
+    stdout: bytes
+    stderr: bytes
+    stopped: str = ""
+    """Why it was stopped: ``""`` (it was not), ``"time"``, ``"stdout"`` or ``"stderr"``
+    (the stream that passed the limit). Its output is then empty."""
+
+
+def run_bounded(argv: Sequence[str], *, seconds: float, limit: int, stdin: bytes = b"") -> Ran:
+    """Run ``argv`` with ``stdin`` as its input (``/dev/null`` if empty), reading its stdout
+    and stderr as they come: it may print at most ``limit`` bytes on each and run ``seconds``.
+    Past either it is killed with whatever it started (it runs in a process group of its
+    own), and so it is if the caller is interrupted.
+
+    Raises:
+        OSError: it cannot be started.
+    """
+    process = subprocess.Popen(
+        list(argv),
+        stdin=subprocess.PIPE if stdin else subprocess.DEVNULL,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        start_new_session=True,
+    )
+    try:
+        return _collect(process, stdin, limit, time.monotonic() + seconds)
+    finally:
+        _kill(process)
+
+
+def _collect(process: subprocess.Popen[bytes], stdin: bytes, limit: int, deadline: float) -> Ran:
+    """Feed ``stdin`` and read both pipes as they fill until they close and the program
+    ends."""
+    assert process.stdout is not None
+    assert process.stderr is not None
+    streams = {
+        process.stdout.fileno(): ("stdout", bytearray()),
+        process.stderr.fileno(): ("stderr", bytearray()),
+    }
+    left_to_write = memoryview(stdin)
+    with selectors.DefaultSelector() as selector:
+        for fd in streams:
+            selector.register(fd, selectors.EVENT_READ)
+        if process.stdin is not None:
+            os.set_blocking(process.stdin.fileno(), False)
+            selector.register(process.stdin.fileno(), selectors.EVENT_WRITE)
+        while selector.get_map():
+            left = deadline - time.monotonic()
+            if left <= 0:
+                return Ran(None, b"", b"", "time")
+            for key, _ in selector.select(left):
+                if key.fd not in streams:  # stdin ready for more
+                    try:
+                        left_to_write = left_to_write[os.write(key.fd, left_to_write[:PIPE_BUF]) :]
+                    except BrokenPipeError:  # it stopped reading: what it does is its output
+                        left_to_write = left_to_write[:0]
+                    if not left_to_write:
+                        selector.unregister(key.fd)
+                        assert process.stdin is not None
+                        process.stdin.close()
+                    continue
+                chunk = os.read(key.fd, 1 << 16)
+                name, got = streams[key.fd]
+                if not chunk:
+                    selector.unregister(key.fd)
+                    continue
+                got += chunk
+                if len(got) > limit:
+                    return Ran(None, b"", b"", name)
+    status = _wait(process, deadline)
+    if status is None:
+        return Ran(None, b"", b"", "time")
+    out, err = (bytes(got) for _, got in streams.values())
+    return Ran(status, out, err)
+
+
+def _wait(process: subprocess.Popen[bytes], deadline: float) -> int | None:
+    """The program's exit status, or None if it has not ended by ``deadline``: woken by the
+    exit itself where Linux gives a pidfd (``Popen.wait`` with a timeout polls, sleeping a
+    millisecond and more between looks: a few ms on every command)."""
+    try:
+        fd = os.pidfd_open(process.pid)
+    except (AttributeError, OSError):
+        try:
+            return process.wait(max(0.0, deadline - time.monotonic()))
+        except subprocess.TimeoutExpired:
+            return None
+    try:
+        with selectors.DefaultSelector() as selector:
+            selector.register(fd, selectors.EVENT_READ)
+            if not selector.select(max(0.0, deadline - time.monotonic())):
+                return None
+    finally:
+        os.close(fd)
+    return process.wait()
+
+
+PIPE_BUF: Final = 1 << 16
+"""Bytes written to a program's input at a time."""
+
+
+def _kill(process: subprocess.Popen[bytes]) -> None:
+    """End the program and what it started (its process group), if still there; close its
+    pipes."""
+    if process.returncode is None:
+        with contextlib.suppress(ProcessLookupError, PermissionError):
+            os.killpg(process.pid, signal.SIGKILL)
+        process.wait()
+    for pipe in (process.stdin, process.stdout, process.stderr):
+        if pipe is not None:
+            with contextlib.suppress(OSError):
+                pipe.close()
 
 
 class _Inflater:

@@ -45,10 +45,11 @@ def pinpoint(near: SourceLocation | None, text: str, offset: int = 0) -> SourceL
     (an attribute with entities, for instance)."""
     if near is None or near.line <= 0:
         return near
+    from belvedere.bounded import LimitError, read_regular_text  # bounded imports this module
+
     try:
-        with open(near.path, encoding="utf-8") as f:
-            source = f.read()
-    except (OSError, UnicodeDecodeError, ValueError):
+        source = read_regular_text(near.path)
+    except (LimitError, ValueError):
         return near
     start = 0
     for _ in range(near.line - 1):

@@ -16,6 +16,14 @@ import sys
 from pathlib import Path
 from typing import Final
 
+from belvedere import bounded
+from belvedere.bounded import (
+    DATA_FILE_BYTES,
+    SCRIPT_BYTES,
+    LimitError,
+    describe_size,
+    open_regular,
+)
 from belvedere.errors import ParseError, SourceLocation
 from belvedere.fileio import write_file
 
@@ -101,31 +109,112 @@ def _decode(data: bytes) -> str:
 
 
 def _compiles(text: str, path: Path) -> SyntaxError | None:
+    """The error that keeps ``text`` from compiling as Python 3, if any.
+
+    Raises:
+        ScriptError: it nests deeper than Python's compiler goes (Python itself could not run
+            it either).
+    """
     try:
         compile(text, str(path), "exec", dont_inherit=True)
     except SyntaxError as err:
         return err
+    except (RecursionError, MemoryError):  # CPython's parser and compiler: "too nested"
+        msg = "it nests deeper than Python can compile (a generated or hostile file?)"
+        raise ScriptError(msg, SourceLocation(str(path))) from None
     return None
 
 
-def _translate(text: str, path: Path) -> str:
-    from fissix import refactor
-    from fissix.pgen2.parse import ParseError as GrammarError
+_TRANSLATE: Final = """\
+import resource, sys
+memory = int(sys.argv[2])
+resource.setrlimit(resource.RLIMIT_AS, (memory, memory))
+from fissix import refactor
+from fissix.pgen2.parse import ParseError
+source = sys.stdin.buffer.read().decode("utf-8")
+tool = refactor.RefactoringTool(refactor.get_fixers_from_package("fissix.fixes"))
+try:
+    out = str(tool.refactor_string(source, sys.argv[1]))
+except ParseError as err:
+    line, col = err.context[1] if err.context else (0, 0)
+    print(line, col)
+    sys.exit(3)
+except RecursionError:
+    sys.exit(4)
+except MemoryError:
+    sys.exit(5)
+sys.stdout.buffer.write(out.encode("utf-8"))
+"""
+"""Translates the Python 2 on its stdin with fissix (a maintained lib2to3) and prints it;
+exit status 3 (and the line and column) for what its grammar refuses, 4 for nesting deeper
+than it recurses, 5 for running out of the memory it is given."""
 
-    fixers = refactor.get_fixers_from_package("fissix.fixes")
-    tool = refactor.RefactoringTool(fixers)
+_TRANSLATE_MEMORY: Final = 2 << 30
+"""Address space the translating process may take (it needs ~250 MiB for 512 KiB)."""
+
+
+def _translate(text: str, path: Path) -> str:
+    """``text`` translated from Python 2, in a process of its own: fissix takes time that
+    grows faster than the script in some shapes (20,000 adjacent string literals take 11 s,
+    40,000 four times that), so it runs bounded by :data:`~belvedere.bounded.SCRIPT_SECONDS`
+    and its memory, and can be stopped. It is done once per script content (cached)."""
     source = text if text.endswith("\n") else text + "\n"
+    at = SourceLocation(str(path))
+    seconds = bounded.SCRIPT_SECONDS
+    argv = [sys.executable, "-c", _TRANSLATE, str(path), str(_TRANSLATE_MEMORY)]
     try:
-        return str(tool.refactor_string(source, str(path)))
-    except GrammarError as err:
-        line, col = err.context[1] if err.context else (0, 0)
-        msg = "not valid Python 3, and not Python 2 that can be translated"
-        raise ScriptError(msg, SourceLocation(str(path), line, col + 1)) from None
+        ran = bounded.run_bounded(
+            argv, seconds=seconds, limit=8 * bounded.SCRIPT_BYTES, stdin=source.encode("utf-8")
+        )
+    except OSError as err:
+        msg = f"not valid Python 3, and the Python 2 translator cannot start: {err}"
+        raise ScriptError(msg, at) from None
+    if ran.status == 0:
+        return ran.stdout.decode("utf-8")
+    lead = "not valid Python 3, and"
+    if ran.stopped == "time":
+        msg = f"{lead} translating it from Python 2 took more than {seconds:g} s: stopped"
+    elif ran.status == 3:
+        line, col = (int(n) for n in ran.stdout.split()[:2])
+        msg = f"{lead} not Python 2 that can be translated"
+        at = SourceLocation(str(path), line, col + 1)
+    elif ran.status == 4:
+        msg = f"{lead} nested too deeply to translate from Python 2"
+    elif ran.status == 5 or ran.stopped:
+        msg = f"{lead} too large to translate from Python 2 (the translator ran out of room)"
+    else:
+        status = ran.status or 0
+        tail = ran.stderr.decode("utf-8", errors="replace").strip().splitlines()[-1:]
+        msg = f"{lead} the Python 2 translator failed (status {status}): {''.join(tail)}"
+    raise ScriptError(msg, at)
 
 
 def script_command(path: Path, python: str = sys.executable) -> list[str]:
-    """The command that runs ``path`` (before its own arguments)."""
-    data = path.read_bytes()
+    """The command that runs ``path`` (before its own arguments).
+
+    Only a regular file is read. A script of at most :data:`~belvedere.bounded.SCRIPT_BYTES`
+    is checked (compiled) and, if need be, translated; a larger one runs as it is, unchecked
+    (compiling or translating it here would take the time and memory of a much larger
+    program), with a warning that says so.
+
+    Raises:
+        ScriptError: the script cannot be read, or compiles neither as Python 3 nor as
+            translated Python 2 (at its line), or nests too deeply to compile or translate.
+    """
+    try:
+        # any size: only what is checked is read (a larger script is Python's to read)
+        with open_regular(path, limit=DATA_FILE_BYTES, what="", name="the script") as f:
+            data = f.read(SCRIPT_BYTES + 1)
+    except LimitError as err:
+        raise ScriptError(err.message, SourceLocation(str(path))) from None
+    if len(data) > SCRIPT_BYTES:
+        logger.warning(
+            "%s: more than %s: run as it is, unchecked (belvedere checks and translates "
+            "from Python 2 only scripts of up to that size)",
+            path,
+            describe_size(SCRIPT_BYTES),
+        )
+        return _boot(python, path, path)
     text = _decode(data)
     crlf = "\r\n" in text
     if crlf:

@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Final
 from xml.parsers import expat
 
+from belvedere.bounded import TEXT_FILE_BYTES, LimitError, read_regular
 from belvedere.errors import ParseError, SourceLocation
 
 __all__ = [
@@ -501,13 +502,15 @@ def parse_file(
     namespaces: bool = True,
     keep_blank: bool = True,
 ) -> Document:
-    """Parse an XML file. ``display`` is the name used in locations (default: ``path``)."""
+    """Parse an XML file. ``display`` is the name used in locations (default: ``path``).
+
+    Only a regular file of at most :data:`~belvedere.bounded.TEXT_FILE_BYTES` is read (a FIFO
+    or a device is refused, not waited on): ``cannot read robot.urdf: it is a FIFO…``."""
     name = display if display is not None else str(path)
     try:
-        data = Path(path).read_bytes()
-    except OSError as err:
-        msg = f"cannot read {name}: {err.strerror or err}"
-        raise ParseError(msg) from None
+        data = read_regular(path, limit=TEXT_FILE_BYTES, what="", name=name)
+    except LimitError as err:
+        raise ParseError(err.message, err.location) from None
     return parse_string(data, name, namespaces=namespaces, keep_blank=keep_blank)
 
 

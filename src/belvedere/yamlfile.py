@@ -20,6 +20,7 @@ from typing import Any, Final
 
 import yaml
 
+from belvedere.bounded import YAML_TEXT_BYTES, LimitError, describe_size, read_regular_text
 from belvedere.errors import ParseError, SourceLocation
 
 __all__ = [
@@ -201,8 +202,24 @@ def describe_error(err: yaml.YAMLError, path: str) -> tuple[str, SourceLocation 
 
 
 def load_yaml(text: str, *, path: str = "<yaml>") -> YamlDocument:
-    """Parse one YAML document; errors name ``path:line:col``."""
-    loader = Loader(text)
+    """Parse one YAML document; errors name ``path:line:col``. A document longer than
+    :data:`~belvedere.bounded.YAML_TEXT_BYTES` (not counting the blank lines a launch file's
+    inline ``<rosparam>`` is padded with to keep its line numbers) is refused unread."""
+    if len(text) > YAML_TEXT_BYTES:
+        size = len(text.lstrip("\n"))
+        if size > YAML_TEXT_BYTES:
+            msg = (
+                f"the YAML is {describe_size(size)}, more than the "
+                f"{describe_size(YAML_TEXT_BYTES)} belvedere reads"
+            )
+            raise ParseError(msg, SourceLocation(path))
+    try:
+        loader = Loader(text)  # PyYAML's reader checks every character here, at once
+    except yaml.reader.ReaderError as err:
+        at = err.position
+        line, col = text.count("\n", 0, at) + 1, at - (text.rfind("\n", 0, at) + 1) + 1
+        msg = f"invalid YAML: character U+{err.character:04X}: {err.reason}"
+        raise ParseError(msg, SourceLocation(path, line, col)) from None
     try:
         root = loader.get_single_node()
         data = loader.construct_document(root) if root is not None else None
@@ -216,10 +233,12 @@ def load_yaml(text: str, *, path: str = "<yaml>") -> YamlDocument:
 
 def load_yaml_file(path: str | Path, *, requested_at: SourceLocation | None = None) -> YamlDocument:
     """Read and parse a YAML file (a missing or unreadable file is a clear error, at
-    ``requested_at`` when a file names it)."""
+    ``requested_at`` when a file names it; only a regular file of at most
+    :data:`~belvedere.bounded.YAML_TEXT_BYTES` is read)."""
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as err:
-        msg = f"cannot read YAML file {str(path)!r}: {getattr(err, 'strerror', None) or err}"
-        raise ParseError(msg, requested_at) from None
+        text = read_regular_text(
+            path, limit=YAML_TEXT_BYTES, what="YAML file", name=repr(str(path)), at=requested_at
+        )
+    except LimitError as err:
+        raise ParseError(err.message, err.location) from None
     return load_yaml(text, path=str(path))

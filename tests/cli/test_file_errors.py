@@ -5,12 +5,14 @@ missing."""
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import pytest
 
 from belvedere.cli import main
 from tests.conftest import EXAMPLES
+from tests.fuzz._mutate import run_bounded
 
 NS = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'
 BROKEN = {
@@ -117,6 +119,56 @@ def test_a_missing_file_is_named_as_missing(
     if args[0] in ("sim", "display"):
         argv += ["--duration", "0.1"]  # should it get that far
     assert main(["-q", *argv]) == 1
+    err = capsys.readouterr().err
+    assert err.endswith(message.format(**names))
+    assert "Traceback" not in err
+
+
+FIFO = ": it is a FIFO (named pipe), not a regular file\n"
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["xacro", "{m}"], "error: cannot read {m}" + FIFO),
+        (["check", "{m}"], "error: cannot read {m}" + FIFO),
+        (["display", "{m}", "--port", "0"], "error: cannot read {m}" + FIFO),
+        (["sim", "{m}", "--headless"], "error: cannot read {m}" + FIFO),
+        (["launch", "{l}"], "error: cannot read {l}" + FIFO),
+        (
+            ["sim", str(MBOT), "--engine", "physics", "--world", "{w}", "--headless"],
+            "error: cannot read {w}" + FIFO,
+        ),
+        (
+            ["sim", str(MBOT), "--config", "{y}", "--headless"],
+            "error: cannot read YAML file '{y}'" + FIFO,
+        ),
+        (
+            ["display", str(MBOT), "--rviz", "{r}", "--port", "0"],
+            "error: cannot read rviz config {r}" + FIFO,
+        ),
+        (["map", "show", "{y}"], "error: cannot read the map file '{y}'" + FIFO),
+    ],
+    ids=["xacro", "check", "display", "sim", "launch", "world", "config", "rviz", "map"],
+)
+def test_a_fifo_is_refused_not_waited_on(
+    endpoint: str,
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    args: list[str],
+    message: str,
+) -> None:
+    names = {
+        k: tmp_path / f"fifo.{ext}"
+        for k, ext in zip("mlwyr", ("xacro", "launch", "world", "yaml", "rviz"), strict=True)
+    }
+    for path in names.values():
+        os.mkfifo(path)
+    argv = [a.format(**names) for a in args]
+    if args[0] in ("sim", "display"):
+        argv += ["--duration", "0.1"]  # should it get that far
+    with run_bounded(120):  # a reader that waits for a writer fails here, not the suite
+        assert main(["-q", *argv]) == 1
     err = capsys.readouterr().err
     assert err.endswith(message.format(**names))
     assert "Traceback" not in err

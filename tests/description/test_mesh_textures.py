@@ -4,11 +4,15 @@ and fire hydrant lack their specular maps): one warning per missing file, no tra
 from __future__ import annotations
 
 import logging
+import os
 from pathlib import Path
 
 import pytest
 
-from belvedere.description.meshes import load_mesh
+from belvedere.description import meshes
+from belvedere.description.meshes import MeshError, load_mesh
+from belvedere.errors import SourceLocation
+from tests.maps.test_bounded_maps import png_header
 
 # A triangle whose Collada effect takes diffuse, specular and emission from image files
 # that are not there (trimesh logs the emission's failure with a traceback).
@@ -114,3 +118,62 @@ def test_a_missing_material_library_is_one_warning(
     warnings = _warnings(caplog)
     assert len(warnings) == 1, warnings
     assert "'box.mtl'" in warnings[0]
+
+
+# --- textures and meshes from the internet -----------------------------------------------------
+AT = SourceLocation("robot.urdf", 12, 9)
+
+
+def test_a_169_megapixel_texture_is_refused_from_its_header(tmp_path: Path) -> None:
+    (tmp_path / "box.obj").write_text(OBJ)
+    (tmp_path / "box.mtl").write_text("newmtl m\nKd 1 1 1\nmap_Kd huge.png\n")
+    (tmp_path / "huge.png").write_bytes(png_header(13000, 13000))
+    with pytest.raises(MeshError) as caught:
+        load_mesh(tmp_path / "box.obj", requested_at=AT)
+    assert caught.value.describe() == (
+        f"robot.urdf:12:9: error: mesh file {tmp_path}/box.obj: texture huge.png is 13,000 x "
+        "13,000 pixels (169,000,000), more than the 67,108,864 (8192 x 8192) belvedere decodes"
+    )
+
+
+def test_a_collada_texture_past_pillows_own_limit_is_refused(tmp_path: Path) -> None:
+    (tmp_path / "textures").mkdir()
+    (tmp_path / "textures" / "hydrant_diffuse.png").write_bytes(png_header(20000, 20000))
+    (tmp_path / "hydrant.dae").write_text(DAE)
+    with pytest.raises(MeshError, match=r"^robot\.urdf:12:9: error: mesh file .*hydrant\.dae: "):
+        load_mesh(tmp_path / "hydrant.dae", requested_at=AT)
+
+
+@pytest.mark.parametrize(("texture", "kind"), [("fifo", "a FIFO"), ("dir", "a directory")])
+def test_a_texture_that_is_not_a_regular_file_is_refused_unread(
+    tmp_path: Path, texture: str, kind: str
+) -> None:
+    (tmp_path / "box.obj").write_text(OBJ)
+    (tmp_path / "box.mtl").write_text("newmtl m\nKd 1 1 1\nmap_Kd t.png\n")
+    if texture == "fifo":
+        os.mkfifo(tmp_path / "t.png")
+    else:
+        (tmp_path / "t.png").mkdir()
+    with pytest.raises(
+        MeshError, match=rf"robot\.urdf:12:9: .*box\.obj: cannot read texture t\.png: it is {kind}"
+    ):
+        load_mesh(tmp_path / "box.obj", requested_at=AT)
+
+
+def test_a_mesh_that_is_a_fifo_is_refused_unread(tmp_path: Path) -> None:
+    os.mkfifo(tmp_path / "wheel.stl")
+    with pytest.raises(
+        MeshError,
+        match=r"^robot\.urdf:12:9: error: cannot read mesh .*wheel\.stl \(referenced at "
+        r"robot\.urdf:12:9\): it is a FIFO \(named pipe\), not a regular file",
+    ):
+        load_mesh(tmp_path / "wheel.stl", requested_at=AT)
+
+
+def test_a_mesh_past_the_cap_is_refused_unread(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(meshes, "MESH_FILE_BYTES", 64)
+    (tmp_path / "box.obj").write_text(OBJ)
+    with pytest.raises(MeshError, match=r"box\.obj: it is 83 bytes, more than the 64 bytes"):
+        load_mesh(tmp_path / "box.obj")

@@ -72,7 +72,7 @@ def _launch_file(args: argparse.Namespace, packages: PackageIndex) -> Path:
     args.extra = extra
     if args.file is None:
         path = Path(args.target)
-        if not os.path.isfile(path):
+        if not os.path.exists(path) or os.path.isdir(path):  # a FIFO…: the loader says why
             msg = f"launch file {args.target!r} does not exist"
             near = did_you_mean(path.name, (p.name for p in _launch_files(path.parent)))
             hint = near or "or give a package and a file: launch PKG FILE"

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import yaml
 
+from belvedere.bounded import YAML_TEXT_BYTES, read_regular_text
 from belvedere.cli._tool import action_parsers, open_tool
 from belvedere.errors import BelvedereError
 from belvedere.fileio import write_file
@@ -58,11 +59,7 @@ def run(args: argparse.Namespace) -> int:
             ask({"op": "set", "name": resolve_name(args.name), "value": value})
         elif action == "load":
             path = Path(args.file)
-            try:
-                text = path.read_text(encoding="utf-8")
-            except OSError as err:
-                msg = f"cannot read {path}: {err.strerror}"
-                raise BelvedereError(msg) from None
+            text = read_regular_text(path, limit=YAML_TEXT_BYTES, what="")
             ask(
                 {
                     "op": "load",

@@ -5,6 +5,12 @@
 modification time. A missing or unreadable mesh is an error naming the file:line that
 referred to it; a texture or material file a mesh refers to that cannot be found is one
 warning per missing file (the mesh loads without it), never a traceback.
+
+Only regular files are read: a mesh of at most :data:`~belvedere.bounded.MESH_FILE_BYTES`,
+the textures and material files it refers to of at most
+:data:`~belvedere.bounded.IMAGE_FILE_BYTES`, and a texture only if its header gives at most
+:data:`~belvedere.bounded.IMAGE_PIXELS` pixels; anything else is an error naming the mesh,
+the file and why, at the line that referred to the mesh.
 """
 
 from __future__ import annotations
@@ -14,6 +20,7 @@ import functools
 import io
 import logging
 import os
+import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -23,6 +30,15 @@ from urllib.parse import unquote
 import numpy as np
 import numpy.typing as npt
 
+from belvedere.bounded import (
+    IMAGE_FILE_BYTES,
+    IMAGE_PIXELS,
+    MESH_FILE_BYTES,
+    LimitError,
+    check_pixels,
+    open_regular,
+    read_regular,
+)
 from belvedere.errors import ParseError, SourceLocation
 from belvedere.packages import PackageIndex
 
@@ -105,8 +121,12 @@ def load_mesh(
     cached = _cache.get(key)
     if cached is not None:
         return cached
+    try:  # trimesh opens and reads what it is given: a regular file of a sane size only
+        open_regular(file, limit=MESH_FILE_BYTES, what="mesh", name=f"{file}{where}").close()
+    except LimitError as err:
+        raise MeshError(err.message, requested_at) from None
     try:
-        mesh = _read(file, kind)
+        mesh = _read(file, kind, requested_at)
     except MeshError:
         raise
     except Exception as err:  # noqa: BLE001 (trimesh and its readers raise many kinds)
@@ -151,21 +171,76 @@ def _blank_png() -> bytes:
     return out.getvalue()
 
 
+class _RefusedError(Exception):
+    """A file a mesh refers to that is not read (see :func:`_resolver`)."""
+
+
 def _resolver(file: Path) -> Any:
     """trimesh's resolver for the files a mesh refers to (textures, .mtl), relative to the
-    mesh: a missing one is one warning per file, and reads as a blank image."""
+    mesh: a missing one is one warning per file, and reads as a blank image.
+
+    Only a regular file of a sane size is read, and an image only if its header gives at
+    most :data:`~belvedere.bounded.IMAGE_PIXELS`; a refused file reads as a blank image too,
+    and is kept in the resolver's ``refused`` (trimesh catches what a resolver raises), for
+    :func:`_read` to raise once trimesh is done."""
     from trimesh.resolvers import FilePathResolver
 
     class Resolver(FilePathResolver):
+        refused: LimitError | None = None
+
         def get(self, name: str) -> bytes:
             try:
-                data: bytes = super().get(name)
+                data: bytes = self._read(name)
+            except _RefusedError:
+                return _blank_png()
             except (OSError, ValueError):
                 _report_missing(file, name)
                 return b"" if name.lower().endswith(".mtl") else _blank_png()
             return data
 
+        def _read(self, name: str) -> bytes:
+            """The file ``name`` as trimesh's resolver finds it (the name, without a leading
+            slash, or its last part under the mesh's directory), read within the caps."""
+            for candidate in (name.strip(), name.strip().lstrip("/"), os.path.split(name)[-1]):
+                try:
+                    path = self.absolute(candidate)
+                except ValueError:
+                    continue
+                if os.path.lexists(path):
+                    return self._bounded(path, name)
+            return bytes(super().get(name))  # raises: not found, or outside the mesh's tree
+
+        def _bounded(self, path: Path, name: str) -> bytes:
+            material = name.lower().endswith(".mtl")
+            what = "material file" if material else "texture"
+            try:
+                data = read_regular(path, limit=IMAGE_FILE_BYTES, what=what, name=name)
+                if not material:
+                    _check_image(data, f"{what} {name}")
+            except LimitError as err:
+                if self.refused is None:
+                    self.refused = err
+                raise _RefusedError from None
+            return data
+
     return Resolver(str(file))
+
+
+def _check_image(data: bytes, what: str) -> None:
+    """Refuse an image whose header gives more than IMAGE_PIXELS (anything Pillow does not
+    take for an image passes: trimesh says what it makes of it)."""
+    from PIL import Image, UnidentifiedImageError
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+            with Image.open(io.BytesIO(data)) as img:
+                size = img.size
+    except Image.DecompressionBombError:
+        size = (IMAGE_PIXELS + 1, 1)  # past Pillow's own limit, so far past ours
+    except (UnidentifiedImageError, OSError, SyntaxError, ValueError):
+        return
+    check_pixels(*size, what=what)
 
 
 def _missing_path(file: Path, name: str) -> Path:
@@ -206,14 +281,16 @@ def _referenced_files(file: Path, kind: str) -> list[str]:
                     if child.tag.endswith("init_from") and child.text_content().strip():
                         names.append(child.text_content().strip())
     elif kind == "obj":
-        with contextlib.suppress(OSError, UnicodeDecodeError):
-            for line in file.read_text(errors="replace").splitlines():
+        with contextlib.suppress(LimitError):
+            text = read_regular(file, limit=MESH_FILE_BYTES).decode(errors="replace")
+            for line in text.splitlines():
                 words = line.split()
                 if len(words) > 1 and words[0] == "mtllib":
                     names.append(" ".join(words[1:]))
         for mtl in list(names):
-            with contextlib.suppress(OSError, UnicodeDecodeError):
-                for line in (file.parent / mtl).read_text(errors="replace").splitlines():
+            with contextlib.suppress(LimitError):
+                text = read_regular(file.parent / mtl).decode(errors="replace")
+                for line in text.splitlines():
                     words = line.split()
                     is_map = words and (words[0].startswith("map_") or words[0] in _MTL_MAPS)
                     if is_map and len(words) > 1:
@@ -227,19 +304,23 @@ _MTL_MAPS: Final = {"bump", "disp", "decal", "refl", "norm"}
 def _check_references(file: Path, kind: str) -> None:
     """One warning for each texture or material file the mesh names that is not there."""
     for name in _referenced_files(file, kind):
-        if not _missing_path(file, name).is_file():
+        if not _missing_path(file, name).exists():  # there but no file: the resolver says
             _report_missing(file, name)
 
 
-def _read(file: Path, kind: str) -> TriangleMesh:
+def _read(file: Path, kind: str, requested_at: SourceLocation | None = None) -> TriangleMesh:
     import trimesh  # heavy: only where meshes are read
 
     _check_references(file, kind)
 
+    resolver = _resolver(file)
     with _quiet_trimesh():
         loaded: Any = trimesh.load(
-            str(file), file_type=kind, force="scene", process=False, resolver=_resolver(file)
+            str(file), file_type=kind, force="scene", process=False, resolver=resolver
         )
+    if resolver.refused is not None:
+        msg = f"mesh file {file}: {resolver.refused.message}"
+        raise MeshError(msg, requested_at)
     geometries = list(loaded.dump()) if hasattr(loaded, "dump") else [loaded]
     if not geometries:
         msg = f"mesh file {file} holds no triangles"

@@ -5,30 +5,40 @@ Tags: ``launch``, ``arg``, ``param``, ``rosparam``, ``node``, ``include``, ``gro
 Substitutions: ``$(find)``, ``$(arg)``, ``$(env)``, ``$(optenv)``, ``$(eval)``, ``$(anon)``,
 ``$(dirname)``. ``if``/``unless`` accept true/false/1/0 only, as roslaunch. Errors name the
 file and line.
+
+Launch files from elsewhere are read within bounds: every file they name (``<include>``,
+``textfile``/``binfile``, ``<rosparam file>``) must be a regular file — a FIFO, a device or a
+directory is refused without waiting on it — of at most
+:data:`~belvedere.bounded.TEXT_FILE_BYTES` (:data:`~belvedere.bounded.YAML_TEXT_BYTES` for
+YAML); a ``<param command>`` is bounded in output and time (:func:`.run_program`). ``$(eval)``
+runs no program (its expressions are evaluated, never executed), and ``<rosparam
+command>`` is load, dump or delete only. Each refusal is an error at the element's line.
 """
 
 from __future__ import annotations
 
-import math
 import os
 import re
-import shlex
-import subprocess
-import sys
 import uuid
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
+from belvedere.bounded import (
+    TEXT_FILE_BYTES,
+    YAML_TEXT_BYTES,
+    LimitError,
+    read_regular,
+    read_regular_text,
+)
 from belvedere.description.xacro import XacroError
-from belvedere.description.xacro._command import is_xacro_program, parse_xacro_argv
 from belvedere.description.xacro._interpreter import ExpressionError
-from belvedere.description.xacro._run import run_command
 from belvedere.description.xacro._substitutions import Substitutions
 from belvedere.errors import BelvedereError, ParseError, SourceLocation, did_you_mean, pinpoint
 from belvedere.launch._model import LaunchConfig, LaunchError, LaunchFile, LaunchNode
 from belvedere.launch._names import canonical, child_namespace, global_ns, is_legal, ns_join
+from belvedere.launch._values import param_bool, param_command, typed_value
 from belvedere.packages import PackageIndex
 from belvedere.xmldom import Element, parse_file
 from belvedere.yamlfile import YamlDocument, load_yaml, load_yaml_file
@@ -105,13 +115,15 @@ class _Loader:
             chain = " -> ".join([*self.including, key])
             msg = f"include cycle: {chain}"
             raise LaunchError(msg, at)
-        if not os.path.isfile(path):
+        if not os.path.exists(path):
             msg = f"launch file {str(path)!r} does not exist"
             siblings = path.parent.glob("*.launch*") if path.parent.is_dir() else []
             raise LaunchError(msg, at, hint=did_you_mean(path.name, (p.name for p in siblings)))
         try:
             doc = parse_file(path, namespaces=False, keep_blank=False)
         except ParseError as err:
+            if err.location is None:  # not a file it can read (a FIFO, a directory…)
+                err.location = at
             raise _with_conflict_hint(err, path) from None
         root = doc.root
         if root.tag != "launch":
@@ -219,7 +231,7 @@ class _Loader:
         value = self.attr(el, name, scope)
         if value is None:
             return default
-        return _bool(value, f"{name}={value!r}", el.loc)
+        return param_bool(value, f"{name}={value!r}", el.loc)
 
     def active(self, el: Element, scope: _Scope) -> bool:
         if_value = self.attr(el, "if", scope)
@@ -228,9 +240,9 @@ class _Loader:
             msg = "an element cannot have both 'if' and 'unless'"
             raise LaunchError(msg, el.loc)
         if if_value is not None:
-            return _bool(if_value, f"if={if_value!r}", el.loc)
+            return param_bool(if_value, f"if={if_value!r}", el.loc)
         if unless_value is not None:
-            return not _bool(unless_value, f"unless={unless_value!r}", el.loc)
+            return not param_bool(unless_value, f"unless={unless_value!r}", el.loc)
         return True
 
     # --- tags ------------------------------------------------------------------------------------
@@ -302,52 +314,21 @@ class _Loader:
         source = sources[0]
         raw = self.attr(el, source, scope) or ""
         if source == "value":
-            return _typed(raw.strip(), kind, el.loc)
+            return typed_value(raw.strip(), kind, el.loc)
         if source in ("textfile", "binfile"):
             try:
-                data = Path(raw).read_bytes()
-            except OSError as err:
-                msg = f"cannot read {source} {raw!r}: {err.strerror}"
-                raise LaunchError(msg, el.loc) from None
+                data = read_regular(
+                    raw, limit=TEXT_FILE_BYTES, what=source, name=repr(raw), at=el.loc
+                )
+            except LimitError as err:
+                raise LaunchError(err.message, err.location) from None
             read = "binary" if source == "binfile" else "urdf" if raw.endswith(".urdf") else "text"
             self.config.files.append(LaunchFile(read, raw))
             if source == "binfile":
                 return data
-            return _typed(data.decode("utf-8", errors="replace"), kind, el.loc)
-        return _typed(self.command(raw, el.loc), kind, el.loc)
-
-    def command(self, command: str, at: SourceLocation | None) -> str:
-        """A ``<param command>``: xacro runs here, in process; anything else as a program."""
-        try:
-            words = shlex.split(command)
-        except ValueError as err:
-            msg = f"cannot split command {command!r}: {err}"
-            raise LaunchError(msg, at) from None
-        if not words:
-            msg = "empty command"
-            raise LaunchError(msg, at)
-        if is_xacro_program(words[0]):
-            try:
-                cmd = parse_xacro_argv(words[1:])
-                result = run_command(cmd, packages=self.packages)
-            except ParseError as err:
-                if at is not None:
-                    err.add_trail("in the <param command> at", at)
-                raise
-            self.config.files.extend(
-                LaunchFile("yaml" if f.endswith((".yaml", ".yml")) else "xacro", f)
-                for f in result.files
-            )
-            return result.text or ""
-        try:
-            done = subprocess.run(words, capture_output=True, text=True, timeout=60, check=False)
-        except (OSError, subprocess.TimeoutExpired) as err:
-            msg = f"command {command!r} could not run: {err}"
-            raise LaunchError(msg, at) from None
-        if done.returncode != 0:
-            msg = f"command {command!r} failed (exit {done.returncode}): {done.stderr.strip()}"
-            raise LaunchError(msg, at)
-        return done.stdout
+            return typed_value(data.decode("utf-8", errors="replace"), kind, el.loc)
+        output = param_command(raw, el.loc, self.packages, self.config.files)
+        return typed_value(output, kind, el.loc)
 
     def tag_rosparam(self, el: Element, scope: _Scope, node_ns: str | None = None) -> None:
         """``<rosparam>``: ``ns`` and ``param`` join (either may be global), then join the
@@ -376,10 +357,11 @@ class _Loader:
         if file:
             if subst_value:
                 try:
-                    text = Path(file).read_text(encoding="utf-8")
-                except OSError as err:
-                    msg = f"cannot read {file!r}: {err.strerror}"
-                    raise LaunchError(msg, el.loc) from None
+                    text = read_regular_text(
+                        file, limit=YAML_TEXT_BYTES, what="", name=repr(file), at=el.loc
+                    )
+                except LimitError as err:
+                    raise LaunchError(err.message, err.location) from None
                 doc = load_yaml(self.subst(text, scope, el.loc), path=file)
             else:
                 doc = load_yaml_file(file, requested_at=el.loc)
@@ -476,7 +458,7 @@ class _Loader:
                 args=self.attr(el, "args", scope, "") or "",
                 output=self.attr(el, "output", scope, "log") or "log",
                 respawn=self.boolean(el, "respawn", scope, False),
-                respawn_delay=_typed(
+                respawn_delay=typed_value(
                     self.attr(el, "respawn_delay", scope, "0") or "0", "double", el.loc
                 ),
                 required=self.boolean(el, "required", scope, False),
@@ -592,64 +574,11 @@ def _remapped(remaps: list[tuple[str, str]], pair: tuple[str, str]) -> list[tupl
     return [r for r in remaps if r[0] != pair[0]] + [pair]
 
 
-def _bool(value: str, what: str, at: SourceLocation | None) -> bool:
-    low = value.strip().lower()
-    if low in ("true", "1"):
-        return True
-    if low in ("false", "0"):
-        return False
-    msg = f"{what}: expected true, false, 1 or 0"
-    raise LaunchError(msg, at)
-
-
-def _typed(raw: str, kind: str, at: SourceLocation | None) -> Any:
-    """A ``<param>`` value of ``type`` ``kind`` (``auto`` guesses as roslaunch does)."""
-    try:
-        if kind == "str" or kind == "string":
-            return raw
-        if kind == "int":
-            return int(raw.strip())
-        if kind == "double":
-            return _finite(float(raw.strip()), raw, at)
-        if kind in ("bool", "boolean"):
-            return _bool(raw, f"bool value {raw!r}", at)
-        if kind == "yaml":
-            return load_yaml(raw, path=str(at.path) if at else "<param>").data
-    except ValueError:
-        msg = f"param value {raw!r} is not a valid {kind}"
-        raise LaunchError(msg, at) from None
-    if kind != "auto":
-        msg = f"unknown param type {kind!r} (str, int, double, bool, yaml, auto)"
-        raise LaunchError(msg, at)
-    # roslaunch's guess: a '.' means a double, else an int (but "1_000" stays text: Python
-    # would read it as 1000), then true/false in any case, else the text itself
-    try:
-        if "." in raw:
-            return _finite(float(raw), raw, at)
-        if "_" not in raw:
-            return int(raw)
-    except ValueError:
-        pass
-    if raw.lower() in ("true", "false"):
-        return raw.lower() == "true"
-    return raw
-
-
-def _finite(value: float, raw: str, at: SourceLocation | None) -> float:
-    """roslaunch would pass ``nan``/``inf``/``1e309`` on as a float; we refuse it here, where
-    the line is known, rather than let a node meet it."""
-    if not math.isfinite(value):
-        msg = f"param value {raw!r} is not a finite number"
-        hint = f'the largest double is ±{sys.float_info.max:.17g}; for text, add type="str"'
-        raise LaunchError(msg, at, hint=hint)
-    return value
-
-
 def _with_conflict_hint(err: ParseError, path: Path) -> ParseError:
     """Malformed XML; say so when the cause is a git merge conflict left in the file."""
     try:
-        lines = path.read_text(errors="replace").splitlines()
-    except OSError:
+        lines = read_regular(path).decode(errors="replace").splitlines()
+    except LimitError:
         return err
     markers = [i + 1 for i, line in enumerate(lines) if line.startswith(("<<<<<<<", ">>>>>>>"))]
     if markers:

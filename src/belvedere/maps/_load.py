@@ -13,6 +13,7 @@ import numpy as np
 import numpy.typing as npt
 import yaml
 
+from belvedere.bounded import YAML_TEXT_BYTES, LimitError, read_regular_text
 from belvedere.errors import ParseError, SourceLocation
 from belvedere.maps._image import ImageError, MapImage, read_map_image
 from belvedere.maps._model import MapError, OccupancyMap
@@ -81,7 +82,10 @@ def _number(doc: YamlDocument, *keys: str | int) -> float | None:
     if isinstance(value, bool):
         return None
     if isinstance(value, int | float):
-        return float(value)
+        try:
+            return float(value)
+        except OverflowError:  # an int of hundreds of digits: yaml-cpp fails to convert it too
+            return None
     if isinstance(value, str):
         try:
             return float(value.strip())
@@ -91,15 +95,18 @@ def _number(doc: YamlDocument, *keys: str | int) -> float | None:
 
 
 def _shown(doc: YamlDocument, *keys: str | int) -> str:
-    """A value for a message: strings quoted, the rest as YAML writes them."""
+    """A value for a message: strings quoted, the rest as YAML writes them (a long one cut
+    to its start)."""
     value: Any = doc.data
     for key in keys:
         value = value[key]
     if isinstance(value, str):
-        return repr(value)
-    if isinstance(value, bool):
-        return str(value).lower()
-    return "nothing" if value is None else str(value)
+        text = repr(value)
+    elif isinstance(value, bool):
+        text = str(value).lower()
+    else:
+        text = "nothing" if value is None else str(value)
+    return text if len(text) <= 80 else text[:76] + "…"
 
 
 def _scalar_text(doc: YamlDocument, key: str) -> str | None:
@@ -123,11 +130,11 @@ def read_map_yaml(path: str | os.PathLike[str], *, text: str | None = None) -> M
     shown = os.fspath(path)
     if text is None:
         try:
-            text = Path(path).read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as err:
-            reason = getattr(err, "strerror", None) or str(err)
-            msg = f"cannot read the map file {shown!r}: {reason}"
-            raise MapError(msg) from None
+            text = read_regular_text(
+                path, limit=YAML_TEXT_BYTES, what="the map file", name=repr(shown)
+            )
+        except LimitError as err:
+            raise MapError(err.message, err.location) from None
     try:
         doc = load_yaml(text, path=shown)
     except ParseError as err:
@@ -220,15 +227,42 @@ def occupancy_from_pixels(
     them unknown (-1) in trinary mode or where alpha is 0, else ``1 + 98 * (p - free) /
     (occupied - free)``, truncated."""
     pixels = image.pixels
+    height, width = pixels.shape[:2]
+    cells = np.empty((height, width), dtype=np.int8)
+    # a block of rows at a time: the arithmetic's float64 temporaries stay a few MiB however
+    # large the map (a map up to the block's size, most of them, is one block)
+    rows = max(1, _BLOCK_CELLS // max(1, width))
+    for top in range(0, height, rows):
+        block = pixels[top : top + rows]
+        # the image's top row is the grid's last
+        cells[height - top - len(block) : height - top] = _occupancy(
+            block, image.has_alpha, negate, occupied_thresh, free_thresh, mode
+        )[::-1]
+    return cells
+
+
+_BLOCK_CELLS = 1 << 20
+"""Pixels turned into cells at a time."""
+
+
+def _occupancy(
+    pixels: npt.NDArray[np.uint8],
+    has_alpha: bool,
+    negate: bool,
+    occupied_thresh: float,
+    free_thresh: float,
+    mode: MapMode,
+) -> npt.NDArray[np.int8]:
+    """:func:`occupancy_from_pixels` for a block of rows, top row first."""
     channels = pixels.shape[2]
-    averaged = channels if mode == "trinary" or not image.has_alpha else channels - 1
+    averaged = channels if mode == "trinary" or not has_alpha else channels - 1
     total = pixels[..., :averaged].sum(axis=-1, dtype=np.int64)
     mean = total / float(averaged)
     if negate:
         mean = 255 - mean
     if mode == "raw":
-        cells = np.trunc(mean).astype(np.uint8).view(np.int8)
-        return np.ascontiguousarray(cells[::-1])
+        raw: npt.NDArray[np.int8] = np.trunc(mean).astype(np.uint8).view(np.int8)
+        return raw
     occ = (255 - mean) / 255.0
     cells = np.full(mean.shape, -1, dtype=np.int8)
     between = ~(occ > occupied_thresh) & ~(occ < free_thresh)
@@ -244,7 +278,7 @@ def occupancy_from_pixels(
         cells[shaded] = np.clip(value[shaded], 0, 255).astype(np.uint8).view(np.int8)
     cells[occ > occupied_thresh] = 100
     cells[(occ < free_thresh) & ~(occ > occupied_thresh)] = 0
-    return np.ascontiguousarray(cells[::-1])
+    return cells
 
 
 def load_image_map(
@@ -267,6 +301,8 @@ def load_image_map(
     shown = os.fspath(image)
     try:
         pixels = read_map_image(image)
+    except LimitError as err:
+        raise MapError(err.message, image_at) from None
     except OSError as err:
         reason = err.strerror or str(err)
         msg = f"cannot read the map image {shown!r}: {reason}"

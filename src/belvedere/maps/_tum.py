@@ -5,11 +5,11 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Iterable
-from pathlib import Path
 
 import numpy as np
 import numpy.typing as npt
 
+from belvedere.bounded import LimitError, read_regular_text
 from belvedere.errors import ParseError, SourceLocation
 
 __all__ = ["TrajectoryError", "format_tum_line", "read_tum"]
@@ -28,11 +28,9 @@ def read_tum(path: str | os.PathLike[str]) -> npt.NDArray[np.float64]:
     """
     shown = os.fspath(path)
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as err:
-        reason = getattr(err, "strerror", None) or str(err)
-        msg = f"cannot read the trajectory {shown!r}: {reason}"
-        raise TrajectoryError(msg) from None
+        text = read_regular_text(path, what="the trajectory", name=repr(shown))
+    except LimitError as err:
+        raise TrajectoryError(err.message, err.location) from None
     rows: list[list[float]] = []
     for number, line in enumerate(text.splitlines(), start=1):
         words = line.split("#", 1)[0].replace(",", " ").split()

@@ -23,6 +23,7 @@ from typing import Any, Final
 
 import yaml
 
+from belvedere.bounded import YAML_TEXT_BYTES, LimitError, read_regular_text
 from belvedere.errors import ParseError
 from belvedere.fileio import FileWriteError, write_file
 from belvedere.viewer._rviz_defaults import (
@@ -472,10 +473,9 @@ def read_rviz(path: str | Path) -> RvizConfig:
     """
     shown = str(path)
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as err:
-        msg = f"cannot read rviz config {shown}: {getattr(err, 'strerror', None) or err}"
-        raise ParseError(msg) from None
+        text = read_regular_text(path, limit=YAML_TEXT_BYTES, what="rviz config")
+    except LimitError as err:
+        raise ParseError(err.message, err.location) from None
     return _Reader(load_yaml(text, path=shown)).config()
 
 

@@ -3,6 +3,7 @@ bounded, and parsing loads nothing external. Each refusal names the file, line a
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
@@ -234,6 +235,22 @@ def test_recursive_yaml_is_refused(tmp_path: Path) -> None:
     (tmp_path / "loop.yaml").write_text("a: &a [1, *a]\n")
     text = refused(tmp_path, "  <a v=\"${xacro.load_yaml('loop.yaml')}\"/>")
     assert text.startswith(f"{tmp_path}/loop.yaml:1:4: error: invalid YAML: a YAML alias refers to")
+
+
+def test_a_yaml_fifo_is_refused_at_the_expression_not_waited_on(tmp_path: Path) -> None:
+    os.mkfifo(tmp_path / "cfg.yaml")
+    text = refused(tmp_path, "  <a v=\"${xacro.load_yaml('cfg.yaml')}\"/>")
+    assert text.startswith(
+        f"evil.xacro:2:3: error: cannot load YAML file {tmp_path}/cfg.yaml: it is a FIFO"
+    )
+
+
+def test_yaml_that_is_not_utf8_is_refused_at_its_byte(tmp_path: Path) -> None:
+    (tmp_path / "cfg.yaml").write_bytes(b"a: 1\nb: \xff\n")
+    text = refused(tmp_path, "  <a v=\"${xacro.load_yaml('cfg.yaml')}\"/>")
+    assert text.startswith(f"{tmp_path}/cfg.yaml:2:4: error: cannot load YAML file {tmp_path}/")
+    assert "it is not UTF-8 text (byte 0xff)" in text
+    assert "loaded by xacro.load_yaml at evil.xacro:2:3" in text
 
 
 def test_yaml_with_shared_parts_loads_and_prints_as_xacro_does(tmp_path: Path) -> None:

@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from belvedere.bounded import TEXT_FILE_BYTES, LimitError, read_regular
 from belvedere.description.urdf._model import (
     GazeboExtension,
     Joint,
@@ -309,10 +310,9 @@ def _is_xacro(path: str) -> bool:
     if path.endswith(".xacro"):
         return True
     try:
-        with open(path, "rb") as f:
-            return b"<xacro:" in f.read()
-    except OSError:
-        return False
+        return b"<xacro:" in read_regular(path, limit=TEXT_FILE_BYTES)
+    except LimitError:
+        return False  # not a file to read: parse_file says why
 
 
 def _walk(root: Element) -> list[Element]:

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from xml.parsers import expat
 
+from belvedere.bounded import TEXT_FILE_BYTES, read_regular
 from belvedere.description.xacro._api import expand_file
 from belvedere.description.xacro._dialects import Dialect, XacroWarning
 from belvedere.description.xacro._errors import XacroError
@@ -134,7 +135,8 @@ def fix_file(
     planned: list[tuple[Path, bytes, list[FixChange]]] = []
     for name, sites in by_file.items():
         file = Path(root_dir, name) if root_dir else Path(name)
-        fixed, changes = fix_text(file.read_bytes(), sites, name)
+        # (LimitError if the file changed into a FIFO or grew past the cap since it was read)
+        fixed, changes = fix_text(read_regular(file, limit=TEXT_FILE_BYTES, what=""), sites, name)
         if changes:
             planned.append((file, fixed, changes))
     _write_all([(file, fixed) for file, fixed, _ in planned])

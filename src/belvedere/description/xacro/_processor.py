@@ -19,6 +19,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
+from belvedere.bounded import YAML_TEXT_BYTES, LimitError, read_regular_text
 from belvedere.description.xacro._builtins import to_yaml_value
 from belvedere.description.xacro._calls import MAX_MACRO_DEPTH, MacroCalls
 from belvedere.description.xacro._dialects import (
@@ -210,11 +211,19 @@ class Processor(MacroCalls):
         self.check_readable(path, self.origin or self.here())
         self.includes.append(path)
         try:
-            with open(os.path.join(self.root_dir, path), encoding="utf-8") as f:
-                text = f.read()
-        except OSError as err:
-            msg = f"cannot load YAML file {path}: {err.strerror}"
-            raise XacroError(msg) from None
+            text = read_regular_text(
+                os.path.join(self.root_dir, path),
+                limit=YAML_TEXT_BYTES,
+                what="YAML file",
+                name=path,
+            )
+        except LimitError as err:
+            msg = err.message.replace("cannot read", "cannot load", 1)
+            here = self.origin or self.here()
+            error = XacroError(msg, err.location if err.location and err.location.line else None)
+            if error.location is not None and here is not None:
+                error.add_trail("loaded by xacro.load_yaml at", here)
+            raise error from None
         from belvedere.description.xacro._yaml import parse_yaml  # PyYAML loads only if used
 
         unit_scope = Scope(None, root=self.globals, evaluate=self.eval_property)

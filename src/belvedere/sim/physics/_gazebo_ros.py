@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from belvedere.bounded import TEXT_FILE_BYTES, LimitError, read_regular_text
 from belvedere.description.urdf import Pose, RobotModel
 from belvedere.errors import BelvedereError
 from belvedere.graph import Node
@@ -267,10 +268,9 @@ def spawn_model(node: Node, argv: Sequence[str]) -> Any:
             raise BelvedereError(msg, hint="load the robot description first")
     elif args.file:
         try:
-            with open(args.file, encoding="utf-8") as f:
-                xml = f.read()
-        except OSError as err:
-            msg = f"spawn_model: cannot read {args.file}: {err.strerror}"
+            xml = read_regular_text(args.file, limit=TEXT_FILE_BYTES, what="")
+        except LimitError as err:
+            msg = f"spawn_model: {err.message}"
             raise BelvedereError(msg) from None
     else:
         msg = "spawn_model: give -param NAME or -file PATH"
