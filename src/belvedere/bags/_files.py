@@ -9,10 +9,13 @@ from pathlib import Path
 from typing import Any, Protocol
 
 from belvedere.bags._mcap import MAGIC as MCAP_MAGIC
-from belvedere.bags._mcap import McapBag, McapWriter, recover_mcap
+from belvedere.bags._mcap import McapWriter
+from belvedere.bags._mcap_read import McapBag
+from belvedere.bags._mcap_recover import recover_mcap
 from belvedere.bags._model import BagError, BagMessage, Connection
 from belvedere.bags._ros1 import MAGIC as ROS1_MAGIC
-from belvedere.bags._ros1 import ChunkStats, Ros1Bag, Ros1BagWriter, reindex_ros1
+from belvedere.bags._ros1 import ChunkStats, Ros1Bag, Ros1BagWriter
+from belvedere.bags._ros1_repair import reindex_ros1
 
 __all__ = [
     "BagFile",
