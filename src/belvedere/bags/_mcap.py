@@ -28,6 +28,7 @@ from typing import Any, BinaryIO, Final
 import lz4.frame
 
 from belvedere import __version__
+from belvedere.bags._input import Damaged
 from belvedere.bags._model import BagError, cdr_schema
 
 __all__ = ["MAGIC", "McapWriter"]
@@ -52,6 +53,11 @@ _U32: Final = struct.Struct("<I")
 _U64: Final = struct.Struct("<Q")
 _RECORD: Final = struct.Struct("<BQ")
 _MESSAGE: Final = struct.Struct("<HIQQ")
+_IDS: Final = struct.Struct("<HH")
+_CHUNK: Final = struct.Struct("<QQQI")
+_CHUNK_INDEX: Final = struct.Struct("<QQQ")
+_SIZES: Final = struct.Struct("<QQ")
+_COUNT: Final = struct.Struct("<HQ")
 
 _QOS: Final = (
     "- history: 1\n  depth: {depth}\n  reliability: 1\n  durability: {durability}\n"
@@ -220,19 +226,6 @@ def _zstd() -> Any:
     return zstd
 
 
-def _decompress(name: str, data: bytes, size: int) -> bytes | None:
-    try:
-        if name == "":
-            return data
-        if name == "lz4":
-            return bytes(lz4.frame.decompress(data))
-        if name == "zstd":
-            return bytes(_zstd().decompress(data))
-    except (OSError, ValueError, RuntimeError):
-        return None
-    return None
-
-
 # --- writing ---------------------------------------------------------------------------------
 
 
@@ -343,57 +336,146 @@ class McapWriter:
 
 
 # --- parsing (reading and recovery share it) ------------------------------------------------
+# Each parser takes a record's body and ``base``, the body's offset in the file (or in its
+# chunk's data), and raises Damaged at that offset plus the place of what is wrong.
 
 
-def _read_string(buf: bytes, pos: int) -> tuple[str, int]:
+@dataclass(frozen=True, slots=True)
+class _ChunkRef:
+    pos: int
+    """Where the chunk record starts."""
+    start: int
+    end: int
+    compression: str
+    compressed: int
+    uncompressed: int
+    at: int = 0
+    """Where the chunk-index record that names it is (0: found by reading the data)."""
+
+
+_FIXED: Final = {
+    OP_MESSAGE: 22,
+    OP_CHUNK: 28,
+    OP_CHUNK_INDEX: 36,
+    OP_STATISTICS: 46,
+}
+"""Bytes of fixed fields each kind of record starts with."""
+
+
+def _fixed(body: bytes, op: int, what: str, base: int) -> None:
+    """Raise Damaged unless ``body`` holds the fixed fields of its kind of record."""
+    need = _FIXED[op]
+    if len(body) < need:
+        text = f"{what} record of {len(body)} bytes, shorter than its {need} bytes of fixed fields"
+        raise Damaged(base - 9, text)
+
+
+def _read_bytes(buf: bytes, pos: int, what: str, base: int) -> tuple[bytes, int]:
+    """A length-prefixed (uint32) field at ``buf[pos:]``, and where it ends."""
+    end = len(buf)
+    if pos + 4 > end:
+        raise Damaged(base + pos, f"{what}: its length is cut short")
     (n,) = _U32.unpack_from(buf, pos)
-    return buf[pos + 4 : pos + 4 + n].decode(), pos + 4 + n
+    if pos + 4 + n > end:
+        raise Damaged(base + pos, f"{what} of {n:,} bytes runs past its record")
+    return buf[pos + 4 : pos + 4 + n], pos + 4 + n
 
 
-def _read_map(buf: bytes, pos: int) -> tuple[dict[str, str], int]:
-    (n,) = _U32.unpack_from(buf, pos)
-    end = pos + 4 + n
-    pos += 4
+def _read_string(buf: bytes, pos: int, what: str, base: int) -> tuple[str, int]:
+    raw, end = _read_bytes(buf, pos, what, base)
+    try:
+        return raw.decode(), end
+    except UnicodeDecodeError:
+        raise Damaged(base + pos, f"{what} is not UTF-8 text") from None
+
+
+def _read_map(buf: bytes, pos: int, what: str, base: int) -> tuple[dict[str, str], int]:
+    raw, end = _read_bytes(buf, pos, what, base)
+    base += pos + 4
     items = {}
-    while pos < end:
-        key, pos = _read_string(buf, pos)
-        value, pos = _read_string(buf, pos)
+    at = 0
+    while at < len(raw):
+        key, at = _read_string(raw, at, f"{what}: a key", base)
+        value, at = _read_string(raw, at, f"{what}: a value", base)
         items[key] = value
     return items, end
 
 
-def _parse_schema(body: bytes) -> _Schema:
-    (sid,) = _U16.unpack_from(body, 0)
-    name, pos = _read_string(body, 2)
-    encoding, pos = _read_string(body, pos)
-    (n,) = _U32.unpack_from(body, pos)
-    return _Schema(sid, name, encoding, body[pos + 4 : pos + 4 + n])
+def _u(buf: bytes, layout: struct.Struct, pos: int, what: str, base: int) -> tuple[Any, ...]:
+    if pos + layout.size > len(buf):
+        raise Damaged(base + pos, f"{what} is cut short")
+    return layout.unpack_from(buf, pos)
 
 
-def _parse_channel(body: bytes) -> _Channel:
-    cid, sid = struct.unpack_from("<HH", body, 0)
-    topic, pos = _read_string(body, 4)
-    encoding, pos = _read_string(body, pos)
-    metadata, _ = _read_map(body, pos)
+def _parse_schema(body: bytes, base: int) -> _Schema:
+    (sid,) = _u(body, _U16, 0, "schema record", base)
+    name, pos = _read_string(body, 2, "schema name", base)
+    encoding, pos = _read_string(body, pos, "schema encoding", base)
+    data, _ = _read_bytes(body, pos, "schema data", base)
+    return _Schema(sid, name, encoding, data)
+
+
+def _parse_channel(body: bytes, base: int) -> _Channel:
+    cid, sid = _u(body, _IDS, 0, "channel record", base)
+    topic, pos = _read_string(body, 4, "channel topic", base)
+    encoding, pos = _read_string(body, pos, "channel message encoding", base)
+    metadata, _ = _read_map(body, pos, "channel metadata", base)
     return _Channel(cid, sid, topic, encoding, metadata)
 
 
-def _parse_chunk_header(body: bytes) -> tuple[int, int, int, int, str, int, int]:
-    """(start, end, uncompressed size, crc, compression, compressed size, data offset)."""
-    start, end, size, crc = struct.unpack_from("<QQQI", body, 0)
-    compression, pos = _read_string(body, 28)
-    (compressed,) = _U64.unpack_from(body, pos)
-    return start, end, size, crc, compression, compressed, pos + 8
+def _parse_chunk_header(body: bytes, base: int) -> tuple[int, int, int, int, str, int, int]:
+    """(start, end, uncompressed size, crc, compression, data offset, compressed size)."""
+    _fixed(body, OP_CHUNK, "chunk", base)
+    start, end, size, crc = _CHUNK.unpack_from(body, 0)
+    compression, pos = _read_string(body, 28, "chunk compression", base)
+    (compressed,) = _u(body, _U64, pos, "chunk data size", base)
+    if pos + 8 + compressed != len(body):
+        text = (
+            f"chunk: {compressed:,} bytes of data declared where its record holds "
+            f"{len(body) - pos - 8:,}"
+        )
+        raise Damaged(base + pos, text)
+    return start, end, size, crc, compression, pos + 8, compressed
 
 
-def _records(buf: bytes, pos: int = 0, end: int | None = None) -> Iterator[tuple[int, int, int]]:
-    """(op, body start, body end) of each whole record in ``buf[pos:end]``."""
-    end = len(buf) if end is None else end
-    while pos + 9 <= end:
+def _parse_chunk_index(body: bytes, base: int) -> _ChunkRef:
+    _fixed(body, OP_CHUNK_INDEX, "chunk index", base)
+    start, end, pos = _CHUNK_INDEX.unpack_from(body, 0)
+    _, at = _read_bytes(body, 32, "chunk index: message index offsets", base)
+    at += 8  # the message indexes' length
+    compression, at = _read_string(body, at, "chunk index: compression", base)
+    compressed, uncompressed = _u(body, _SIZES, at, "chunk index: sizes", base)
+    return _ChunkRef(pos, start, end, compression, compressed, uncompressed, base - 9)
+
+
+def _parse_statistics(body: bytes, base: int) -> dict[int, int]:
+    """Messages per channel id."""
+    _fixed(body, OP_STATISTICS, "statistics", base)
+    raw, _ = _read_bytes(body, 42, "statistics: channel message counts", base)
+    if len(raw) % 10:
+        raise Damaged(base + 42, f"statistics: {len(raw)} bytes of counts, not a multiple of 10")
+    counts: dict[int, int] = {}
+    for i in range(0, len(raw), 10):
+        cid, count = _COUNT.unpack_from(raw, i)
+        counts[cid] = count
+    return counts
+
+
+def _records(buf: bytes, base: int) -> Iterator[tuple[int, int, int]]:
+    """(op, body start, body end) of each record in ``buf``.
+
+    Raises:
+        Damaged: a record runs past the end of ``buf``.
+    """
+    end = len(buf)
+    pos = 0
+    while pos < end:
+        if pos + 9 > end:
+            raise Damaged(base + pos, "a record cut short")
         op, length = _RECORD.unpack_from(buf, pos)
         body = pos + 9
         if body + length > end:
-            return
+            raise Damaged(base + pos, f"a record of {length:,} bytes runs past its section")
         yield op, body, body + length
         pos = body + length
 
@@ -401,3 +483,7 @@ def _records(buf: bytes, pos: int = 0, end: int | None = None) -> Iterator[tuple
 def _msgtype(name: str) -> str:
     parts = [p for p in name.split("/") if p]
     return f"{parts[0]}/msg/{parts[1]}" if len(parts) == 2 else "/".join(parts)
+
+
+CODECS: Final = {"": "", "lz4": "lz4", "zstd": "zstd"}
+"""A chunk's compression → its codec for :func:`belvedere.bags._input.inflate_chunk`."""

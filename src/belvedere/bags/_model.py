@@ -45,7 +45,7 @@ class Connection:
     msgtype: str
     """The store's spelling: ``geometry_msgs/msg/Twist``."""
     encoding: str
-    """``ros1`` or ``cdr``."""
+    """``ros1`` or ``cdr`` (or another an MCAP file names, which is not read)."""
     md5sum: str
     """ROS 1's MD5 sum of the type ('' where the file does not say)."""
     definition: str
@@ -101,6 +101,13 @@ class Decoder:
         return self._plans[key]
 
     def _check(self, conn: Connection) -> Typestore | bool | None:
+        if conn.encoding not in ("ros1", "cdr"):
+            logger.warning(
+                "skipping %s: its messages are encoded as %r, which belvedere does not read",
+                conn.topic,
+                conn.encoding,
+            )
+            return False
         store = types().store
         known = conn.msgtype in store.fielddefs
         has_md5 = conn.encoding == "ros1" and conn.md5sum not in ("", "*")
@@ -112,7 +119,7 @@ class Decoder:
             if known and conn.encoding == "cdr":
                 return None  # no definition to go by: the store's
             logger.warning(
-                "skipping %s: cannot read its type %s: %s", conn.topic, conn.msgtype, err
+                "skipping %s: cannot read its type %s: %s", conn.topic, conn.msgtype, _why(err)
             )
             return False
         if not found:
@@ -131,7 +138,7 @@ class Decoder:
                 store.register({n: d for n, d in found.items() if n not in store.fielddefs})
         except (TypesysError, MessageTypeError, ValueError, KeyError) as err:
             logger.warning(
-                "skipping %s: cannot read its type %s: %s", conn.topic, conn.msgtype, err
+                "skipping %s: cannot read its type %s: %s", conn.topic, conn.msgtype, _why(err)
             )
             return False
         logger.info(
@@ -157,6 +164,16 @@ class Decoder:
         else:
             obj = store.deserialize_cdr(message.data, conn.msgtype)
         return obj if plan is None else _convert(obj, conn.msgtype)
+
+
+def _why(err: BaseException) -> str:
+    """One short line saying why a definition cannot be read (a parser's message may hold
+    the whole definition, which is the bag's text, over many lines)."""
+    text = str(err).strip()
+    if text.startswith("Could not parse"):
+        return "its definition does not parse"
+    line = text.splitlines()[0] if text else type(err).__name__
+    return line if len(line) <= 120 else line[:117] + "..."
 
 
 def _convert(obj: Any, msgtype: str) -> Any:

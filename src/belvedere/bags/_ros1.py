@@ -20,21 +20,19 @@ from __future__ import annotations
 import bz2
 import struct
 from collections import defaultdict
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO, Final
 
 import lz4.frame
-from rosbags.interfaces import ConnectionExtRosbag1
-from rosbags.rosbag1 import Reader, ReaderError
 
-from belvedere.bags._model import BagError, BagMessage, Connection, ros1_definition
+from belvedere.bags._input import BagInput, Damaged
+from belvedere.bags._model import BagError, ros1_definition
 
 __all__ = [
     "MAGIC",
     "ChunkStats",
-    "Ros1Bag",
     "Ros1BagWriter",
 ]
 
@@ -233,136 +231,7 @@ def _chunk_info(pos: int, start: int, end: int, index: dict[int, list[tuple[int,
     )
 
 
-# --- reading ---------------------------------------------------------------------------------
-
-
-class Ros1Bag:
-    """An indexed ROS 1 bag, open for reading."""
-
-    format: Final = "bag"
-
-    def __init__(self, path: Path) -> None:
-        self.path = path
-        self._reader = Reader(path)
-        try:
-            self._reader.open()
-        except ReaderError as err:
-            text = str(err.args[0]) if err.args else str(err)
-            if "not indexed" in text:
-                msg = f"{path} is unindexed (its recording did not end cleanly)"
-                raise BagError(msg, hint=f"belvedere bag reindex {path}") from None
-            msg = f"cannot read {path}: {text}"
-            raise BagError(msg) from None
-        except OSError as err:
-            msg = f"cannot read {path}: {err.strerror or err}"
-            raise BagError(msg) from None
-        self.version = "2.0"
-        self._conns: dict[int, Connection] = {}
-        self.counts: dict[int, int] = {}
-        for c in self._reader.connections:
-            ext = c.ext
-            assert isinstance(ext, ConnectionExtRosbag1)
-            self._conns[c.id] = Connection(
-                id=c.id,
-                topic=c.topic,
-                msgtype=c.msgtype,
-                encoding="ros1",
-                md5sum=c.digest,
-                definition=c.msgdef.data,
-                callerid=ext.callerid,
-                latching=ext.latching == 1,
-            )
-            self.counts[c.id] = c.msgcount
-        infos = self._reader.chunk_infos
-        counted = [i for i in infos if i.connection_counts]
-        self.start_ns = min((i.start_time for i in counted), default=0)
-        self.end_ns = max((i.end_time - 1 for i in counted), default=0)  # rosbags adds 1
-
-    @property
-    def connections(self) -> list[Connection]:
-        return list(self._conns.values())
-
-    @property
-    def size(self) -> int:
-        return self.path.stat().st_size
-
-    def chunks(self) -> list[ChunkStats]:
-        """Each chunk's compression and sizes (from the chunk records' headers)."""
-        stats = []
-        with self.path.open("rb") as f:
-            for info in self._reader.chunk_infos:
-                f.seek(info.pos)
-                fields, _ = _read_header(f)
-                if fields is None:
-                    break
-                length = _read_u32(f)
-                stats.append(
-                    ChunkStats(
-                        fields.get("compression", b"none").decode(),
-                        length or 0,
-                        _U32.unpack(fields.get("size", b"\0\0\0\0"))[0],
-                    )
-                )
-        return stats
-
-    def messages(
-        self,
-        connections: Iterable[Connection] | None = None,
-        start_ns: int | None = None,
-        stop_ns: int | None = None,
-    ) -> Iterator[BagMessage]:
-        wanted = None if connections is None else {c.id for c in connections if c.id in self._conns}
-        chosen = [c for c in self._reader.connections if wanted is None or c.id in wanted]
-        if not chosen:
-            return
-        conns = self._conns
-        try:
-            for c, stamp, data in self._reader.messages(chosen, start_ns, stop_ns):
-                yield BagMessage(conns[c.id], stamp, data)
-        except ReaderError as err:
-            msg = f"cannot read {self.path}: {err}"
-            raise BagError(msg) from None
-
-    def close(self) -> None:
-        if self._reader.bio is not None:
-            self._reader.close()
-
-
 # --- records ---------------------------------------------------------------------------------
-
-
-def _read_u32(f: BinaryIO) -> int | None:
-    raw = f.read(4)
-    return _U32.unpack(raw)[0] if len(raw) == 4 else None
-
-
-def _parse_fields(raw: bytes) -> dict[str, bytes] | None:
-    fields: dict[str, bytes] = {}
-    pos = 0
-    while pos < len(raw):
-        if pos + 4 > len(raw):
-            return None
-        (size,) = _U32.unpack_from(raw, pos)
-        pos += 4
-        if pos + size > len(raw):
-            return None
-        name, sep, value = raw[pos : pos + size].partition(b"=")
-        if not sep:
-            return None
-        fields[name.decode(errors="replace")] = value
-        pos += size
-    return fields
-
-
-def _read_header(f: BinaryIO) -> tuple[dict[str, bytes] | None, int]:
-    """A record header's fields (None if cut short or malformed) and its byte length."""
-    size = _read_u32(f)
-    if size is None or size > 1 << 26:
-        return None, 0
-    raw = f.read(size)
-    if len(raw) != size:
-        return None, 0
-    return _parse_fields(raw), size + 4
 
 
 def _fields(items: dict[str, bytes]) -> bytes:
@@ -382,19 +251,102 @@ def _time(ns: int) -> bytes:
     return _TIME.pack(ns // 1_000_000_000, ns % 1_000_000_000)
 
 
-def _unpack_time(raw: bytes) -> int:
-    sec, nsec = _TIME.unpack(raw)
+def parse_fields(buf: bytes, start: int, end: int, base: int = 0) -> dict[str, bytes]:
+    """The ``name=value`` fields of a record header, ``buf[start:end]``.
+
+    Raises:
+        Damaged: a field runs past the header or has no ``=`` (at its offset + ``base``).
+    """
+    fields: dict[str, bytes] = {}
+    pos = start
+    while pos < end:
+        if pos + 4 > end:
+            raise Damaged(base + pos, "record header: a field's length is cut short")
+        (size,) = _U32.unpack_from(buf, pos)
+        pos += 4
+        if pos + size > end:
+            text = f"record header: a field of {size:,} bytes runs past the header"
+            raise Damaged(base + pos - 4, text)
+        name, sep, value = buf[pos : pos + size].partition(b"=")
+        if not sep:
+            raise Damaged(base + pos - 4, "record header: a field without '='")
+        fields[name.decode(errors="replace")] = value
+        pos += size
+    return fields
+
+
+def record_at(buf: bytes, pos: int, base: int = 0) -> tuple[dict[str, bytes], int, int]:
+    """(header fields, data start, data end) of the record at ``buf[pos:]``.
+
+    Raises:
+        Damaged: its header or data runs past the end of ``buf``.
+    """
+    end = len(buf)
+    if pos + 4 > end:
+        raise Damaged(base + pos, "a record cut short")
+    (hlen,) = _U32.unpack_from(buf, pos)
+    hend = pos + 4 + hlen
+    if hend + 4 > end:
+        raise Damaged(base + pos, f"a record header of {hlen:,} bytes runs past the end")
+    fields = parse_fields(buf, pos + 4, hend, base)
+    (dlen,) = _U32.unpack_from(buf, hend)
+    if hend + 4 + dlen > end:
+        raise Damaged(base + pos, f"a record's data of {dlen:,} bytes runs past the end")
+    return fields, hend + 4, hend + 4 + dlen
+
+
+def read_record_header(
+    inp: BagInput, pos: int, end: int | None = None
+) -> tuple[dict[str, bytes], int, int]:
+    """(header fields, data offset, data length) of the record at ``pos`` in the file (its
+    data not read, only checked to lie before ``end`` or the end of the file).
+
+    Raises:
+        Damaged: at the file offset of what is wrong.
+    """
+    (hlen,) = _U32.unpack(inp.read(pos, 4, "a record's header length", end=end))
+    header = inp.read(pos + 4, hlen, "a record header", end=end)
+    fields = parse_fields(header, 0, hlen, pos + 4)
+    at = pos + 4 + hlen
+    (dlen,) = _U32.unpack(inp.read(at, 4, "a record's data length", end=end))
+    inp.check(at + 4, dlen, "a record's data", end=end)
+    return fields, at + 4, dlen
+
+
+def field(fields: dict[str, bytes], name: str, size: int, at: int) -> bytes:
+    """The value of field ``name``, which must be ``size`` bytes (0: any)."""
+    value = fields.get(name)
+    if value is None:
+        raise Damaged(at, f"record header: no field '{name}'")
+    if size and len(value) != size:
+        text = f"record header: field '{name}' is {len(value)} bytes, not {size}"
+        raise Damaged(at, text)
+    return value
+
+
+def u32_field(fields: dict[str, bytes], name: str, at: int) -> int:
+    return int(_U32.unpack(field(fields, name, 4, at))[0])
+
+
+def u64_field(fields: dict[str, bytes], name: str, at: int) -> int:
+    return int(_U64.unpack(field(fields, name, 8, at))[0])
+
+
+def time_field(fields: dict[str, bytes], name: str, at: int) -> int:
+    sec, nsec = _TIME.unpack(field(fields, name, 8, at))
     return int(sec) * 1_000_000_000 + int(nsec)
 
 
-def _decompress(compression: bytes, data: bytes) -> bytes | None:
+def text_field(fields: dict[str, bytes], name: str, at: int) -> str:
     try:
-        if compression == b"none":
-            return data
-        if compression == b"bz2":
-            return bz2.decompress(data)
-        if compression == b"lz4":
-            return bytes(lz4.frame.decompress(data))
-    except (OSError, ValueError, RuntimeError):
-        return None
-    return None
+        return field(fields, name, 0, at).decode()
+    except UnicodeDecodeError:
+        raise Damaged(at, f"record header: field '{name}' is not UTF-8 text") from None
+
+
+def op_of(fields: dict[str, bytes], at: int) -> int:
+    return field(fields, "op", 1, at)[0]
+
+
+CODECS: Final = {"none": "", "bz2": "bz2", "lz4": "lz4"}
+"""A chunk's compression → its codec for :func:`belvedere.bags._input.inflate_chunk`."""
