@@ -114,6 +114,7 @@ class Ros1Bag:
         if index_pos == 0:
             msg = f"{self.path} is unindexed (its recording did not end cleanly)"
             raise BagError(msg, hint=f"belvedere bag reindex {self.path}")
+        self._hint = _REINDEX.format(path=self.path)
         if not self._data_start <= index_pos <= inp.size:
             text = (
                 f"bag header: the index is said to start at offset {index_pos:,}, outside "
@@ -121,7 +122,6 @@ class Ros1Bag:
             )
             raise Damaged(pos, text)
         self._index_pos = index_pos
-        self._hint = _REINDEX.format(path=self.path)
         index = inp.read(index_pos, inp.size - index_pos, "the index")
         at = 0
         while at < len(index):
