@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The long fuzz run: tests/fuzz with SCALE times the CI's examples (default 50) and fresh
 # randomness each run; hypothesis keeps failures in .hypothesis/ and replays them first.
-#   scripts/fuzz.sh            # 50x: xacro, URDF, SDF, launch 10000 examples each, messages 30000
+#   scripts/fuzz.sh            # 50x: xacro, URDF, SDF, launch 10000 examples each, messages 30000,
+#                              #      ROS 1 bags and MCAP files 7500 each (tests/fuzz/test_bags.py)
 #   scripts/fuzz.sh 200 -k sdf # 200x, only the SDF fuzzer
 set -euo pipefail
 cd "$(dirname "$0")/.."

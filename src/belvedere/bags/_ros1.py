@@ -1,4 +1,5 @@
-"""ROS 1 bags (format 2.0): the format, written and read here (repair:
+"""ROS 1 bags (format 2.0): the format, its records (every length checked as they are
+parsed), and writing it (reading: :mod:`belvedere.bags._ros1_read`; repair:
 :mod:`belvedere.bags._ros1_repair`).
 
 The format (ROS wiki, Bags/Format/2.0): ``#ROSBAG V2.0\\n``, a bag header record padded to
@@ -314,7 +315,10 @@ def read_record_header(
 
 
 def field(fields: dict[str, bytes], name: str, size: int, at: int) -> bytes:
-    """The value of field ``name``, which must be ``size`` bytes (0: any)."""
+    """The value of field ``name``, which must be ``size`` bytes (0: any).
+
+    This and the getters below raise Damaged (at ``at``, the record's offset) when the
+    field is missing or not of its kind."""
     value = fields.get(name)
     if value is None:
         raise Damaged(at, f"record header: no field '{name}'")
@@ -325,19 +329,23 @@ def field(fields: dict[str, bytes], name: str, size: int, at: int) -> bytes:
 
 
 def u32_field(fields: dict[str, bytes], name: str, at: int) -> int:
+    """A uint32 field."""
     return int(_U32.unpack(field(fields, name, 4, at))[0])
 
 
 def u64_field(fields: dict[str, bytes], name: str, at: int) -> int:
+    """A uint64 field (an offset)."""
     return int(_U64.unpack(field(fields, name, 8, at))[0])
 
 
 def time_field(fields: dict[str, bytes], name: str, at: int) -> int:
+    """A time field (seconds and nanoseconds), in nanoseconds."""
     sec, nsec = _TIME.unpack(field(fields, name, 8, at))
     return int(sec) * 1_000_000_000 + int(nsec)
 
 
 def text_field(fields: dict[str, bytes], name: str, at: int) -> str:
+    """A UTF-8 text field."""
     try:
         return field(fields, name, 0, at).decode()
     except UnicodeDecodeError:
@@ -345,6 +353,7 @@ def text_field(fields: dict[str, bytes], name: str, at: int) -> str:
 
 
 def op_of(fields: dict[str, bytes], at: int) -> int:
+    """The record's kind (its ``op`` field)."""
     return field(fields, "op", 1, at)[0]
 
 
