@@ -454,3 +454,35 @@ def test_play_of_a_time_without_messages_ends(
     assert capsys.readouterr().err == (
         "error: nothing played: no message falls in the time chosen\n"
     )
+
+
+def test_a_type_that_holds_itself_is_skipped(
+    tmp_path: Path, endpoint: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = tmp_path / "loop.bag"
+    loop = connection(0, "/r", b"loop_msgs/Node", b"0" * 32, b"loop_msgs/Node next\n")
+    path.write_bytes(ros1_bag([Chunk(loop + message(0, SECOND), [(0, SECOND)])], [loop]))
+    assert main(["bag", "play", "-q", str(path)]) == 1
+    assert capsys.readouterr().err.splitlines() == [
+        "warning: skipping /r: cannot read its type loop_msgs/msg/Node: loop_msgs/msg/Node "
+        "holds itself",
+        "error: nothing to play: belvedere cannot read the type of any topic chosen in "
+        f"{path} (the warnings above say why)",
+    ]
+
+
+def test_definitions_past_what_one_run_parses_are_skipped(
+    warnings: pytest.LogCaptureFixture,
+) -> None:
+    from belvedere.bags import Connection
+
+    decoder = Decoder()
+    text = "".join(f"int32 x{i}\n" for i in range(60_000))  # 0.75 MiB: ~5 s to parse
+    first = Connection(0, "/a", "big_msgs/msg/A", "ros1", "0" * 32, "int32 x\n")
+    huge = Connection(1, "/b", "big_msgs/msg/B", "ros1", "0" * 32, text * 2)
+    assert decoder.usable(first)
+    assert not decoder.usable(huge)
+    assert _texts(warnings) == [
+        "skipping /b: its type's definition (1.5 MiB) would take the definitions read past "
+        "the 1 MiB belvedere parses per run"
+    ]

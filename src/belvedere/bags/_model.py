@@ -17,6 +17,7 @@ from rosbags.interfaces import Nodetype
 from rosbags.typesys import Stores, TypesysError, get_types_from_msg, get_typestore
 from rosbags.typesys.store import Typestore
 
+from belvedere.bounded import DEFINITION_BYTES, describe_size
 from belvedere.errors import BelvedereError
 from belvedere.msgs import MessageTypeError, message_from_data, short, types
 
@@ -89,6 +90,8 @@ class Decoder:
 
     def __init__(self) -> None:
         self._plans: dict[tuple[str, str, str, str], Typestore | bool | None] = {}
+        self._parse_budget = DEFINITION_BYTES
+        """What the definitions it parses may still add up to (bytes)."""
 
     def usable(self, conn: Connection) -> bool:
         return self._plan(conn) is not False
@@ -113,8 +116,20 @@ class Decoder:
         has_md5 = conn.encoding == "ros1" and conn.md5sum not in ("", "*")
         if known and has_md5 and ros1_definition(conn.msgtype)[1] == conn.md5sum:
             return None
+        size = len(conn.definition)
+        if size > self._parse_budget:
+            logger.warning(
+                "skipping %s: its type's definition (%s) would take the definitions read past "
+                "the %s belvedere parses per run",
+                conn.topic,
+                describe_size(size),
+                describe_size(DEFINITION_BYTES),
+            )
+            return False
+        self._parse_budget -= size
         try:
             found = get_types_from_msg(conn.definition, conn.msgtype) if conn.definition else {}
+            _check_acyclic(found, store.fielddefs)
         except (TypesysError, ValueError, KeyError) as err:
             if known and conn.encoding == "cdr":
                 return None  # no definition to go by: the store's
@@ -164,6 +179,37 @@ class Decoder:
         else:
             obj = store.deserialize_cdr(message.data, conn.msgtype)
         return obj if plan is None else _convert(obj, conn.msgtype)
+
+
+def _check_acyclic(found: dict[str, Any], known: dict[str, Any]) -> None:
+    """Raise ValueError if a type of ``found`` holds itself (no ROS message can: its size,
+    and its MD5 sum, would be infinite; a definition saying so would recurse without end)."""
+    fields = {**known, **found}
+    done: set[str] = set()
+
+    def parts(name: str) -> list[str]:
+        out = []
+        for _, (kind, detail) in fields.get(name, ((), ()))[1]:
+            if kind == Nodetype.NAME:
+                out.append(str(detail))
+            elif kind in (Nodetype.ARRAY, Nodetype.SEQUENCE) and detail[0][0] == Nodetype.NAME:
+                out.append(str(detail[0][1]))
+        return out
+
+    for start in found:
+        path = [start]
+        todo = [iter(parts(start))]
+        while todo:  # depth first, without recursion (a hostile chain may be long)
+            step = next(todo[-1], None)
+            if step is None:
+                done.add(path.pop())
+                todo.pop()
+            elif step in path:
+                msg = f"{step} holds itself"
+                raise ValueError(msg)
+            elif step not in done:
+                path.append(step)
+                todo.append(iter(parts(step)))
 
 
 def _why(err: BaseException) -> str:
