@@ -215,10 +215,16 @@ def _check_acyclic(found: dict[str, Any], known: dict[str, Any]) -> None:
 def _why(err: BaseException) -> str:
     """One short line saying why a definition cannot be read (a parser's message may hold
     the whole definition, which is the bag's text, over many lines)."""
-    text = str(err).strip()
-    if text.startswith("Could not parse"):
+    if str(err).strip().startswith("Could not parse"):
         return "its definition does not parse"
-    line = text.splitlines()[0] if text else type(err).__name__
+    return one_line(err)
+
+
+def one_line(err: BaseException) -> str:
+    """An error's message as one short line (a library's may hold the bag's own bytes, over
+    many lines)."""
+    lines = str(err).strip().splitlines()
+    line = lines[0] if lines else type(err).__name__
     return line if len(line) <= 120 else line[:117] + "..."
 
 

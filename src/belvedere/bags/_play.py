@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from belvedere.bags._files import BagFile, merged_messages, open_bag
-from belvedere.bags._model import BagError, BagMessage, Decoder
+from belvedere.bags._model import BagError, BagMessage, Decoder, one_line
 from belvedere.bags._options import PlayOptions
 from belvedere.errors import BelvedereError
 from belvedere.graph import NS, Node, Publisher, Timer
@@ -254,7 +254,7 @@ class Player:
                     "skipping a message on %s at %.3f s: it cannot be decoded (%s)",
                     topic,
                     message.stamp_ns / NS,
-                    _reason(err),
+                    one_line(err),
                 )
             return
         self._pubs[message.connection.topic].publish(msg)
@@ -343,8 +343,3 @@ class Player:
     def close(self) -> None:
         for bag in self.bags:
             bag.close()
-
-
-def _reason(err: BaseException) -> str:
-    text = (str(err).strip().splitlines() or [type(err).__name__])[0]
-    return text if len(text) <= 120 else text[:117] + "..."
