@@ -486,3 +486,25 @@ def test_definitions_past_what_one_run_parses_are_skipped(
         "skipping /b: its type's definition (1.5 MiB) would take the definitions read past "
         "the 1 MiB belvedere parses per run"
     ]
+
+
+def test_zeros_as_large_as_a_chunk_declares_stop_at_its_first_record(
+    tmp_path: Path, warnings: pytest.LogCaptureFixture
+) -> None:
+    """A bomb that inflates to exactly its (large) declared size is read no further than
+    its first record: zeros are no record in either format."""
+    mcap = tmp_path / "zeros.mcap"
+    chunk = mchunk(b"\0" * BOMB, compression=b"zstd", data=zeros_zstd(BOMB), crc=0)
+    mcap.write_bytes(mcap_file([schema(), channel(), chunk], counts={0: 1}))
+    bag = tmp_path / "zeros.bag"
+    zeros = Chunk(b"\0" * BOMB, [(0, SECOND)], "bz2", zeros_bz2(BOMB))
+    bag.write_bytes(ros1_bag([zeros], [connection(0, "/x")]))
+    assert _read_all(mcap)[0] == []
+    assert _read_all(bag)[0] == []
+    chunk_at = MCAP_FIRST_RECORD + len(schema()) + len(channel())
+    assert _texts(warnings) == [
+        f"{mcap}: offset {chunk_at}: chunk, at byte 0 of its data: a record of kind 0x00, "
+        "which the spec reserves as invalid; skipping the rest",
+        f"{bag}: offset {ROS1_FIRST_CHUNK}: chunk, at byte 0 of its data: a record without "
+        "its 'op' field; skipping the rest",
+    ]

@@ -461,11 +461,15 @@ def _parse_statistics(body: bytes, base: int) -> dict[int, int]:
     return counts
 
 
+_INVALID: Final = "a record of kind 0x00, which the spec reserves as invalid"
+"""(Zeros where records should be: a chunk bomb of zeros stops at its first record.)"""
+
+
 def _records(buf: bytes, base: int) -> Iterator[tuple[int, int, int]]:
     """(op, body start, body end) of each record in ``buf``.
 
     Raises:
-        Damaged: a record runs past the end of ``buf``.
+        Damaged: a record runs past the end of ``buf``, or is of kind 0x00.
     """
     end = len(buf)
     pos = 0
@@ -476,6 +480,8 @@ def _records(buf: bytes, base: int) -> Iterator[tuple[int, int, int]]:
         body = pos + 9
         if body + length > end:
             raise Damaged(base + pos, f"a record of {length:,} bytes runs past its section")
+        if not op:
+            raise Damaged(base + pos, _INVALID)
         yield op, body, body + length
         pos = body + length
 

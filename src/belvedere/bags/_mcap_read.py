@@ -21,6 +21,7 @@ from typing import Final
 
 from belvedere.bags._input import BagInput, Damaged, Skipped, inflate_chunk
 from belvedere.bags._mcap import (
+    _INVALID,
     _MESSAGE,
     _RECORD,
     _U64,
@@ -152,6 +153,8 @@ class McapBag:
             inp.check(body, length, "a record", end=end)
             if op == OP_DATA_END:
                 break
+            if not op:
+                raise Damaged(pos, _INVALID)
             if op == OP_SCHEMA:
                 schema = _parse_schema(inp.read(body, length, "a schema record"), body)
                 self._schemas[schema.id] = schema
@@ -344,4 +347,6 @@ def _parse_chunk(
             conn = conns.get(cid)
             if conn is not None and lo <= stamp < hi:
                 found.append(BagMessage(conn, stamp, raw[body + fixed : stop]))
+        elif not op:
+            raise Damaged(pos, _INVALID)
         pos = stop

@@ -37,7 +37,8 @@ from belvedere.bags._model import BagError
 __all__ = ["recover_mcap"]
 
 _LAST_KNOWN_OP = 0x0F
-"""The spec's records go up to DataEnd (0x0F): past it, a record is not one."""
+"""The spec's records go from 0x01 up to DataEnd (0x0F): past it (or at 0x00), a record is
+not one."""
 
 
 @dataclass
@@ -81,7 +82,7 @@ def recover_mcap(inp: BagInput, output: Path, backup: Path | None) -> Repaired:
             if op in (OP_DATA_END, OP_FOOTER):
                 clean = True
                 break
-            if op > _LAST_KNOWN_OP:
+            if not op or op > _LAST_KNOWN_OP:
                 raise Damaged(pos, f"a record of unknown kind {op:#04x}")
             item = _record(inp, op, pos, length, summary)
             if item is not None:
