@@ -398,9 +398,9 @@ def test_play_of_unreadable_types_is_one_error_and_one_line_each(
     path.write_bytes(ros1_bag([Chunk(records, [(0, SECOND), (1, SECOND)])], [unknown, garbled]))
     assert main(["bag", "play", "-q", str(path)]) == 1
     assert capsys.readouterr().err.splitlines() == [
-        "warning: skipping /u: its type foo_msgs/msg/Bar is unknown here",
-        "warning: skipping /v: cannot read its type foo_msgs/msg/Baz: its definition does not "
-        "parse",
+        f"warning: {path}: skipping /u: its type foo_msgs/msg/Bar is unknown here",
+        f"warning: {path}: skipping /v: cannot read its type foo_msgs/msg/Baz: its definition "
+        "does not parse",
         "error: nothing to play: belvedere cannot read the type of any topic chosen in "
         f"{path} (the warnings above say why)",
     ]
@@ -464,8 +464,8 @@ def test_a_type_that_holds_itself_is_skipped(
     path.write_bytes(ros1_bag([Chunk(loop + message(0, SECOND), [(0, SECOND)])], [loop]))
     assert main(["bag", "play", "-q", str(path)]) == 1
     assert capsys.readouterr().err.splitlines() == [
-        "warning: skipping /r: cannot read its type loop_msgs/msg/Node: loop_msgs/msg/Node "
-        "holds itself",
+        f"warning: {path}: skipping /r: cannot read its type loop_msgs/msg/Node: "
+        "loop_msgs/msg/Node holds itself",
         "error: nothing to play: belvedere cannot read the type of any topic chosen in "
         f"{path} (the warnings above say why)",
     ]

@@ -93,20 +93,24 @@ class Decoder:
         self._parse_budget = DEFINITION_BYTES
         """What the definitions it parses may still add up to (bytes)."""
 
-    def usable(self, conn: Connection) -> bool:
-        return self._plan(conn) is not False
+    def usable(self, conn: Connection, where: str = "") -> bool:
+        """Whether ``conn``'s messages can be decoded; the first time a connection's type is
+        asked about and they cannot, a warning says why (beginning ``where: ``, the bag's
+        name, if given)."""
+        return self._plan(conn, where) is not False
 
-    def _plan(self, conn: Connection) -> Typestore | bool | None:
+    def _plan(self, conn: Connection, where: str = "") -> Typestore | bool | None:
         """None: the store reads it; a type store: the bag's own layout; False: unreadable."""
         key = (conn.msgtype, conn.encoding, conn.md5sum, conn.definition)
         if key not in self._plans:
-            self._plans[key] = self._check(conn)
+            self._plans[key] = self._check(conn, f"{where}: " if where else "")
         return self._plans[key]
 
-    def _check(self, conn: Connection) -> Typestore | bool | None:
+    def _check(self, conn: Connection, where: str) -> Typestore | bool | None:
         if conn.encoding not in ("ros1", "cdr"):
             logger.warning(
-                "skipping %s: its messages are encoded as %r, which belvedere does not read",
+                "%sskipping %s: its messages are encoded as %r, which belvedere does not read",
+                where,
                 conn.topic,
                 conn.encoding,
             )
@@ -119,8 +123,9 @@ class Decoder:
         size = len(conn.definition)
         if size > self._parse_budget:
             logger.warning(
-                "skipping %s: its type's definition (%s) would take the definitions read past "
-                "the %s belvedere parses per run",
+                "%sskipping %s: its type's definition (%s) would take the definitions read "
+                "past the %s belvedere parses per run",
+                where,
                 conn.topic,
                 describe_size(size),
                 describe_size(DEFINITION_BYTES),
@@ -134,11 +139,15 @@ class Decoder:
             if known and conn.encoding == "cdr":
                 return None  # no definition to go by: the store's
             logger.warning(
-                "skipping %s: cannot read its type %s: %s", conn.topic, conn.msgtype, _why(err)
+                "%sskipping %s: cannot read its type %s: %s",
+                where,
+                conn.topic,
+                conn.msgtype,
+                _why(err),
             )
             return False
         if not found:
-            return None if known else self._unknown(conn)
+            return None if known else self._unknown(conn, where)
         differs = [
             n for n, d in found.items() if n in store.fielddefs and d[1] != store.fielddefs[n][1]
         ]
@@ -153,7 +162,11 @@ class Decoder:
                 store.register({n: d for n, d in found.items() if n not in store.fielddefs})
         except (TypesysError, MessageTypeError, ValueError, KeyError) as err:
             logger.warning(
-                "skipping %s: cannot read its type %s: %s", conn.topic, conn.msgtype, _why(err)
+                "%sskipping %s: cannot read its type %s: %s",
+                where,
+                conn.topic,
+                conn.msgtype,
+                _why(err),
             )
             return False
         logger.info(
@@ -165,8 +178,10 @@ class Decoder:
         return own
 
     @staticmethod
-    def _unknown(conn: Connection) -> bool:
-        logger.warning("skipping %s: its type %s is unknown here", conn.topic, conn.msgtype)
+    def _unknown(conn: Connection, where: str) -> bool:
+        logger.warning(
+            "%sskipping %s: its type %s is unknown here", where, conn.topic, conn.msgtype
+        )
         return False
 
     def decode(self, message: BagMessage) -> Any:

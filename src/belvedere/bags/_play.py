@@ -117,7 +117,7 @@ class Player:
                     continue
                 if conn.topic == CLOCK and self.clock:
                     continue  # the graph announces the bag's time itself
-                if not decoder.usable(conn):
+                if not decoder.usable(conn, str(bag.path)):
                     continue
                 known = kinds.setdefault(conn.topic, conn.msgtype)
                 if known != conn.msgtype:

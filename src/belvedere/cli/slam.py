@@ -143,7 +143,8 @@ class _BagSource:
 
     def messages(self, topics: set[str]) -> Iterator[tuple[str, Any]]:
         decoder = self.decoder
-        chosen = [c for c in self.bag.connections if c.topic in topics and decoder.usable(c)]
+        where = str(self.bag.path)
+        chosen = [c for c in self.bag.connections if c.topic in topics and decoder.usable(c, where)]
         for m in self.bag.messages(chosen):
             try:
                 msg = decoder.decode(m)
