@@ -3,6 +3,7 @@
 # randomness each run; hypothesis keeps failures in .hypothesis/ and replays them first.
 #   scripts/fuzz.sh            # 50x: xacro, URDF, SDF, launch 10000 examples each, messages 30000,
 #                              #   maps 25000 (YAML 7500, images 12500, PNG headers 5000),
+#                              #   ROS 1 bags and MCAP files 7500 each,
 #                              #   a live Foxglove bridge 7500 (about a minute)
 #   scripts/fuzz.sh 200 -k sdf # 200x, only the SDF fuzzer
 set -euo pipefail

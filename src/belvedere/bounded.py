@@ -40,6 +40,7 @@ __all__ = [
     "COMMAND_OUTPUT_BYTES",
     "COMMAND_SECONDS",
     "DATA_FILE_BYTES",
+    "DEFINITION_BYTES",
     "GRID_CELLS",
     "IMAGE_FILE_BYTES",
     "IMAGE_PIXELS",
@@ -81,10 +82,15 @@ MESH_FILE_BYTES: Final = 128 * MiB
 which trimesh holds in about 1 GiB; robot meshes are a few MiB."""
 INFLATED_BYTES: Final = 512 * MiB
 """What one compressed block (a bag's or MCAP file's chunk) may declare it inflates to;
-rosbag writes 768 KiB chunks and MCAP writers a few MiB."""
+rosbag writes 768 KiB chunks and MCAP writers a few MiB. It also caps what one record of a
+bag may declare it holds (belvedere.bags._input.RECORD_BYTES)."""
 DATA_FILE_BYTES: Final = 1 << 40
 """A bag or MCAP file is streamed, not read whole: only its records are bounded (by
 :data:`INFLATED_BYTES` and the file's own size)."""
+DEFINITION_BYTES: Final = 1 * MiB
+"""Message definitions one run parses from bags (types the store lacks or lays out
+otherwise; a type the store has, with its MD5 sum, is not parsed): the parser takes ~7 s a
+MiB, and real definitions are a few KiB each."""
 GRID_CELLS: Final = 1 << 25
 """Cells of one grid sized by input (a SLAM map, a costmap, amcl's likelihood field):
 33,554,432, a 290 m square at 5 cm. A grid that would grow past it is refused, and the

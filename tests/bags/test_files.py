@@ -182,7 +182,10 @@ def test_reindex_repairs_a_cut_recording(
             b"#ROSBAG V1.2\n" + b"\0" * 64,
             "is a ROS 1 bag of format 1.2; belvedere reads 2.0",
         ),
-        (b"#ROSBAG V2.0\n\x04", "cannot read"),
+        (
+            b"#ROSBAG V2.0\n\x04",
+            ": offset 13: a record's header length of 4 bytes runs past the end of the file",
+        ),
         (b"\x89MCAP0\r\n\x01", "is not a whole MCAP file"),
     ],
 )
@@ -193,7 +196,7 @@ def test_bad_files_give_one_error(
     path.write_bytes(content)
     assert main(["bag", "info", str(path)]) == 1
     err = capsys.readouterr().err
-    assert err.startswith((f"error: {path} {message}", f"error: {message} {path}"))
+    assert err.startswith((f"error: {path} {message}", f"error: {path}{message}"))
     assert "Traceback" not in err
 
 
@@ -201,7 +204,8 @@ def test_missing_file_and_directory(tmp_path: Path, capsys: pytest.CaptureFixtur
     assert main(["bag", "info", str(tmp_path / "none.bag")]) == 1
     assert f"error: no such bag: {tmp_path / 'none.bag'}" in capsys.readouterr().err
     assert main(["bag", "play", str(tmp_path)]) == 1
-    assert f"error: {tmp_path} is a directory, not a bag" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert f"error: cannot read bag {tmp_path}: it is a directory, not a regular file" in err
 
 
 def test_bag_names_as_rosbag_makes_them() -> None:

@@ -1,12 +1,20 @@
 """Bags: recording a graph's messages to files and playing them back, as ``rosbag`` does.
 
-Two formats, chosen by the file's name: ``.bag`` is a ROS 1 bag (format 2.0, written and
-read through rosbags; its connections carry ROS 1's message definitions, MD5 sums,
-``callerid`` and ``latching`` as rosbag writes them), readable by ROS 1's rosbag; ``.mcap``
-is MCAP with the ros2 profile (CDR, as belvedere's transport carries messages; see
-:mod:`belvedere.bags._mcap`), readable by Foxglove and rosbags. Both are written a chunk at
-least every second, so a recording killed outright loses at most its last second, and
-:func:`reindex` repairs it.
+Two formats, chosen by the file's name: ``.bag`` is a ROS 1 bag (format 2.0; its
+connections carry ROS 1's message definitions, MD5 sums, ``callerid`` and ``latching`` as
+rosbag writes them), readable by ROS 1's rosbag; ``.mcap`` is MCAP with the ros2 profile
+(CDR, as belvedere's transport carries messages; see :mod:`belvedere.bags._mcap`), readable
+by Foxglove and rosbags. Both are written a chunk at least every second, so a recording
+killed outright loses at most its last second, and :func:`reindex` repairs it.
+
+Bags come from the internet, so reading trusts nothing a file declares
+(:mod:`belvedere.bags._input`): a FIFO, a device or a directory is refused without being
+read; every length and offset is checked against the file before it is used; every chunk
+is inflated to at most the size it declares (a decompression bomb stops there, see
+:func:`belvedere.bounded.inflate`). A damaged header, index or summary is one error naming
+the file and the place (``x.bag: offset 4117: …``); a damaged chunk is one warning (the
+first; the others are counted) and the rest of the bag still reads; ``reindex`` keeps what
+comes before the first damage and leaves the original as it was.
 
 - :func:`open_bag`, :func:`info_text`: read a bag; ``rosbag info``'s summary.
 - :class:`Recorder` with :class:`TapRecording` (messages of other processes, as the

@@ -8,11 +8,17 @@ from collections.abc import Collection, Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import Any, Protocol
 
+from belvedere.bags._input import BagInput, Repaired, Skipped
 from belvedere.bags._mcap import MAGIC as MCAP_MAGIC
-from belvedere.bags._mcap import McapBag, McapWriter, recover_mcap
+from belvedere.bags._mcap import McapWriter
+from belvedere.bags._mcap_read import McapBag
+from belvedere.bags._mcap_recover import recover_mcap
 from belvedere.bags._model import BagError, BagMessage, Connection
 from belvedere.bags._ros1 import MAGIC as ROS1_MAGIC
-from belvedere.bags._ros1 import ChunkStats, Ros1Bag, Ros1BagWriter, reindex_ros1
+from belvedere.bags._ros1 import ChunkStats, Ros1BagWriter
+from belvedere.bags._ros1_read import Ros1Bag
+from belvedere.bags._ros1_repair import reindex_ros1
+from belvedere.bounded import LimitError
 
 __all__ = [
     "BagFile",
@@ -36,6 +42,8 @@ class BagFile(Protocol):
     """The last message's time."""
     counts: dict[int, int]
     """Messages per connection id."""
+    skipped: Skipped
+    """The damaged chunks its reading skipped."""
 
     @property
     def format(self) -> str: ...
@@ -49,7 +57,11 @@ class BagFile(Protocol):
         connections: Iterable[Connection] | None = None,
         start_ns: int | None = None,
         stop_ns: int | None = None,
-    ) -> Iterator[BagMessage]: ...
+    ) -> Iterator[BagMessage]:
+        """The messages (of ``connections``, in [start, stop)) in time order; a damaged
+        chunk is skipped, with a warning (see :attr:`skipped`)."""
+        ...
+
     def close(self) -> None: ...
 
 
@@ -70,28 +82,34 @@ class BagWriter(Protocol):
     def close(self) -> None: ...
 
 
-def _kind(path: Path) -> str:
-    """``bag`` or ``mcap``, from the file's first bytes."""
-    try:
-        with path.open("rb") as f:
-            head = f.read(len(ROS1_MAGIC))
-    except IsADirectoryError:
-        msg = f"{path} is a directory, not a bag"
-        raise BagError(msg) from None
-    except FileNotFoundError:
+def _open(path: Path) -> tuple[BagInput, str]:
+    """``path`` open for reading, and its format (``bag`` or ``mcap``) from its first bytes.
+
+    Raises:
+        BagError: it is not a regular file, or neither a ROS 1 bag of format 2.0 nor MCAP.
+    """
+    if not path.exists() and not path.is_symlink():
         msg = f"no such bag: {path}"
-        raise BagError(msg) from None
+        raise BagError(msg)
+    try:
+        inp = BagInput(path)
+    except LimitError as err:
+        raise BagError(err.message) from None
+    try:
+        head = inp.f.read(len(ROS1_MAGIC))
     except OSError as err:
+        inp.close()
         msg = f"cannot read {path}: {err.strerror or err}"
         raise BagError(msg) from None
     if head.startswith(MCAP_MAGIC):
-        return "mcap"
+        return inp, "mcap"
+    if head == ROS1_MAGIC:
+        return inp, "bag"
+    inp.close()
     if head.startswith(b"#ROSBAG V"):
-        if head != ROS1_MAGIC:
-            version = head[len("#ROSBAG V") :].decode(errors="replace").strip()
-            msg = f"{path} is a ROS 1 bag of format {version}; belvedere reads 2.0"
-            raise BagError(msg, hint="rosbag fix or rosbag reindex in ROS 1 converts old bags")
-        return "bag"
+        version = head[len("#ROSBAG V") :].decode(errors="replace").strip()
+        msg = f"{path} is a ROS 1 bag of format {version}; belvedere reads 2.0"
+        raise BagError(msg, hint="rosbag fix or rosbag reindex in ROS 1 converts old bags")
     if not head:
         msg = f"{path} is empty"
         raise BagError(msg)
@@ -100,11 +118,16 @@ def _kind(path: Path) -> str:
 
 
 def open_bag(path: str | os.PathLike[str]) -> BagFile:
-    """A bag open for reading, whichever its format."""
-    p = Path(path)
-    if _kind(p) == "mcap":
-        return McapBag(p)
-    return Ros1Bag(p)
+    """A bag open for reading, whichever its format.
+
+    Raises:
+        BagError: it cannot be read (a FIFO, a device or a directory is refused without
+            being read), or its header or index is damaged: ``x.bag: offset N: …``.
+    """
+    inp, kind = _open(Path(path))
+    if kind == "mcap":
+        return McapBag(inp)
+    return Ros1Bag(inp)
 
 
 def create_writer(
@@ -147,13 +170,16 @@ def backup_path(path: Path) -> Path:
     return path.with_name(f"{base}.orig.{ext}")
 
 
-def reindex(
-    path: Path, *, output_dir: Path | None = None, force: bool = False
-) -> tuple[Path, int, int]:
-    """Repair a bag whose recording was cut short, as ``rosbag reindex``: the original is
-    kept as ``x.orig.bag`` (or the result goes to ``output_dir``). MCAP files get a new
-    summary. Returns (repaired file, messages it holds, bytes dropped from its end)."""
-    kind = _kind(path)
+def reindex(path: Path, *, output_dir: Path | None = None, force: bool = False) -> Repaired:
+    """Repair a bag whose recording was cut short, as ``rosbag reindex``: every whole chunk
+    up to the end of the file (or the first damaged record), with a new index (MCAP: new
+    message indexes and summary). The original is kept as ``x.orig.bag`` (or the result
+    goes to ``output_dir``, the original untouched).
+
+    Raises:
+        BagError: it cannot be read, its backup exists already (unless ``force``), or
+            nothing in it can be kept (``x.bag: offset N: …``: the original is untouched).
+    """
     if output_dir is not None:
         output, backup = output_dir / path.name, None
         if output.resolve() == path.resolve():
@@ -163,8 +189,10 @@ def reindex(
     if backup is not None and backup.exists() and not force:
         msg = f"skipping {path}: the backup {backup} exists already"
         raise BagError(msg, hint="remove it, or use --force to overwrite it")
-    if kind == "mcap":
-        messages, dropped = recover_mcap(path, output, backup)
-    else:
-        messages, dropped = reindex_ros1(path, output, backup)
-    return output, messages, dropped
+    inp, kind = _open(path)
+    try:
+        if kind == "mcap":
+            return recover_mcap(inp, output, backup)
+        return reindex_ros1(inp, output, backup)
+    finally:
+        inp.close()

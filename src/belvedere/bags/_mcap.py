@@ -1,4 +1,5 @@
-"""MCAP files (https://mcap.dev/spec): written, read and recovered here.
+"""MCAP files (https://mcap.dev/spec): the format, and writing it (reading:
+:mod:`belvedere.bags._mcap_read`; recovery: :mod:`belvedere.bags._mcap_recover`).
 
 belvedere writes the ``ros2`` profile: each message CDR-encoded, exactly as belvedere's
 transport carries it, under a ``ros2msg`` schema that describes that layout (belvedere's
@@ -16,8 +17,6 @@ keeps every whole chunk and writes the summary again.
 
 from __future__ import annotations
 
-import heapq
-import shutil
 import struct
 import zlib
 from collections import defaultdict
@@ -29,10 +28,10 @@ from typing import Any, BinaryIO, Final
 import lz4.frame
 
 from belvedere import __version__
-from belvedere.bags._model import BagError, BagMessage, Connection, cdr_schema
-from belvedere.bags._ros1 import ChunkStats
+from belvedere.bags._input import Damaged
+from belvedere.bags._model import BagError, cdr_schema
 
-__all__ = ["MAGIC", "McapBag", "McapWriter", "recover_mcap"]
+__all__ = ["MAGIC", "McapWriter"]
 
 MAGIC: Final = b"\x89MCAP0\r\n"
 CHUNK_SIZE: Final = 768 * 1024
@@ -54,6 +53,11 @@ _U32: Final = struct.Struct("<I")
 _U64: Final = struct.Struct("<Q")
 _RECORD: Final = struct.Struct("<BQ")
 _MESSAGE: Final = struct.Struct("<HIQQ")
+_IDS: Final = struct.Struct("<HH")
+_CHUNK: Final = struct.Struct("<QQQI")
+_CHUNK_INDEX: Final = struct.Struct("<QQQ")
+_SIZES: Final = struct.Struct("<QQ")
+_COUNT: Final = struct.Struct("<HQ")
 
 _QOS: Final = (
     "- history: 1\n  depth: {depth}\n  reliability: 1\n  durability: {durability}\n"
@@ -222,19 +226,6 @@ def _zstd() -> Any:
     return zstd
 
 
-def _decompress(name: str, data: bytes, size: int) -> bytes | None:
-    try:
-        if name == "":
-            return data
-        if name == "lz4":
-            return bytes(lz4.frame.decompress(data))
-        if name == "zstd":
-            return bytes(_zstd().decompress(data))
-    except (OSError, ValueError, RuntimeError):
-        return None
-    return None
-
-
 # --- writing ---------------------------------------------------------------------------------
 
 
@@ -344,7 +335,9 @@ class McapWriter:
         self._f.close()
 
 
-# --- reading ---------------------------------------------------------------------------------
+# --- parsing (reading and recovery share it) ------------------------------------------------
+# Each parser takes a record's body and ``base``, the body's offset in the file (or in its
+# chunk's data), and raises Damaged at that offset plus the place of what is wrong.
 
 
 @dataclass(frozen=True, slots=True)
@@ -356,57 +349,139 @@ class _ChunkRef:
     compression: str
     compressed: int
     uncompressed: int
+    at: int = 0
+    """Where the chunk-index record that names it is (0: found by reading the data)."""
 
 
-def _read_string(buf: bytes, pos: int) -> tuple[str, int]:
+_FIXED: Final = {
+    OP_MESSAGE: 22,
+    OP_CHUNK: 28,
+    OP_CHUNK_INDEX: 36,
+    OP_STATISTICS: 46,
+}
+"""Bytes of fixed fields each kind of record starts with."""
+
+
+def _fixed(body: bytes, op: int, what: str, base: int) -> None:
+    """Raise Damaged unless ``body`` holds the fixed fields of its kind of record."""
+    need = _FIXED[op]
+    if len(body) < need:
+        text = f"{what} record of {len(body)} bytes, shorter than its {need} bytes of fixed fields"
+        raise Damaged(base - 9, text)
+
+
+def _read_bytes(buf: bytes, pos: int, what: str, base: int) -> tuple[bytes, int]:
+    """A length-prefixed (uint32) field at ``buf[pos:]``, and where it ends."""
+    end = len(buf)
+    if pos + 4 > end:
+        raise Damaged(base + pos, f"{what}: its length is cut short")
     (n,) = _U32.unpack_from(buf, pos)
-    return buf[pos + 4 : pos + 4 + n].decode(), pos + 4 + n
+    if pos + 4 + n > end:
+        raise Damaged(base + pos, f"{what} of {n:,} bytes runs past its record")
+    return buf[pos + 4 : pos + 4 + n], pos + 4 + n
 
 
-def _read_map(buf: bytes, pos: int) -> tuple[dict[str, str], int]:
-    (n,) = _U32.unpack_from(buf, pos)
-    end = pos + 4 + n
-    pos += 4
+def _read_string(buf: bytes, pos: int, what: str, base: int) -> tuple[str, int]:
+    raw, end = _read_bytes(buf, pos, what, base)
+    try:
+        return raw.decode(), end
+    except UnicodeDecodeError:
+        raise Damaged(base + pos, f"{what} is not UTF-8 text") from None
+
+
+def _read_map(buf: bytes, pos: int, what: str, base: int) -> tuple[dict[str, str], int]:
+    raw, end = _read_bytes(buf, pos, what, base)
+    base += pos + 4
     items = {}
-    while pos < end:
-        key, pos = _read_string(buf, pos)
-        value, pos = _read_string(buf, pos)
+    at = 0
+    while at < len(raw):
+        key, at = _read_string(raw, at, f"{what}: a key", base)
+        value, at = _read_string(raw, at, f"{what}: a value", base)
         items[key] = value
     return items, end
 
 
-def _parse_schema(body: bytes) -> _Schema:
-    (sid,) = _U16.unpack_from(body, 0)
-    name, pos = _read_string(body, 2)
-    encoding, pos = _read_string(body, pos)
-    (n,) = _U32.unpack_from(body, pos)
-    return _Schema(sid, name, encoding, body[pos + 4 : pos + 4 + n])
+def _u(buf: bytes, layout: struct.Struct, pos: int, what: str, base: int) -> tuple[Any, ...]:
+    if pos + layout.size > len(buf):
+        raise Damaged(base + pos, f"{what} is cut short")
+    return layout.unpack_from(buf, pos)
 
 
-def _parse_channel(body: bytes) -> _Channel:
-    cid, sid = struct.unpack_from("<HH", body, 0)
-    topic, pos = _read_string(body, 4)
-    encoding, pos = _read_string(body, pos)
-    metadata, _ = _read_map(body, pos)
+def _parse_schema(body: bytes, base: int) -> _Schema:
+    (sid,) = _u(body, _U16, 0, "schema record", base)
+    name, pos = _read_string(body, 2, "schema name", base)
+    encoding, pos = _read_string(body, pos, "schema encoding", base)
+    data, _ = _read_bytes(body, pos, "schema data", base)
+    return _Schema(sid, name, encoding, data)
+
+
+def _parse_channel(body: bytes, base: int) -> _Channel:
+    cid, sid = _u(body, _IDS, 0, "channel record", base)
+    topic, pos = _read_string(body, 4, "channel topic", base)
+    encoding, pos = _read_string(body, pos, "channel message encoding", base)
+    metadata, _ = _read_map(body, pos, "channel metadata", base)
     return _Channel(cid, sid, topic, encoding, metadata)
 
 
-def _parse_chunk_header(body: bytes) -> tuple[int, int, int, int, str, int, int]:
-    """(start, end, uncompressed size, crc, compression, compressed size, data offset)."""
-    start, end, size, crc = struct.unpack_from("<QQQI", body, 0)
-    compression, pos = _read_string(body, 28)
-    (compressed,) = _U64.unpack_from(body, pos)
-    return start, end, size, crc, compression, compressed, pos + 8
+def _parse_chunk_header(body: bytes, base: int) -> tuple[int, int, int, int, str, int, int]:
+    """(start, end, uncompressed size, crc, compression, data offset, compressed size)."""
+    _fixed(body, OP_CHUNK, "chunk", base)
+    start, end, size, crc = _CHUNK.unpack_from(body, 0)
+    compression, pos = _read_string(body, 28, "chunk compression", base)
+    (compressed,) = _u(body, _U64, pos, "chunk data size", base)
+    if pos + 8 + compressed != len(body):
+        text = (
+            f"chunk: {compressed:,} bytes of data declared where its record holds "
+            f"{len(body) - pos - 8:,}"
+        )
+        raise Damaged(base + pos, text)
+    return start, end, size, crc, compression, pos + 8, compressed
 
 
-def _records(buf: bytes, pos: int = 0, end: int | None = None) -> Iterator[tuple[int, int, int]]:
-    """(op, body start, body end) of each whole record in ``buf[pos:end]``."""
-    end = len(buf) if end is None else end
-    while pos + 9 <= end:
+def _parse_chunk_index(body: bytes, base: int) -> _ChunkRef:
+    _fixed(body, OP_CHUNK_INDEX, "chunk index", base)
+    start, end, pos = _CHUNK_INDEX.unpack_from(body, 0)
+    _, at = _read_bytes(body, 32, "chunk index: message index offsets", base)
+    at += 8  # the message indexes' length
+    compression, at = _read_string(body, at, "chunk index: compression", base)
+    compressed, uncompressed = _u(body, _SIZES, at, "chunk index: sizes", base)
+    return _ChunkRef(pos, start, end, compression, compressed, uncompressed, base - 9)
+
+
+def _parse_statistics(body: bytes, base: int) -> dict[int, int]:
+    """Messages per channel id."""
+    _fixed(body, OP_STATISTICS, "statistics", base)
+    raw, _ = _read_bytes(body, 42, "statistics: channel message counts", base)
+    if len(raw) % 10:
+        raise Damaged(base + 42, f"statistics: {len(raw)} bytes of counts, not a multiple of 10")
+    counts: dict[int, int] = {}
+    for i in range(0, len(raw), 10):
+        cid, count = _COUNT.unpack_from(raw, i)
+        counts[cid] = count
+    return counts
+
+
+_INVALID: Final = "a record of kind 0x00, which the spec reserves as invalid"
+"""(Zeros where records should be: a chunk bomb of zeros stops at its first record.)"""
+
+
+def _records(buf: bytes, base: int) -> Iterator[tuple[int, int, int]]:
+    """(op, body start, body end) of each record in ``buf``.
+
+    Raises:
+        Damaged: a record runs past the end of ``buf``, or is of kind 0x00.
+    """
+    end = len(buf)
+    pos = 0
+    while pos < end:
+        if pos + 9 > end:
+            raise Damaged(base + pos, "a record cut short")
         op, length = _RECORD.unpack_from(buf, pos)
         body = pos + 9
         if body + length > end:
-            return
+            raise Damaged(base + pos, f"a record of {length:,} bytes runs past its section")
+        if not op:
+            raise Damaged(base + pos, _INVALID)
         yield op, body, body + length
         pos = body + length
 
@@ -416,325 +491,5 @@ def _msgtype(name: str) -> str:
     return f"{parts[0]}/msg/{parts[1]}" if len(parts) == 2 else "/".join(parts)
 
 
-class McapBag:
-    """An MCAP file, open for reading (its summary, or a scan when it has none)."""
-
-    format: Final = "mcap"
-
-    def __init__(self, path: Path) -> None:
-        self.path = path
-        try:
-            self._f: BinaryIO = path.open("rb")
-        except OSError as err:
-            msg = f"cannot read {path}: {err.strerror or err}"
-            raise BagError(msg) from None
-        try:
-            self._open()
-        except (struct.error, UnicodeDecodeError, IndexError) as err:
-            self._f.close()
-            msg = f"cannot read {path}: a damaged MCAP record ({err})"
-            raise BagError(msg) from None
-        except BaseException:
-            self._f.close()
-            raise
-
-    def _open(self) -> None:
-        f = self._f
-        head = f.read(8 + 9)
-        if head[:8] != MAGIC:
-            msg = f"{self.path} is not an MCAP file"
-            raise BagError(msg)
-        if len(head) < 17 or head[8] != OP_HEADER:
-            msg = f"{self.path} is not a whole MCAP file (its header is cut short)"
-            raise BagError(msg)
-        (length,) = _U64.unpack_from(head, 9)
-        header = f.read(length)
-        if len(header) != length:
-            msg = f"{self.path} is not a whole MCAP file (its header is cut short)"
-            raise BagError(msg)
-        self.profile, _ = _read_string(header, 0)
-        self.data_start = 17 + length
-        self.version = f"MCAP ({self.profile or 'no'} profile)"
-        self._schemas: dict[int, _Schema] = {}
-        self._channels: dict[int, _Channel] = {}
-        self._chunks: list[_ChunkRef] = []
-        self._loose: list[tuple[int, int, int, int]] = []
-        """Messages outside chunks: (time, channel, data position, data length)."""
-        self.counts: dict[int, int] = defaultdict(int)
-        size = self.path.stat().st_size
-        f.seek(max(0, size - 8 - 29))
-        tail = f.read()
-        summary_start = 0
-        if len(tail) == 37 and tail[-8:] == MAGIC and tail[0] == OP_FOOTER:
-            (summary_start,) = _U64.unpack_from(tail, 9)
-        else:
-            msg = f"{self.path} is not a whole MCAP file (its recording did not end cleanly)"
-            raise BagError(msg, hint=f"belvedere bag reindex {self.path}")
-        if summary_start:
-            f.seek(summary_start)
-            self._read_summary(f.read(size - 37 - summary_start))
-        if not self._chunks and not self.counts:
-            self._scan(size - 37)
-        self.start_ns = min((c.start for c in self._chunks), default=0)
-        self.end_ns = max((c.end for c in self._chunks), default=0)
-        if self._loose:
-            self.start_ns = min(self.start_ns or 2**64, min(t for t, *_ in self._loose))
-            self.end_ns = max(self.end_ns, max(t for t, *_ in self._loose))
-
-    def _read_summary(self, buf: bytes) -> None:
-        for op, start, end in _records(buf):
-            body = buf[start:end]
-            if op == OP_SCHEMA:
-                schema = _parse_schema(body)
-                self._schemas[schema.id] = schema
-            elif op == OP_CHANNEL:
-                channel = _parse_channel(body)
-                self._channels[channel.id] = channel
-            elif op == OP_CHUNK_INDEX:
-                cstart, cend, pos = struct.unpack_from("<QQQ", body, 0)
-                (olen,) = _U32.unpack_from(body, 32)
-                at = 36 + olen + 8
-                compression, at = _read_string(body, at)
-                compressed, uncompressed = struct.unpack_from("<QQ", body, at)
-                self._chunks.append(
-                    _ChunkRef(pos, cstart, cend, compression, compressed, uncompressed)
-                )
-            elif op == OP_STATISTICS:
-                (n,) = _U32.unpack_from(body, 42)
-                for i in range(n // 10):
-                    cid, count = struct.unpack_from("<HQ", body, 46 + 10 * i)
-                    self.counts[cid] = count
-
-    def _scan(self, end: int) -> None:
-        """Find schemas, channels, chunks and messages by reading the data section."""
-        f = self._f
-        f.seek(self.data_start)
-        buf = f.read(end - self.data_start)
-        for op, start, stop in _records(buf):
-            if op == OP_SCHEMA:
-                schema = _parse_schema(buf[start:stop])
-                self._schemas[schema.id] = schema
-            elif op == OP_CHANNEL:
-                channel = _parse_channel(buf[start:stop])
-                self._channels[channel.id] = channel
-            elif op == OP_MESSAGE:
-                cid, _, stamp, _ = _MESSAGE.unpack_from(buf, start)
-                pos = self.data_start + start + _MESSAGE.size
-                self._loose.append((stamp, cid, pos, stop - start - _MESSAGE.size))
-                self.counts[cid] += 1
-            elif op == OP_CHUNK:
-                cstart, cend, size, _, compression, compressed, _ = _parse_chunk_header(
-                    buf[start:stop]
-                )
-                ref = _ChunkRef(
-                    self.data_start + start - 9, cstart, cend, compression, compressed, size
-                )
-                self._chunks.append(ref)
-                for rop, rstart, rend, raw in self._chunk_records(ref):
-                    if rop == OP_SCHEMA:
-                        schema = _parse_schema(raw[rstart:rend])
-                        self._schemas[schema.id] = schema
-                    elif rop == OP_CHANNEL:
-                        channel = _parse_channel(raw[rstart:rend])
-                        self._channels[channel.id] = channel
-                    elif rop == OP_MESSAGE:
-                        self.counts[_U16.unpack_from(raw, rstart)[0]] += 1
-
-    def _chunk_data(self, ref: _ChunkRef) -> bytes:
-        f = self._f
-        # start, end, size (8 bytes each), crc (4), the compression's name, its data's size
-        f.seek(ref.pos + 9 + 28 + 4 + len(ref.compression.encode()) + 8)
-        raw = _decompress(ref.compression, f.read(ref.compressed), ref.uncompressed)
-        if raw is None or len(raw) != ref.uncompressed:
-            msg = f"cannot read {self.path}: a damaged chunk at byte {ref.pos}"
-            raise BagError(msg)
-        return raw
-
-    def _chunk_records(self, ref: _ChunkRef) -> Iterator[tuple[int, int, int, bytes]]:
-        raw = self._chunk_data(ref)
-        for op, start, end in _records(raw):
-            yield op, start, end, raw
-
-    # --- the common face ------------------------------------------------------------------
-    @property
-    def connections(self) -> list[Connection]:
-        out = []
-        for channel in self._channels.values():
-            schema = self._schemas.get(channel.schema_id)
-            meta = channel.metadata
-            encoding = "ros1" if channel.encoding == "ros1" else "cdr"
-            latching = meta.get("latching") == "1" or "durability: 1" in meta.get(
-                "offered_qos_profiles", ""
-            )
-            out.append(
-                Connection(
-                    id=channel.id,
-                    topic=channel.topic,
-                    msgtype=_msgtype(schema.name) if schema else "",
-                    encoding=encoding,
-                    md5sum=meta.get("md5sum", ""),
-                    definition=schema.data.decode(errors="replace") if schema else "",
-                    callerid=meta.get("callerid"),
-                    latching=latching,
-                )
-            )
-        return out
-
-    @property
-    def size(self) -> int:
-        return self.path.stat().st_size
-
-    def chunks(self) -> list[ChunkStats]:
-        return [
-            ChunkStats(c.compression or "none", c.compressed, c.uncompressed) for c in self._chunks
-        ]
-
-    def messages(
-        self,
-        connections: Iterable[Connection] | None = None,
-        start_ns: int | None = None,
-        stop_ns: int | None = None,
-    ) -> Iterator[BagMessage]:
-        conns = {c.id: c for c in self.connections}
-        if connections is not None:
-            wanted = {c.id for c in connections}
-            conns = {k: v for k, v in conns.items() if k in wanted}
-        lo = 0 if start_ns is None else start_ns
-        hi = 2**64 if stop_ns is None else stop_ns
-        sources = [
-            self._chunk_messages(ref, conns, lo, hi)
-            for ref in sorted(self._chunks, key=lambda r: (r.start, r.pos))
-            if ref.end >= lo and ref.start < hi
-        ]
-        if self._loose:
-            sources.append(self._loose_messages(conns, lo, hi))
-        for item in heapq.merge(*sources, key=lambda m: m[0]):
-            if item[1] is not None:
-                yield item[1]
-
-    def _chunk_messages(
-        self, ref: _ChunkRef, conns: dict[int, Connection], lo: int, hi: int
-    ) -> Iterator[tuple[int, BagMessage | None]]:
-        yield ref.start, None  # a chunk is read only when the merge reaches it
-        found = []
-        for op, start, end, raw in self._chunk_records(ref):
-            if op != OP_MESSAGE:
-                continue
-            cid, _, stamp, _ = _MESSAGE.unpack_from(raw, start)
-            conn = conns.get(cid)
-            if conn is not None and lo <= stamp < hi:
-                found.append(BagMessage(conn, stamp, raw[start + _MESSAGE.size : end]))
-        found.sort(key=lambda m: m.stamp_ns)
-        for message in found:
-            yield message.stamp_ns, message
-
-    def _loose_messages(
-        self, conns: dict[int, Connection], lo: int, hi: int
-    ) -> Iterator[tuple[int, BagMessage | None]]:
-        for stamp, cid, pos, length in sorted(self._loose):
-            conn = conns.get(cid)
-            if conn is None or not lo <= stamp < hi:
-                continue
-            self._f.seek(pos)
-            yield stamp, BagMessage(conn, stamp, self._f.read(length))
-
-    def close(self) -> None:
-        self._f.close()
-
-
-# --- recovery --------------------------------------------------------------------------------
-
-
-def recover_mcap(path: Path, output: Path, backup: Path | None) -> tuple[int, int]:
-    """Write the whole chunks (and loose records) of the MCAP file at ``path`` to ``output``
-    with a new summary (``output`` may be ``path``: the original is moved to ``backup``
-    first). Returns (messages kept, bytes dropped)."""
-    with path.open("rb") as f:
-        data = f.read()
-    if data[:8] != MAGIC or len(data) < 17 or data[8] != OP_HEADER:
-        msg = f"{path} is not an MCAP file"
-        raise BagError(msg)
-    (hlen,) = _U64.unpack_from(data, 9)
-    data_start = 17 + hlen
-    summary = _Summary()
-    kept: list[tuple[int, int, dict[int, list[tuple[int, int]]] | None, _ChunkRef | None]] = []
-    good_end = data_start
-    for op, start, end in _records(data, data_start):
-        body = data[start:end]
-        if op in (OP_DATA_END, OP_FOOTER) or op > 0x0F:
-            break
-        try:
-            if op == OP_SCHEMA:
-                schema = _parse_schema(body)
-                summary.schemas[schema.id] = schema
-                kept.append((start - 9, end, None, None))
-            elif op == OP_CHANNEL:
-                channel = _parse_channel(body)
-                summary.channels[channel.id] = channel
-                kept.append((start - 9, end, None, None))
-            elif op == OP_MESSAGE:
-                cid, _, stamp, _ = _MESSAGE.unpack_from(body, 0)
-                summary.add_message(cid, stamp)
-                kept.append((start - 9, end, None, None))
-            elif op == OP_CHUNK:
-                cstart, cend, size, crc, compression, compressed, offset = _parse_chunk_header(body)
-                raw = _decompress(compression, body[offset : offset + compressed], size)
-                if raw is None or len(raw) != size or (crc and zlib.crc32(raw) != crc):
-                    break
-                index: dict[int, list[tuple[int, int]]] = defaultdict(list)
-                for rop, rstart, rend in _records(raw):
-                    if rop == OP_SCHEMA:
-                        schema = _parse_schema(raw[rstart:rend])
-                        summary.schemas[schema.id] = schema
-                    elif rop == OP_CHANNEL:
-                        channel = _parse_channel(raw[rstart:rend])
-                        summary.channels[channel.id] = channel
-                    elif rop == OP_MESSAGE:
-                        cid, _, stamp, _ = _MESSAGE.unpack_from(raw, rstart)
-                        index[cid].append((stamp, rstart - 9))
-                        summary.add_message(cid, stamp)
-                kept.append(
-                    (
-                        start - 9,
-                        end,
-                        index,
-                        _ChunkRef(start - 9, cstart, cend, compression, compressed, size),
-                    )
-                )
-        except (struct.error, UnicodeDecodeError):
-            break
-        good_end = end
-    if backup is not None:
-        shutil.move(path, backup)
-    temp = output.with_name(f".{output.name}.reindex")
-    try:
-        with temp.open("wb") as out:
-            out.write(data[:data_start])
-            for start, end, chunk_index, ref in kept:
-                pos = out.tell()
-                out.write(data[start:end])
-                if chunk_index is not None and ref is not None:
-                    length = out.tell() - pos
-                    offsets, index_len = _message_indexes(out, chunk_index)
-                    summary.chunk_indexes.append(
-                        _chunk_index(
-                            ref.start,
-                            ref.end,
-                            pos,
-                            length,
-                            offsets,
-                            index_len,
-                            ref.compression,
-                            ref.compressed,
-                            ref.uncompressed,
-                        )
-                    )
-            summary.write(out)
-        temp.replace(output)
-    except OSError as err:
-        temp.unlink(missing_ok=True)
-        if backup is not None and not path.exists():
-            shutil.move(backup, path)
-        msg = f"cannot write {output}: {err.strerror or err}"
-        raise BagError(msg) from None
-    return sum(summary.counts.values()), len(data) - good_end
+CODECS: Final = {"": "", "lz4": "lz4", "zstd": "zstd"}
+"""A chunk's compression → its codec for :func:`belvedere.bags._input.inflate_chunk`."""

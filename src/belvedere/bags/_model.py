@@ -17,6 +17,7 @@ from rosbags.interfaces import Nodetype
 from rosbags.typesys import Stores, TypesysError, get_types_from_msg, get_typestore
 from rosbags.typesys.store import Typestore
 
+from belvedere.bounded import DEFINITION_BYTES, describe_size
 from belvedere.errors import BelvedereError
 from belvedere.msgs import MessageTypeError, message_from_data, short, types
 
@@ -45,7 +46,7 @@ class Connection:
     msgtype: str
     """The store's spelling: ``geometry_msgs/msg/Twist``."""
     encoding: str
-    """``ros1`` or ``cdr``."""
+    """``ros1`` or ``cdr`` (or another an MCAP file names, which is not read)."""
     md5sum: str
     """ROS 1's MD5 sum of the type ('' where the file does not say)."""
     definition: str
@@ -89,34 +90,64 @@ class Decoder:
 
     def __init__(self) -> None:
         self._plans: dict[tuple[str, str, str, str], Typestore | bool | None] = {}
+        self._parse_budget = DEFINITION_BYTES
+        """What the definitions it parses may still add up to (bytes)."""
 
-    def usable(self, conn: Connection) -> bool:
-        return self._plan(conn) is not False
+    def usable(self, conn: Connection, where: str = "") -> bool:
+        """Whether ``conn``'s messages can be decoded; the first time a connection's type is
+        asked about and they cannot, a warning says why (beginning ``where: ``, the bag's
+        name, if given)."""
+        return self._plan(conn, where) is not False
 
-    def _plan(self, conn: Connection) -> Typestore | bool | None:
+    def _plan(self, conn: Connection, where: str = "") -> Typestore | bool | None:
         """None: the store reads it; a type store: the bag's own layout; False: unreadable."""
         key = (conn.msgtype, conn.encoding, conn.md5sum, conn.definition)
         if key not in self._plans:
-            self._plans[key] = self._check(conn)
+            self._plans[key] = self._check(conn, f"{where}: " if where else "")
         return self._plans[key]
 
-    def _check(self, conn: Connection) -> Typestore | bool | None:
+    def _check(self, conn: Connection, where: str) -> Typestore | bool | None:
+        if conn.encoding not in ("ros1", "cdr"):
+            logger.warning(
+                "%sskipping %s: its messages are encoded as %r, which belvedere does not read",
+                where,
+                conn.topic,
+                conn.encoding,
+            )
+            return False
         store = types().store
         known = conn.msgtype in store.fielddefs
         has_md5 = conn.encoding == "ros1" and conn.md5sum not in ("", "*")
         if known and has_md5 and ros1_definition(conn.msgtype)[1] == conn.md5sum:
             return None
+        size = len(conn.definition)
+        if size > self._parse_budget:
+            logger.warning(
+                "%sskipping %s: its type's definition (%s) would take the definitions read "
+                "past the %s belvedere parses per run",
+                where,
+                conn.topic,
+                describe_size(size),
+                describe_size(DEFINITION_BYTES),
+            )
+            return False
+        self._parse_budget -= size
         try:
             found = get_types_from_msg(conn.definition, conn.msgtype) if conn.definition else {}
+            _check_acyclic(found, store.fielddefs)
         except (TypesysError, ValueError, KeyError) as err:
             if known and conn.encoding == "cdr":
                 return None  # no definition to go by: the store's
             logger.warning(
-                "skipping %s: cannot read its type %s: %s", conn.topic, conn.msgtype, err
+                "%sskipping %s: cannot read its type %s: %s",
+                where,
+                conn.topic,
+                conn.msgtype,
+                _why(err),
             )
             return False
         if not found:
-            return None if known else self._unknown(conn)
+            return None if known else self._unknown(conn, where)
         differs = [
             n for n, d in found.items() if n in store.fielddefs and d[1] != store.fielddefs[n][1]
         ]
@@ -131,7 +162,11 @@ class Decoder:
                 store.register({n: d for n, d in found.items() if n not in store.fielddefs})
         except (TypesysError, MessageTypeError, ValueError, KeyError) as err:
             logger.warning(
-                "skipping %s: cannot read its type %s: %s", conn.topic, conn.msgtype, err
+                "%sskipping %s: cannot read its type %s: %s",
+                where,
+                conn.topic,
+                conn.msgtype,
+                _why(err),
             )
             return False
         logger.info(
@@ -143,8 +178,10 @@ class Decoder:
         return own
 
     @staticmethod
-    def _unknown(conn: Connection) -> bool:
-        logger.warning("skipping %s: its type %s is unknown here", conn.topic, conn.msgtype)
+    def _unknown(conn: Connection, where: str) -> bool:
+        logger.warning(
+            "%sskipping %s: its type %s is unknown here", where, conn.topic, conn.msgtype
+        )
         return False
 
     def decode(self, message: BagMessage) -> Any:
@@ -157,6 +194,53 @@ class Decoder:
         else:
             obj = store.deserialize_cdr(message.data, conn.msgtype)
         return obj if plan is None else _convert(obj, conn.msgtype)
+
+
+def _check_acyclic(found: dict[str, Any], known: dict[str, Any]) -> None:
+    """Raise ValueError if a type of ``found`` holds itself (no ROS message can: its size,
+    and its MD5 sum, would be infinite; a definition saying so would recurse without end)."""
+    fields = {**known, **found}
+    done: set[str] = set()
+
+    def parts(name: str) -> list[str]:
+        out = []
+        for _, (kind, detail) in fields.get(name, ((), ()))[1]:
+            if kind == Nodetype.NAME:
+                out.append(str(detail))
+            elif kind in (Nodetype.ARRAY, Nodetype.SEQUENCE) and detail[0][0] == Nodetype.NAME:
+                out.append(str(detail[0][1]))
+        return out
+
+    for start in found:
+        path = [start]
+        todo = [iter(parts(start))]
+        while todo:  # depth first, without recursion (a hostile chain may be long)
+            step = next(todo[-1], None)
+            if step is None:
+                done.add(path.pop())
+                todo.pop()
+            elif step in path:
+                msg = f"{step} holds itself"
+                raise ValueError(msg)
+            elif step not in done:
+                path.append(step)
+                todo.append(iter(parts(step)))
+
+
+def _why(err: BaseException) -> str:
+    """One short line saying why a definition cannot be read (a parser's message may hold
+    the whole definition, which is the bag's text, over many lines)."""
+    if str(err).strip().startswith("Could not parse"):
+        return "its definition does not parse"
+    return one_line(err)
+
+
+def one_line(err: BaseException) -> str:
+    """An error's message as one short line (a library's may hold the bag's own bytes, over
+    many lines)."""
+    lines = str(err).strip().splitlines()
+    line = lines[0] if lines else type(err).__name__
+    return line if len(line) <= 120 else line[:117] + "..."
 
 
 def _convert(obj: Any, msgtype: str) -> Any:

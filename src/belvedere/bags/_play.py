@@ -17,8 +17,9 @@ from dataclasses import dataclass
 from typing import Any
 
 from belvedere.bags._files import BagFile, merged_messages, open_bag
-from belvedere.bags._model import BagError, BagMessage, Decoder
+from belvedere.bags._model import BagError, BagMessage, Decoder, one_line
 from belvedere.bags._options import PlayOptions
+from belvedere.errors import BelvedereError
 from belvedere.graph import NS, Node, Publisher, Timer
 from belvedere.msgs import short, types
 
@@ -64,18 +65,30 @@ class Player:
         self.clock = options.clock and graph.sim_time
         if options.clock and not graph.sim_time:
             logger.warning("--clock: this graph runs on the wall clock; /clock is not published")
+        self._undecodable: dict[str, int] = {}
+        """Messages skipped per topic because they could not be decoded (since last said)."""
+        self.undecodable = 0
+        """Messages skipped in all because they could not be decoded."""
         self._advertise()
         counted = [b for b in self.bags if sum(b.counts.values())]
+        names = ", ".join(str(b.path) for b in self.bags)
         if not counted:
-            msg = (
-                "nothing to play: "
-                + ", ".join(str(b.path) for b in self.bags)
-                + " hold no messages"
-            )
+            hold = "holds" if len(self.bags) == 1 else "hold"
+            damaged = any(b.skipped.places for b in self.bags)
+            what = "readable messages (the warning above says why)" if damaged else "messages"
+            msg = f"nothing to play: {names} {hold} no {what}"
             raise BagError(msg)
+        if not self._topics:
+            raise self._nothing_chosen(names)
         first = min(b.start_ns for b in counted)
         last = max(b.end_ns for b in counted)
         self.start_ns = first + round(options.start * NS)
+        if self.start_ns > last:
+            msg = (
+                f"nothing to play: -s {options.start:g} starts after the last message, "
+                f"{(last - first) / NS:.1f} s into {names}"
+            )
+            raise BagError(msg)
         self.stop_ns = (
             last if options.duration is None else self.start_ns + round(options.duration * NS)
         )
@@ -104,7 +117,7 @@ class Player:
                     continue
                 if conn.topic == CLOCK and self.clock:
                     continue  # the graph announces the bag's time itself
-                if not decoder.usable(conn):
+                if not decoder.usable(conn, str(bag.path)):
                     continue
                 known = kinds.setdefault(conn.topic, conn.msgtype)
                 if known != conn.msgtype:
@@ -126,6 +139,24 @@ class Player:
                 seq_rule="given",
             )
         self._topics = set(kinds)
+        if options.topics is not None:
+            present = {c.topic for bag in self.bags for c in bag.connections}
+            missing = sorted(options.topics - present)
+            if missing and options.topics & present:
+                logger.warning("--topics: no bag has %s; playing the others", ", ".join(missing))
+
+    def _nothing_chosen(self, names: str) -> BagError:
+        """Why no topic is played: none of --topics is in the bags, or no type is readable."""
+        present = sorted({c.topic for bag in self.bags for c in bag.connections})
+        chosen = self.options.topics
+        if chosen is not None and not chosen & set(present):
+            msg = f"nothing to play: {names} has no topic {', '.join(sorted(chosen))}"
+            return BagError(msg, hint="its topics: " + ", ".join(present))
+        msg = (
+            f"nothing to play: belvedere cannot read the type of any topic chosen in {names} "
+            "(the warnings above say why)"
+        )
+        return BagError(msg)
 
     @property
     def publishers(self) -> list[Publisher]:
@@ -141,6 +172,9 @@ class Player:
         if self.clock:
             self._base_graph = self._base_bag = self.start_ns
         self._restart()
+        if self._next is None:  # nothing in the time chosen, or nothing readable
+            self._end()
+            return
         if self._paused:
             self._report()
             if not self.clock:
@@ -157,9 +191,14 @@ class Player:
 
     def _advance(self) -> BagMessage | None:
         assert self._messages is not None
-        for _, message in self._messages:
-            if message.connection.topic in self._pubs and self._decoder.usable(message.connection):
-                return message
+        try:
+            for _, message in self._messages:
+                conn = message.connection
+                if conn.topic in self._pubs and self._decoder.usable(conn):
+                    return message
+        except BelvedereError as err:  # (the readers skip damaged chunks: a last resort)
+            logger.warning("stopped reading: %s", err.message)
+            self._messages = iter(())
         return None
 
     # --- timing ---------------------------------------------------------------------------
@@ -207,7 +246,16 @@ class Player:
         try:
             msg = self._decoder.decode(message)
         except Exception as err:  # noqa: BLE001 (a damaged message: skip it, say so)
-            logger.warning("skipping a message on %s: %s", message.connection.topic, err)
+            topic = message.connection.topic
+            self.undecodable += 1
+            seen = self._undecodable[topic] = self._undecodable.get(topic, 0) + 1
+            if seen == 1:
+                logger.warning(
+                    "skipping a message on %s at %.3f s: it cannot be decoded (%s)",
+                    topic,
+                    message.stamp_ns / NS,
+                    one_line(err),
+                )
             return
         self._pubs[message.connection.topic].publish(msg)
         self.published += 1
@@ -224,6 +272,10 @@ class Player:
             self._schedule()
             return
         self._report()
+        for topic, n in sorted(self._undecodable.items()):
+            if n > 1:
+                logger.warning("skipped %d messages on %s that could not be decoded", n, topic)
+        self._undecodable.clear()
         if not self.options.keep_alive:
             self.done.set()
 
@@ -282,6 +334,11 @@ class Player:
     def post(self, action: Callable[[], Any]) -> None:
         """Run ``action`` (:meth:`pause`, :meth:`step`…) on the graph's executor thread."""
         self.node.graph.executor.post(action)
+
+    @property
+    def skipped(self) -> bool:
+        """Whether anything was skipped as damaged (a chunk, or a message)."""
+        return self.undecodable > 0 or any(b.skipped.places for b in self.bags)
 
     def close(self) -> None:
         for bag in self.bags:

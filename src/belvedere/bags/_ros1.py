@@ -1,4 +1,6 @@
-"""ROS 1 bags (format 2.0): read through rosbags; written and repaired here.
+"""ROS 1 bags (format 2.0): the format, its records (every length checked as they are
+parsed), and writing it (reading: :mod:`belvedere.bags._ros1_read`; repair:
+:mod:`belvedere.bags._ros1_repair`).
 
 The format (ROS wiki, Bags/Format/2.0): ``#ROSBAG V2.0\\n``, a bag header record padded to
 4 KiB (where the index starts, how many connections and chunks), then chunks — each a chunk
@@ -17,27 +19,22 @@ second; :func:`reindex_ros1` rebuilds the index of such a bag from its chunks.
 from __future__ import annotations
 
 import bz2
-import os
-import shutil
 import struct
 from collections import defaultdict
-from collections.abc import Callable, Iterable, Iterator
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO, Final
 
 import lz4.frame
-from rosbags.interfaces import ConnectionExtRosbag1
-from rosbags.rosbag1 import Reader, ReaderError
 
-from belvedere.bags._model import BagError, BagMessage, Connection, ros1_definition
+from belvedere.bags._input import BagInput, Damaged
+from belvedere.bags._model import BagError, ros1_definition
 
 __all__ = [
     "MAGIC",
     "ChunkStats",
-    "Ros1Bag",
     "Ros1BagWriter",
-    "reindex_ros1",
 ]
 
 MAGIC: Final = b"#ROSBAG V2.0\n"
@@ -235,136 +232,7 @@ def _chunk_info(pos: int, start: int, end: int, index: dict[int, list[tuple[int,
     )
 
 
-# --- reading ---------------------------------------------------------------------------------
-
-
-class Ros1Bag:
-    """An indexed ROS 1 bag, open for reading."""
-
-    format: Final = "bag"
-
-    def __init__(self, path: Path) -> None:
-        self.path = path
-        self._reader = Reader(path)
-        try:
-            self._reader.open()
-        except ReaderError as err:
-            text = str(err.args[0]) if err.args else str(err)
-            if "not indexed" in text:
-                msg = f"{path} is unindexed (its recording did not end cleanly)"
-                raise BagError(msg, hint=f"belvedere bag reindex {path}") from None
-            msg = f"cannot read {path}: {text}"
-            raise BagError(msg) from None
-        except OSError as err:
-            msg = f"cannot read {path}: {err.strerror or err}"
-            raise BagError(msg) from None
-        self.version = "2.0"
-        self._conns: dict[int, Connection] = {}
-        self.counts: dict[int, int] = {}
-        for c in self._reader.connections:
-            ext = c.ext
-            assert isinstance(ext, ConnectionExtRosbag1)
-            self._conns[c.id] = Connection(
-                id=c.id,
-                topic=c.topic,
-                msgtype=c.msgtype,
-                encoding="ros1",
-                md5sum=c.digest,
-                definition=c.msgdef.data,
-                callerid=ext.callerid,
-                latching=ext.latching == 1,
-            )
-            self.counts[c.id] = c.msgcount
-        infos = self._reader.chunk_infos
-        counted = [i for i in infos if i.connection_counts]
-        self.start_ns = min((i.start_time for i in counted), default=0)
-        self.end_ns = max((i.end_time - 1 for i in counted), default=0)  # rosbags adds 1
-
-    @property
-    def connections(self) -> list[Connection]:
-        return list(self._conns.values())
-
-    @property
-    def size(self) -> int:
-        return self.path.stat().st_size
-
-    def chunks(self) -> list[ChunkStats]:
-        """Each chunk's compression and sizes (from the chunk records' headers)."""
-        stats = []
-        with self.path.open("rb") as f:
-            for info in self._reader.chunk_infos:
-                f.seek(info.pos)
-                fields, _ = _read_header(f)
-                if fields is None:
-                    break
-                length = _read_u32(f)
-                stats.append(
-                    ChunkStats(
-                        fields.get("compression", b"none").decode(),
-                        length or 0,
-                        _U32.unpack(fields.get("size", b"\0\0\0\0"))[0],
-                    )
-                )
-        return stats
-
-    def messages(
-        self,
-        connections: Iterable[Connection] | None = None,
-        start_ns: int | None = None,
-        stop_ns: int | None = None,
-    ) -> Iterator[BagMessage]:
-        wanted = None if connections is None else {c.id for c in connections if c.id in self._conns}
-        chosen = [c for c in self._reader.connections if wanted is None or c.id in wanted]
-        if not chosen:
-            return
-        conns = self._conns
-        try:
-            for c, stamp, data in self._reader.messages(chosen, start_ns, stop_ns):
-                yield BagMessage(conns[c.id], stamp, data)
-        except ReaderError as err:
-            msg = f"cannot read {self.path}: {err}"
-            raise BagError(msg) from None
-
-    def close(self) -> None:
-        if self._reader.bio is not None:
-            self._reader.close()
-
-
 # --- records ---------------------------------------------------------------------------------
-
-
-def _read_u32(f: BinaryIO) -> int | None:
-    raw = f.read(4)
-    return _U32.unpack(raw)[0] if len(raw) == 4 else None
-
-
-def _parse_fields(raw: bytes) -> dict[str, bytes] | None:
-    fields: dict[str, bytes] = {}
-    pos = 0
-    while pos < len(raw):
-        if pos + 4 > len(raw):
-            return None
-        (size,) = _U32.unpack_from(raw, pos)
-        pos += 4
-        if pos + size > len(raw):
-            return None
-        name, sep, value = raw[pos : pos + size].partition(b"=")
-        if not sep:
-            return None
-        fields[name.decode(errors="replace")] = value
-        pos += size
-    return fields
-
-
-def _read_header(f: BinaryIO) -> tuple[dict[str, bytes] | None, int]:
-    """A record header's fields (None if cut short or malformed) and its byte length."""
-    size = _read_u32(f)
-    if size is None or size > 1 << 26:
-        return None, 0
-    raw = f.read(size)
-    if len(raw) != size:
-        return None, 0
-    return _parse_fields(raw), size + 4
 
 
 def _fields(items: dict[str, bytes]) -> bytes:
@@ -384,187 +252,110 @@ def _time(ns: int) -> bytes:
     return _TIME.pack(ns // 1_000_000_000, ns % 1_000_000_000)
 
 
-def _unpack_time(raw: bytes) -> int:
-    sec, nsec = _TIME.unpack(raw)
+def parse_fields(buf: bytes, start: int, end: int, base: int = 0) -> dict[str, bytes]:
+    """The ``name=value`` fields of a record header, ``buf[start:end]``.
+
+    Raises:
+        Damaged: a field runs past the header or has no ``=`` (at its offset + ``base``).
+    """
+    fields: dict[str, bytes] = {}
+    pos = start
+    while pos < end:
+        if pos + 4 > end:
+            raise Damaged(base + pos, "record header: a field's length is cut short")
+        (size,) = _U32.unpack_from(buf, pos)
+        pos += 4
+        if pos + size > end:
+            text = f"record header: a field of {size:,} bytes runs past the header"
+            raise Damaged(base + pos - 4, text)
+        name, sep, value = buf[pos : pos + size].partition(b"=")
+        if not sep:
+            raise Damaged(base + pos - 4, "record header: a field without '='")
+        fields[name.decode(errors="replace")] = value
+        pos += size
+    return fields
+
+
+def record_at(buf: bytes, pos: int, base: int = 0) -> tuple[dict[str, bytes], int, int]:
+    """(header fields, data start, data end) of the record at ``buf[pos:]``.
+
+    Raises:
+        Damaged: its header or data runs past the end of ``buf``.
+    """
+    end = len(buf)
+    if pos + 4 > end:
+        raise Damaged(base + pos, "a record cut short")
+    (hlen,) = _U32.unpack_from(buf, pos)
+    hend = pos + 4 + hlen
+    if hend + 4 > end:
+        raise Damaged(base + pos, f"a record header of {hlen:,} bytes runs past the end")
+    fields = parse_fields(buf, pos + 4, hend, base)
+    (dlen,) = _U32.unpack_from(buf, hend)
+    if hend + 4 + dlen > end:
+        raise Damaged(base + pos, f"a record's data of {dlen:,} bytes runs past the end")
+    return fields, hend + 4, hend + 4 + dlen
+
+
+def read_record_header(
+    inp: BagInput, pos: int, end: int | None = None
+) -> tuple[dict[str, bytes], int, int]:
+    """(header fields, data offset, data length) of the record at ``pos`` in the file (its
+    data not read, only checked to lie before ``end`` or the end of the file).
+
+    Raises:
+        Damaged: at the file offset of what is wrong.
+    """
+    (hlen,) = _U32.unpack(inp.read(pos, 4, "a record's header length", end=end))
+    header = inp.read(pos + 4, hlen, "a record header", end=end)
+    fields = parse_fields(header, 0, hlen, pos + 4)
+    at = pos + 4 + hlen
+    (dlen,) = _U32.unpack(inp.read(at, 4, "a record's data length", end=end))
+    inp.check(at + 4, dlen, "a record's data", end=end)
+    return fields, at + 4, dlen
+
+
+def field(fields: dict[str, bytes], name: str, size: int, at: int) -> bytes:
+    """The value of field ``name``, which must be ``size`` bytes (0: any).
+
+    This and the getters below raise Damaged (at ``at``, the record's offset) when the
+    field is missing or not of its kind."""
+    value = fields.get(name)
+    if value is None:
+        raise Damaged(at, f"record header: no field '{name}'")
+    if size and len(value) != size:
+        text = f"record header: field '{name}' is {len(value)} bytes, not {size}"
+        raise Damaged(at, text)
+    return value
+
+
+def u32_field(fields: dict[str, bytes], name: str, at: int) -> int:
+    """A uint32 field."""
+    return int(_U32.unpack(field(fields, name, 4, at))[0])
+
+
+def u64_field(fields: dict[str, bytes], name: str, at: int) -> int:
+    """A uint64 field (an offset)."""
+    return int(_U64.unpack(field(fields, name, 8, at))[0])
+
+
+def time_field(fields: dict[str, bytes], name: str, at: int) -> int:
+    """A time field (seconds and nanoseconds), in nanoseconds."""
+    sec, nsec = _TIME.unpack(field(fields, name, 8, at))
     return int(sec) * 1_000_000_000 + int(nsec)
 
 
-def _decompress(compression: bytes, data: bytes) -> bytes | None:
+def text_field(fields: dict[str, bytes], name: str, at: int) -> str:
+    """A UTF-8 text field."""
     try:
-        if compression == b"none":
-            return data
-        if compression == b"bz2":
-            return bz2.decompress(data)
-        if compression == b"lz4":
-            return bytes(lz4.frame.decompress(data))
-    except (OSError, ValueError, RuntimeError):
-        return None
-    return None
+        return field(fields, name, 0, at).decode()
+    except UnicodeDecodeError:
+        raise Damaged(at, f"record header: field '{name}' is not UTF-8 text") from None
 
 
-# --- repair ----------------------------------------------------------------------------------
+def op_of(fields: dict[str, bytes], at: int) -> int:
+    """The record's kind (its ``op`` field)."""
+    return field(fields, "op", 1, at)[0]
 
 
-@dataclass
-class _Chunk:
-    start: int
-    """Where the chunk record begins in the source."""
-    end: int
-    """Where it ends."""
-    index: dict[int, list[tuple[int, int]]] = field(default_factory=lambda: defaultdict(list))
-    """connection id → [(time, offset in the chunk's data)]"""
-
-
-@dataclass
-class Ros1Scan:
-    """What a bag's records hold, read one by one from the start."""
-
-    header_end: int
-    chunks: list[_Chunk]
-    connections: dict[int, tuple[bytes, bytes]]
-    """id → (topic, connection header bytes)"""
-    was_indexed: bool
-    dropped_bytes: int
-    """Bytes after the last whole chunk (a chunk the recording did not finish)."""
-
-
-def scan_ros1(path: Path) -> Ros1Scan:
-    """Read every whole chunk of a ROS 1 bag (format 2.0), indexed or not."""
-    with path.open("rb") as f:
-        magic = f.readline()
-        if magic != MAGIC:
-            what = "a ROS 1 bag of format 1.2" if magic.startswith(b"#ROSBAG V1") else None
-            msg = f"{path} is {what or 'not a ROS 1 bag (format 2.0)'}"
-            raise BagError(msg)
-        fields, _ = _read_header(f)
-        if fields is None or fields.get("op") != bytes([OP_BAGHEADER]):
-            msg = f"{path}: the bag header is damaged"
-            raise BagError(msg)
-        length = _read_u32(f)
-        if length is None:
-            msg = f"{path}: the bag header is cut short"
-            raise BagError(msg)
-        f.seek(length, os.SEEK_CUR)
-        index_pos = _U64.unpack(fields.get("index_pos", b"\0" * 8))[0]
-        header_end = f.tell()
-        size = path.stat().st_size
-        chunks: list[_Chunk] = []
-        connections: dict[int, tuple[bytes, bytes]] = {}
-        good_end = header_end
-        while True:
-            pos = f.tell()
-            fields, _ = _read_header(f)
-            data_len = _read_u32(f) if fields is not None else None
-            if fields is None or data_len is None or f.tell() + data_len > size:
-                break
-            op = fields.get("op", b"")
-            if op == bytes([OP_CHUNK]):
-                raw = _decompress(fields.get("compression", b"none"), f.read(data_len))
-                want = _U32.unpack(fields.get("size", b"\xff" * 4))[0]
-                if raw is None or len(raw) != want:
-                    break
-                chunk = _Chunk(pos, f.tell())
-                if not _scan_chunk(raw, chunk, connections):
-                    break
-                chunks.append(chunk)
-                good_end = f.tell()
-            elif op == bytes([OP_CONNECTION]):
-                data = f.read(data_len)
-                conn = _U32.unpack(fields.get("conn", b"\0\0\0\0"))[0]
-                connections.setdefault(conn, (fields.get("topic", b""), data))
-                good_end = f.tell()
-            elif op in (bytes([OP_IDXDATA]), bytes([OP_CHUNK_INFO])):
-                f.seek(data_len, os.SEEK_CUR)
-                good_end = f.tell()
-            else:
-                break
-        return Ros1Scan(header_end, chunks, connections, index_pos != 0, size - good_end)
-
-
-def _scan_chunk(raw: bytes, chunk: _Chunk, connections: dict[int, tuple[bytes, bytes]]) -> bool:
-    pos = 0
-    end = len(raw)
-    while pos < end:
-        offset = pos
-        if pos + 4 > end:
-            return False
-        (hlen,) = _U32.unpack_from(raw, pos)
-        fields = _parse_fields(raw[pos + 4 : pos + 4 + hlen])
-        pos += 4 + hlen
-        if fields is None or pos + 4 > end:
-            return False
-        (dlen,) = _U32.unpack_from(raw, pos)
-        pos += 4
-        if pos + dlen > end:
-            return False
-        op = fields.get("op", b"")
-        conn = _U32.unpack(fields.get("conn", b"\0\0\0\0"))[0]
-        if op == bytes([OP_MSGDATA]):
-            chunk.index[conn].append((_unpack_time(fields["time"]), offset))
-        elif op == bytes([OP_CONNECTION]):
-            connections.setdefault(conn, (fields.get("topic", b""), raw[pos : pos + dlen]))
-        pos += dlen
-    return True
-
-
-def write_indexed(source: Path, scan: Ros1Scan, target: BinaryIO) -> int:
-    """Write the bag ``scan`` read from ``source`` to ``target``, whole chunks only, with its
-    index. Returns how many messages it holds."""
-    total = 0
-    known = scan.connections
-    with source.open("rb") as f:
-        header = f.read(scan.header_end)
-        target.write(header)
-        placed: list[tuple[int, dict[int, list[tuple[int, int]]]]] = []
-        for chunk in scan.chunks:
-            f.seek(chunk.start)
-            pos = target.tell()
-            target.write(f.read(chunk.end - chunk.start))
-            index = {c: sorted(e) for c, e in sorted(chunk.index.items()) if c in known}
-            for conn, entries in index.items():
-                target.write(_index_record(conn, entries))
-                total += len(entries)
-            placed.append((pos, index))
-    index_pos = target.tell()
-    for conn, (topic, data) in sorted(known.items()):
-        target.write(
-            _record({"op": bytes([OP_CONNECTION]), "conn": _U32.pack(conn), "topic": topic}, data)
-        )
-    for pos, index in placed:
-        times = [t for entries in index.values() for t, _ in entries]
-        target.write(_chunk_info(pos, min(times, default=0), max(times, default=0), index))
-    # The bag header keeps its place and length: its padding absorbs the new numbers.
-    target.seek(len(MAGIC))
-    fields = _fields(
-        {
-            "op": bytes([OP_BAGHEADER]),
-            "index_pos": _U64.pack(index_pos),
-            "conn_count": _U32.pack(len(known)),
-            "chunk_count": _U32.pack(len(placed)),
-        }
-    )
-    padding = scan.header_end - len(MAGIC) - len(fields) - 4
-    target.write(fields + _U32.pack(padding) + b" " * padding)
-    return total
-
-
-def reindex_ros1(path: Path, output: Path, backup: Path | None) -> tuple[int, int]:
-    """Rebuild the index of the bag at ``path`` into ``output`` (which may be ``path``:
-    the original is then moved to ``backup`` first). Returns (messages, bytes dropped)."""
-    scan = scan_ros1(path)
-    source = path
-    if backup is not None:
-        shutil.move(path, backup)
-        source = backup
-    temp = output.with_name(f".{output.name}.reindex")
-    try:
-        with temp.open("wb") as target:
-            count = write_indexed(source, scan, target)
-        temp.replace(output)
-    except OSError as err:
-        temp.unlink(missing_ok=True)
-        if backup is not None and not path.exists():
-            shutil.move(backup, path)
-        msg = f"cannot write {output}: {err.strerror or err}"
-        raise BagError(msg) from None
-    return count, scan.dropped_bytes
+CODECS: Final = {"none": "", "bz2": "bz2", "lz4": "lz4"}
+"""A chunk's compression → its codec for :func:`belvedere.bags._input.inflate_chunk`."""

@@ -114,13 +114,18 @@ def _reindex(args: argparse.Namespace) -> int:
     failed = 0
     for name in args.files:
         try:
-            out, messages, dropped = reindex(Path(name), output_dir=output_dir, force=args.force)
+            done = reindex(Path(name), output_dir=output_dir, force=args.force)
         except BelvedereError as err:
             sys.stderr.write(err.describe() + "\n")
             failed += 1
             continue
-        tail = f"; dropped {dropped} bytes of an unfinished chunk" if dropped else ""
-        logger.info("%s: %d messages indexed%s", out, messages, tail)
+        if done.damage is not None:
+            logger.warning("%s; the repair keeps what comes before it", done.damage)
+        tail = ""
+        if done.dropped:
+            what = "of an unfinished chunk" if done.damage is None else "from the damage on"
+            tail = f"; dropped {done.dropped} bytes {what}"
+        logger.info("%s: %d messages indexed%s", done.output, done.messages, tail)
     return 1 if failed else 0
 
 
@@ -225,6 +230,14 @@ def _play_bags(args: argparse.Namespace, options: PlayOptions, bags: list[BagFil
         if bar is not None:
             bar.close()
         graph.shutdown()
+    if player.published == 0 and not stop.is_set():
+        why = (
+            "every message read was skipped (the warnings above say why)"
+            if player.skipped
+            else "no message falls in the time chosen"
+        )
+        msg = f"nothing played: {why}"
+        raise BagError(msg)
     return 0
 
 

@@ -22,7 +22,7 @@ from typing import Any, Protocol
 import numpy as np
 import numpy.typing as npt
 
-from belvedere.bags import ProgressBar, wants_progress
+from belvedere.bags import Decoder, ProgressBar, open_bag, wants_progress
 from belvedere.cli._args import mappings_only
 from belvedere.errors import BelvedereError
 from belvedere.fileio import stage_write
@@ -70,7 +70,7 @@ def add_parser(
         "allows; write the map (map_server's format) and the trajectory (TUM). Arguments "
         "name:=value set the node's parameters (slam_gmapping's names).",
     )
-    p.add_argument("bag", metavar="BAG", help="a ROS 1 bag (or a ROS 2 bag directory)")
+    p.add_argument("bag", metavar="BAG", help="a ROS 1 bag or MCAP file (or a ROS 2 bag directory)")
     p.add_argument(
         "--trajectory",
         metavar="OUT.tum",
@@ -112,35 +112,120 @@ def _parameters(args: argparse.Namespace) -> dict[str, Any]:
     return params
 
 
-def _open_bag(path: str) -> Any:
-    from rosbags.highlevel import AnyReader  # only this verb needs it
+class _Source(Protocol):
+    """A bag's messages, as the run reads them."""
 
-    try:
-        reader = AnyReader([Path(path)])
-        reader.open()
-    except FileNotFoundError:
+    def counts(self) -> dict[str, int]:
+        """Messages per topic."""
+        ...
+
+    def messages(self, topics: set[str]) -> Iterator[tuple[str, Any]]:
+        """(topic, message) of ``topics`` in time order."""
+        ...
+
+    def close(self) -> None: ...
+
+
+class _BagSource:
+    """A ROS 1 bag or an MCAP file, read by belvedere (every length checked, a damaged
+    chunk skipped with a warning); a message that cannot be decoded is skipped, counted."""
+
+    def __init__(self, path: str) -> None:
+        self.bag = open_bag(path)
+        self.decoder = Decoder()
+        self.undecodable: dict[str, int] = {}
+
+    def counts(self) -> dict[str, int]:
+        out: dict[str, int] = {}
+        for c in self.bag.connections:
+            out[c.topic] = out.get(c.topic, 0) + self.bag.counts.get(c.id, 0)
+        return out
+
+    def messages(self, topics: set[str]) -> Iterator[tuple[str, Any]]:
+        decoder = self.decoder
+        where = str(self.bag.path)
+        chosen = [c for c in self.bag.connections if c.topic in topics and decoder.usable(c, where)]
+        for m in self.bag.messages(chosen):
+            try:
+                msg = decoder.decode(m)
+            except Exception as err:  # noqa: BLE001 (a damaged message: skip it, counted)
+                topic = m.connection.topic
+                self.undecodable[topic] = self.undecodable.get(topic, 0) + 1
+                if self.undecodable[topic] == 1:
+                    logger.warning(
+                        "%s: skipping a message on %s: it cannot be decoded (%s)",
+                        self.bag.path,
+                        topic,
+                        _first_line(err),
+                    )
+                continue
+            yield m.connection.topic, msg
+
+    def close(self) -> None:
+        self.bag.close()
+        for topic, n in sorted(self.undecodable.items()):
+            if n > 1:
+                logger.warning("skipped %d messages on %s that could not be decoded", n, topic)
+
+
+class _Ros2Source:
+    """A ROS 2 bag directory, read by rosbags."""
+
+    def __init__(self, path: str) -> None:
+        from rosbags.highlevel import AnyReader  # only ROS 2 bag directories need it
+
+        self.path = path
+        try:
+            self.reader = AnyReader([Path(path)])
+            self.reader.open()
+        except Exception as err:  # noqa: BLE001 - rosbags raises several kinds for a bad bag
+            message = f"{path}: not a ROS 2 bag rosbags can read ({_first_line(err)})"
+            raise BelvedereError(message) from None
+
+    def counts(self) -> dict[str, int]:
+        out: dict[str, int] = {}
+        for c in self.reader.connections:
+            out[c.topic] = out.get(c.topic, 0) + c.msgcount
+        return out
+
+    def messages(self, topics: set[str]) -> Iterator[tuple[str, Any]]:
+        reader = self.reader
+        wanted = [c for c in reader.connections if c.topic in topics]
+        try:
+            for connection, _, raw in reader.messages(connections=wanted):
+                yield connection.topic, reader.deserialize(raw, connection.msgtype)
+        except Exception as err:  # noqa: BLE001 - rosbags raises several kinds for a bad bag
+            message = f"{self.path}: cannot read on ({_first_line(err)})"
+            raise BelvedereError(message) from None
+
+    def close(self) -> None:
+        self.reader.close()
+
+
+def _first_line(err: BaseException) -> str:
+    text = (str(err).strip().splitlines() or [type(err).__name__])[0]
+    return text if len(text) <= 120 else text[:117] + "..."
+
+
+def _open_bag(path: str) -> _Source:
+    """The bag at ``path``: a ROS 1 bag or MCAP file, or a ROS 2 bag directory."""
+    if not Path(path).exists():
         message = f"{path}: no such bag"
-        raise BelvedereError(message) from None
-    except Exception as err:  # noqa: BLE001 - rosbags raises several kinds for a bad file
-        message = f"{path}: not a bag rosbags can read ({err})"
-        raise BelvedereError(message) from None
-    return reader
+        raise BelvedereError(message)
+    if Path(path).is_dir():
+        return _Ros2Source(path)
+    return _BagSource(path)
 
 
-def _messages(reader: Any, scan_topic: str) -> tuple[Iterator[tuple[str, Any]], int]:
+def _messages(reader: _Source, scan_topic: str) -> tuple[Iterator[tuple[str, Any]], int]:
     """(topic, message) in the bag's order for the scan and TF topics, and how many scans."""
-    topics = {c.topic for c in reader.connections}
-    if scan_topic not in topics:
+    counts = reader.counts()
+    if scan_topic not in counts:
         message = f"the bag has no topic {scan_topic}"
-        raise BelvedereError(message, hint="its topics: " + ", ".join(sorted(topics)))
-    wanted = [c for c in reader.connections if c.topic in (scan_topic, "/tf", "/tf_static")]
-    total = sum(c.msgcount for c in wanted if c.topic == scan_topic)
-
-    def generate() -> Iterator[tuple[str, Any]]:
-        for connection, _, raw in reader.messages(connections=wanted):
-            yield connection.topic, reader.deserialize(raw, connection.msgtype)
-
-    return generate(), total
+        hint = "its topics: " + ", ".join(sorted(counts)) if counts else "it has no topics"
+        raise BelvedereError(message, hint=hint)
+    messages = reader.messages({scan_topic, "/tf", "/tf_static"})
+    return messages, counts[scan_topic]
 
 
 def tum_text(stamps_ns: list[int], poses: Any) -> str:
