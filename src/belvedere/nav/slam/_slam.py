@@ -31,9 +31,11 @@ import math
 import numpy as np
 import numpy.typing as npt
 
-from belvedere.maps import OccupancyMap
+from belvedere.bounded import GRID_CELLS, LimitError
+from belvedere.nav._input import Tally, grid_reach, pose_problem
 from belvedere.nav.slam._grid import FieldGrid, FreeGrid
 from belvedere.nav.slam._loops import LoopClosing
+from belvedere.nav.slam._map import MapDrawing
 from belvedere.nav.slam._match import Match, refine
 from belvedere.nav.slam._occupancy import OccupancyCounts
 from belvedere.nav.slam._params import GMappingParams
@@ -59,7 +61,7 @@ logger = logging.getLogger("belvedere.nav.slam")
 Array = npt.NDArray[np.float64]
 
 
-class SubmapSlam(LoopClosing):
+class SubmapSlam(LoopClosing, MapDrawing):
     """Feed :meth:`add_scan` with each scan's ranges and the base's odometry pose; read
     :meth:`pose`, :meth:`trajectory`, :meth:`occupancy`."""
 
@@ -68,9 +70,16 @@ class SubmapSlam(LoopClosing):
         laser: LaserGeometry,
         params: GMappingParams | None = None,
         tuning: Tuning | None = None,
+        *,
+        tally: Tally | None = None,
     ) -> None:
         self.params = params = params or GMappingParams()
         self.tuning = tuning = tuning or Tuning()
+        self.tally = tally if tally is not None else Tally("slam", logger)
+        """Where scans and keyframes left out are counted (see :mod:`belvedere.nav._input`)."""
+        problem = laser.problem()
+        if problem is not None:
+            raise ValueError(problem)
         self.laser = laser
         self.max_range = params.maxRange if params.maxRange is not None else laser.range_max - 0.01
         self.max_urange = params.maxUrange if params.maxUrange is not None else self.max_range
@@ -78,6 +87,17 @@ class SubmapSlam(LoopClosing):
         sigma = tuning.field_sigma if tuning.field_sigma is not None else params.sigma
         radius = tuning.field_radius if tuning.field_radius is not None else params.kernelSize + 2
         self._field = (sigma, radius)
+        reach = grid_reach(self.resolution, radius + 2)
+        if max(self.max_range, self.max_urange) > reach:
+            # A beam longer than a grid of GRID_CELLS cells can hold is no use to any grid
+            # (range_max 1e30 in a downloaded bag). Shorter beams are unaffected.
+            self.tally.once(
+                f"uses ranges up to {reach:.0f} m, the most a grid of {GRID_CELLS:,} cells at "
+                f"{self.resolution:g} m holds around the laser (its range_max is "
+                f"{laser.range_max:g} m)"
+            )
+            self.max_range = min(self.max_range, reach)
+            self.max_urange = min(self.max_urange, reach)
         self.submaps: list[_Submap] = []
         self.keyframes: list[_Keyframe] = []
         self.graph = PoseGraph()
@@ -101,6 +121,12 @@ class SubmapSlam(LoopClosing):
         self._travel = 0.0
         self._map: OccupancyCounts | None = None
         self._map_poses = np.zeros((0, 3))
+        self._map_partial = False
+        """Whether the map was traced from some keyframes only (retraced in full next)."""
+        self._map_lo = np.array([params.xmin, params.ymin], dtype=np.float64)
+        self._map_hi = np.array([params.xmax, params.ymax], dtype=np.float64)
+        """The box the map may grow to: its keyframes' reach around their poses when they
+        were added (each added only if the box stays within :data:`GRID_CELLS`)."""
 
     # ------------------------------------------------------------------ scans
 
@@ -115,14 +141,34 @@ class SubmapSlam(LoopClosing):
         pts = laser.origin + laser.directions[usable] * rr[:, None]
         return pts, usable
 
-    def add_scan(self, stamp: float, ranges: Array, odom: Array) -> ScanPose:
+    def add_scan(self, stamp: float, ranges: Array, odom: Array) -> ScanPose | None:
         """One scan: its stamp (s), its ranges (as in the ``LaserScan``), and the base's
-        pose in the odometry frame at that stamp."""
+        pose in the odometry frame at that stamp.
+
+        Input is data, not trusted geometry (each case counted in :attr:`tally`): a scan
+        whose beam count is not the first scan's, or whose odometry pose is not finite or
+        past :data:`~belvedere.bounded.POSE_METRES`, is skipped (None); NaN ranges are
+        dropped; a scan that would grow a grid past :data:`GRID_CELLS` is matched but left
+        out of the map (not a keyframe)."""
         ranges = np.asarray(ranges, dtype=np.float64)
         odom = np.asarray(odom, dtype=np.float64)
         if len(ranges) != len(self.laser.directions):
-            message = f"a scan of {len(ranges)} beams, expected {len(self.laser.directions)}"
-            raise ValueError(message)
+            self.tally.add(
+                "skipped {count}: their beam count differs from the first scan's "
+                f"{len(self.laser.directions):,}",
+                first=f"{stamp:.3f} s: {len(ranges):,} beams",
+            )
+            return None
+        problem = pose_problem(odom.tolist())
+        if problem is not None:
+            why, pose = problem
+            self.tally.add(
+                "skipped {count}: their odometry pose is " + why, first=f"{stamp:.3f} s: {pose}"
+            )
+            return None
+        nan = int(np.count_nonzero(np.isnan(ranges)))
+        if nan:
+            self.tally.add("dropped {items} in {count}", items=nan, item="NaN range")
         pts, usable = self._points(ranges)
         skip = self.params.lskip + 1
         match_pts = pts if skip == 1 else pts[np.flatnonzero(usable)[: len(pts)] % skip == 0]
@@ -130,8 +176,8 @@ class SubmapSlam(LoopClosing):
             self._start(odom)
             self._last_odom = odom
             self._remember(stamp)
-            self._add_keyframe(stamp, ranges, pts)
-            return ScanPose(pose=self.pose(), keyframe=True, score=1.0)
+            added = self._add_keyframe(stamp, ranges, pts)
+            return ScanPose(pose=self.pose(), keyframe=added, score=1.0)
         motion = between(self._last_odom, odom)
         self._last_odom = odom
         dist = math.hypot(motion[0], motion[1])
@@ -154,7 +200,7 @@ class SubmapSlam(LoopClosing):
             or (p.temporalUpdate >= 0 and stamp - self._last_keyframe_stamp > p.temporalUpdate)
         )
         if keyframe:
-            self._add_keyframe(stamp, ranges, pts)
+            keyframe = self._add_keyframe(stamp, ranges, pts)
         return ScanPose(pose=self.pose(), keyframe=keyframe, score=score)
 
     def _start(self, odom: Array) -> None:
@@ -317,11 +363,25 @@ class SubmapSlam(LoopClosing):
         assert anchor[0] == tracking
         return between(anchor[1], self._local)
 
-    def _add_keyframe(self, stamp: float, ranges: Array, points: Array) -> None:
+    def _add_keyframe(self, stamp: float, ranges: Array, points: Array) -> bool:
+        """Add the scan to the active submaps and the map; unless a grid would grow past
+        :data:`GRID_CELLS` for it: then it is left out (counted) and nothing changes."""
+        tracking = self._active[0]
+        placed = []
+        for s in self._active:
+            at = self._local_in(s)
+            placed.append((s, transform_points(at, points), *self._free_beams(at, ranges)))
+        extent = self._extent(ranges)
+        refusal = self._refusal(placed, compose(self.graph.poses[tracking], self._local), extent)
+        if refusal is not None:
+            self.tally.add(
+                "left {count} out of the map: a grid would grow past its cap",
+                first=f"{stamp:.3f} s: {refusal}",
+            )
+            return False
         self._since_linear = 0.0
         self._since_angular = 0.0
         self._last_keyframe_stamp = stamp
-        tracking = self._active[0]
         t = self.tuning
         near = np.hypot(points[:, 0], points[:, 1]) <= t.loop_max_range
         search = points[near]
@@ -333,17 +393,18 @@ class SubmapSlam(LoopClosing):
             home=tracking,
             local=self._local.copy(),
             search=search,
+            extent=extent,
         )
         kf.other, kf.weight = self._blend()
         kf.travel = self._travel
         self.keyframes.append(kf)
-        for s in self._active:
+        for s, world, sensor, ends in placed:
             sub = self.submaps[s]
-            at = self._local_in(s)
-            sub.grid.insert(transform_points(at, points), undoable=self._keeps_before(s))
+            sub.grid.insert(world, undoable=self._keeps_before(s))
             sub.keyframes += 1
-            self._add_free(sub, at, ranges)
+            self._add_free(sub, sensor, ends)
         g = compose(self.graph.poses[tracking], kf.local)
+        self._grow_map_box(g, extent)
         self._kf_xy = np.vstack([self._kf_xy, g[None, :2]])
         self._kf_submaps.append(tracking)
         self._close_loops(len(self.keyframes) - 1, g)
@@ -355,9 +416,30 @@ class SubmapSlam(LoopClosing):
             tracking = self._active[0]
             pose = compose(self.graph.poses[tracking], self._local)
             fresh = self._new_submap(pose, (tracking, self._local.copy()))
+            # (one scan around its own origin: within grid_reach, so it fits)
             self.submaps[fresh].grid.insert(points)
             self.submaps[fresh].keyframes += 1
-            self._add_free(self.submaps[fresh], np.zeros(3), ranges)
+            self._add_free(self.submaps[fresh], *self._free_beams(np.zeros(3), ranges))
+        return True
+
+    def _refusal(
+        self, placed: list[tuple[int, Array, Array, Array]], pose: Array, extent: float
+    ) -> str | None:
+        """Why a keyframe at ``pose`` (the map's frame) cannot be added: the grid it would
+        grow past :data:`GRID_CELLS` (a submap's, their free space's or the map's); None
+        when all of them can hold it."""
+        try:
+            for s, world, sensor, ends in placed:
+                sub = self.submaps[s]
+                if len(world):
+                    sub.grid.layout(world.min(axis=0), world.max(axis=0))
+                if len(ends) and sub.free is not None:
+                    sub.free.layout(
+                        np.minimum(ends.min(axis=0), sensor), np.maximum(ends.max(axis=0), sensor)
+                    )
+        except LimitError as err:
+            return err.message
+        return self._map_refusal(pose, extent)
 
     def _keeps_before(self, submap: int) -> bool:
         """Whether an insert into ``submap`` must keep what it overwrites: the last match's
@@ -372,18 +454,23 @@ class SubmapSlam(LoopClosing):
             return False
         return True
 
-    def _add_free(self, sub: _Submap, pose: Array, ranges: Array) -> None:
-        """Count the scan's beams (up to ``maxUrange``) as passing, in the submap's frame; a
-        beam with no return (+inf, REP 117) passed all the way."""
-        assert sub.free is not None
+    def _free_beams(self, pose: Array, ranges: Array) -> tuple[Array, Array]:
+        """The laser's position and the ends of the scan's beams (cut at ``maxUrange``) in
+        a submap's frame, the scan taken at ``pose`` in it; a beam with no return (+inf,
+        REP 117) passed all the way."""
         laser = self.laser
         with np.errstate(invalid="ignore"):
             ok = (ranges >= laser.range_min) & ~np.isnan(ranges)
         r = np.minimum(ranges[ok], self.max_urange)
         ends = laser.origin + laser.directions[ok] * r[:, None]
         sensor = transform_points(pose, laser.origin[None, :])[0]
+        return sensor, transform_points(pose, ends)
+
+    def _add_free(self, sub: _Submap, sensor: Array, ends: Array) -> None:
+        """Count the beams from ``sensor`` to ``ends`` (:meth:`_free_beams`) as passing."""
+        assert sub.free is not None
         sub.sensors = np.vstack([sub.sensors, sensor[None, :]])
-        sub.free.add_beams(sensor, transform_points(pose, ends), self.tuning.free_short)
+        sub.free.add_beams(sensor, ends, self.tuning.free_short)
 
     def _finish(self, index: int) -> None:
         sub = self.submaps[index]
@@ -501,45 +588,3 @@ class SubmapSlam(LoopClosing):
             np.asarray([kf.other for kf in kfs]),
             np.asarray([kf.weight for kf in kfs]),
         )
-
-    def occupancy(self) -> OccupancyMap:
-        """The occupancy grid traced from every keyframe at its current pose (keyframes
-        already traced at the same pose are not traced again)."""
-        p = self.params
-        poses = self.keyframe_poses()
-        done = len(self._map_poses)
-        if (
-            self._map is None
-            or done > len(poses)
-            or (done and np.abs(poses[:done] - self._map_poses).max() > 1e-9)
-        ):
-            self._map = OccupancyCounts(self.resolution, p.xmin, p.ymin, p.xmax, p.ymax)
-            done = 0
-        if done < len(poses):
-            self._trace(self._map, poses[done:], self.keyframes[done:])
-        self._map_poses = poses
-        return self._map.to_map(p.occ_thresh)
-
-    def _trace(self, counts: OccupancyCounts, poses: Array, keyframes: list[_Keyframe]) -> None:
-        laser = self.laser
-        ranges = np.stack([kf.ranges for kf in keyframes]).astype(np.float64)
-        with np.errstate(invalid="ignore"):
-            valid = np.isfinite(ranges) & (ranges >= laser.range_min) & (ranges <= self.max_range)
-        hit = valid & (ranges < self.max_urange)
-        r = np.where(valid, np.minimum(ranges, self.max_urange), 0.0)
-        c = np.cos(poses[:, 2])[:, None]
-        s = np.sin(poses[:, 2])[:, None]
-        ox = laser.origin[0]
-        oy = laser.origin[1]
-        sensors = np.stack(
-            [poses[:, 0] + c[:, 0] * ox - s[:, 0] * oy, poses[:, 1] + s[:, 0] * ox + c[:, 0] * oy],
-            axis=1,
-        )
-        dx = laser.directions[None, :, 0] * r
-        dy = laser.directions[None, :, 1] * r
-        ex = sensors[:, 0:1] + c * dx - s * dy
-        ey = sensors[:, 1:2] + s * dx + c * dy
-        keep = valid.reshape(-1)
-        ends = np.stack([ex.reshape(-1), ey.reshape(-1)], axis=1)
-        starts_idx = np.repeat(np.arange(len(poses)), ranges.shape[1])[keep]
-        counts.add_scans_indexed(sensors, starts_idx, ends[keep], hit.reshape(-1)[keep])

@@ -3,11 +3,13 @@ the mapper keeps per submap, keyframe, loop closure and scan (see :mod:`._slam`)
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 import numpy.typing as npt
 
+from belvedere.bounded import SCAN_BEAMS
 from belvedere.nav.slam._grid import FieldGrid, FreeGrid
 from belvedere.nav.slam._search import SearchPyramid
 
@@ -51,6 +53,19 @@ class LaserGeometry:
             range_min=float(range_min),
             range_max=float(range_max),
         )
+
+    def problem(self) -> str | None:
+        """Why the mapper cannot use these beams, or None: more than
+        :data:`~belvedere.bounded.SCAN_BEAMS`, a direction or the origin not finite, a range
+        limit NaN."""
+        count = len(self.directions)
+        if count > SCAN_BEAMS:
+            return f"the laser has {count:,} beams, more than the cap of {SCAN_BEAMS:,}"
+        if not (np.isfinite(self.directions).all() and np.isfinite(self.origin).all()):
+            return "the laser's beam directions or position are not finite"
+        if math.isnan(self.range_min) or math.isnan(self.range_max):
+            return "the laser's range_min or range_max is nan"
+        return None
 
 
 @dataclass(frozen=True)
@@ -172,6 +187,9 @@ class _Keyframe:
     weight: float = 0.0
     travel: float = 0.0
     """Metres travelled (by odometry) when it was taken."""
+    extent: float = 0.0
+    """How far from the base its traced beams reach (m): the map it draws into lies within
+    this of its pose."""
 
 
 @dataclass(eq=False)
