@@ -166,10 +166,10 @@ class Tally:
         prefix = f"{self.who}: " if self.who and who else ""
         if not noun:  # a note (once)
             return prefix + template
-        text = template.format(
-            count=plural(cause.events, noun) + (" so far" if so_far else ""),
-            items=plural(cause.items, item) if item else f"{cause.items:,}",
-        )
+        # (replaced, not str.format: the rest of the text may hold braces of its own)
+        text = template.replace(
+            "{count}", plural(cause.events, noun) + (" so far" if so_far else "")
+        ).replace("{items}", plural(cause.items, item) if item else f"{cause.items:,}")
         if cause.first:
             text += f" (the first at {cause.first})"
         return prefix + text

@@ -20,7 +20,7 @@ import numpy.typing as npt
 
 from belvedere.bounded import GRID_CELLS, LimitError
 
-__all__ = ["FieldGrid", "FreeGrid"]
+__all__ = ["FieldGrid", "FreeGrid", "GridLimitError"]
 
 Array = npt.NDArray[np.float64]
 Grid = npt.NDArray[np.float32]
@@ -33,6 +33,15 @@ _BATCH_SAMPLES = 1 << 21
 of 144 m would otherwise take 2 GiB)."""
 
 
+class GridLimitError(LimitError):
+    """A grid that would grow past :data:`GRID_CELLS`: to ``cells``."""
+
+    def __init__(self, cells: float) -> None:
+        self.cells = cells
+        size = f"{cells:,.0f}" if math.isfinite(cells) else str(cells)
+        super().__init__(f"a grid of {size} cells, more than the cap of {GRID_CELLS:,}")
+
+
 def _layout(
     origin: Array | None, res: float, lo: Array, hi: Array, margin: float
 ) -> tuple[Array, int, int]:
@@ -41,7 +50,7 @@ def _layout(
     margin would take the grid past :data:`GRID_CELLS`.
 
     Raises:
-        LimitError: even without a margin, more than :data:`GRID_CELLS` cells.
+        GridLimitError: even without a margin, more than :data:`GRID_CELLS` cells.
     """
     for m in (margin, 0.0):
         if origin is not None:
@@ -53,9 +62,7 @@ def _layout(
         cells = float(rows * cols)
         if cells <= GRID_CELLS:  # (False for NaN)
             return new_lo, int(rows), int(cols)
-    size = f"{cells:,.0f}" if math.isfinite(cells) else str(cells)
-    message = f"a grid of {size} cells, more than the cap of {GRID_CELLS:,}"
-    raise LimitError(message)
+    raise GridLimitError(cells)
 
 
 def _batches(steps: npt.NDArray[np.int64], budget: int) -> Iterator[slice]:
@@ -121,7 +128,7 @@ class FieldGrid:
         it holds them already), never more than :data:`GRID_CELLS` cells.
 
         Raises:
-            LimitError: holding them takes more cells than that.
+            GridLimitError: holding them takes more cells than that.
         """
         pad = (self.radius + 2) * self.resolution
         lo = lo - pad
@@ -291,7 +298,7 @@ class FreeGrid:
         ``[lo, hi]``, or None.
 
         Raises:
-            LimitError: that takes more than :data:`GRID_CELLS` cells.
+            GridLimitError: that takes more than :data:`GRID_CELLS` cells.
         """
         res = self.resolution
         h, w = self.counts.shape

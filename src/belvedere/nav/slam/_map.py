@@ -63,7 +63,7 @@ class MapDrawing:
         hi = np.maximum(self._map_hi, pose[:2] + extent)
         cells = OccupancyCounts.cells_for(self.resolution, lo, hi)
         if not cells <= GRID_CELLS:
-            return f"a map of {cells:,.0f} cells"
+            return f"the map to {cells:,.0f} cells"
         return None
 
     def _grow_map_box(self, pose: Array, extent: float) -> None:

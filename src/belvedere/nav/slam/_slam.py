@@ -31,9 +31,9 @@ import math
 import numpy as np
 import numpy.typing as npt
 
-from belvedere.bounded import GRID_CELLS, LimitError
+from belvedere.bounded import GRID_CELLS
 from belvedere.nav._input import Tally, grid_reach, pose_problem
-from belvedere.nav.slam._grid import FieldGrid, FreeGrid
+from belvedere.nav.slam._grid import FieldGrid, FreeGrid, GridLimitError
 from belvedere.nav.slam._loops import LoopClosing
 from belvedere.nav.slam._map import MapDrawing
 from belvedere.nav.slam._match import Match, refine
@@ -375,7 +375,8 @@ class SubmapSlam(LoopClosing, MapDrawing):
         refusal = self._refusal(placed, compose(self.graph.poses[tracking], self._local), extent)
         if refusal is not None:
             self.tally.add(
-                "left {count} out of the map: a grid would grow past its cap",
+                f"left {{count}} out of the map: a grid would grow past the cap of {GRID_CELLS:,} "
+                "cells",
                 first=f"{stamp:.3f} s: {refusal}",
             )
             return False
@@ -428,17 +429,20 @@ class SubmapSlam(LoopClosing, MapDrawing):
         """Why a keyframe at ``pose`` (the map's frame) cannot be added: the grid it would
         grow past :data:`GRID_CELLS` (a submap's, their free space's or the map's); None
         when all of them can hold it."""
-        try:
-            for s, world, sensor, ends in placed:
-                sub = self.submaps[s]
+        for s, world, sensor, ends in placed:
+            sub = self.submaps[s]
+            try:
                 if len(world):
                     sub.grid.layout(world.min(axis=0), world.max(axis=0))
+            except GridLimitError as err:
+                return f"submap {s}'s grid to {err.cells:,.0f} cells"
+            try:
                 if len(ends) and sub.free is not None:
                     sub.free.layout(
                         np.minimum(ends.min(axis=0), sensor), np.maximum(ends.max(axis=0), sensor)
                     )
-        except LimitError as err:
-            return err.message
+            except GridLimitError as err:
+                return f"submap {s}'s free space to {err.cells:,.0f} cells"
         return self._map_refusal(pose, extent)
 
     def _keeps_before(self, submap: int) -> bool:
