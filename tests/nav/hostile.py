@@ -60,7 +60,8 @@ def scan(
     frame: str = "laser",
 ) -> Any:
     """A ``sensor_msgs/LaserScan``."""
-    values = np.asarray(ranges, dtype=np.float32)
+    with np.errstate(over="ignore"):  # (a huge range is inf on the wire, as in a bag)
+        values = np.asarray(ranges, dtype=np.float32)
     step = 2 * math.pi / max(len(values), 1) if increment is None else increment
     return types().cls("sensor_msgs/LaserScan")(
         build.header(stamp_ns, frame),

@@ -490,7 +490,9 @@ class SubmapSlam(LoopClosing, MapDrawing):
     # ---------------------------------------------------------------- results
 
     def pose(self) -> Array:
-        """The base's current pose in the map frame."""
+        """The base's current pose in the map frame (zeros before the first scan)."""
+        if not self._active:
+            return np.zeros(3)
         home = self._active[0]
         pose = compose(self.graph.poses[home], self._local)
         other, weight = self._blend()
