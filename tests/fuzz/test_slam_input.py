@@ -53,8 +53,8 @@ class Reading:
     """None: the path's pose; else this one (a jump, NaN…)."""
 
     def ranges(self, pose: hostile.Pose) -> npt.NDArray[np.float64]:
-        values = hostile.room_ranges(pose, max(self.count, 1))[: self.count]
-        values = values.astype(np.float64)  # (ranges are float32 on the wire: 1e308 is inf)
+        room = hostile.room_ranges(pose, max(self.count, 1))[: self.count]
+        values = room.astype(np.float64)  # (float32 on the wire: 1e308 becomes inf there)
         for beam, value in self.spoiled:
             if beam < 0:
                 values[:] = value
