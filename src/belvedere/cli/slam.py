@@ -6,6 +6,10 @@ node's message filter makes it, until the odometry at its stamp is known. Writes
 map_server's format (``MAP_PREFIX.pgm`` + ``MAP_PREFIX.yaml``, as map_saver writes them) and the
 base's trajectory in the map frame, one line per processed scan, in the TUM format
 (``stamp tx ty tz qx qy qz qw``). ``name:=value`` set the node's parameters.
+
+The bag is streamed (a progress bar on a terminal). Scans and odometry it cannot use (see
+:mod:`belvedere.nav._input`) are told once per cause at the end, counted and naming the bag
+and topic; when no scan could be used at all, the error says why.
 """
 
 from __future__ import annotations

@@ -9,6 +9,13 @@ Updates run at ``update_frequency`` and publish at ``publish_frequency`` in grap
 ``~<name>/costmap`` (``nav_msgs/OccupancyGrid``, costs translated as costmap_2d's publisher
 does), ``~<name>/costmap_updates`` (``map_msgs/OccupancyGridUpdate``, the box that changed)
 and ``~<name>/footprint`` (``geometry_msgs/PolygonStamped``, in the global frame).
+
+Readings and poses are data, not trusted geometry (:mod:`belvedere.nav._input`): a scan of
+more than 65,536 beams (``SCAN_BEAMS``), with angles that are not finite or a NaN range limit,
+a reading whose sensor pose, or a robot pose, that is not finite or farther than 1e8 m
+(``POSE_METRES``), and a malformed ``PointCloud2`` are dropped (NaN ranges too); a static map or
+a size (``width``/``height``/``resolution``) of more than ``GRID_CELLS`` cells is refused. Each
+cause is one counted warning.
 """
 
 from __future__ import annotations

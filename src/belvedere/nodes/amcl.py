@@ -14,6 +14,13 @@ scan, stamped ``~transform_tolerance`` after it. Services: ``global_localization
 Every ``1/~save_pose_rate`` seconds the pose is written back to ``~initial_pose_x/y/a`` and
 ``~initial_cov_xx/yy/aa``, which a new map starts from. The filter's parameters are amcl's
 (see :class:`belvedere.nav.amcl.AmclParams`); its randomness comes from the graph's seed.
+
+Scans, odometry, poses and maps are data, not trusted geometry (:mod:`belvedere.nav._input`):
+a scan of more than 65,536 beams (``SCAN_BEAMS``), with angles that are not finite or a NaN
+range limit, or whose odometry or laser mount is not finite or farther than 1e8 m
+(``POSE_METRES``), is skipped (NaN ranges dropped); such an initial pose is ignored; a map of
+more than ``GRID_CELLS`` cells, or malformed, is refused (the filter keeps the map it has). A
+finite odometry jump is motion, as amcl takes it. Each cause is one counted warning.
 """
 
 from __future__ import annotations

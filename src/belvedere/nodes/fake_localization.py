@@ -7,7 +7,9 @@ to 100, until ``~odom_frame_id`` → ``~base_frame_id`` is known at its stamp �
 that the current pose becomes the one given. Out: ``amcl_pose`` (latched, zero covariance),
 ``particlecloud`` (latched, the one pose) and TF ``~global_frame_id`` → ``~odom_frame_id``
 that puts the base at the true pose, stamped ``~transform_tolerance`` ahead. ``~delta_x``,
-``~delta_y`` and ``~delta_yaw`` are where the map's origin is in the simulator's frame.
+``~delta_y`` and ``~delta_yaw`` are where the map's origin is in the simulator's frame. A true
+pose or an initial pose that is not finite or farther than 1e8 m (``POSE_METRES``) is skipped,
+counted.
 """
 
 from __future__ import annotations

@@ -10,6 +10,13 @@ Parameters: slam_gmapping's, with its defaults; see :mod:`belvedere.nav.slam._pa
 what each does here. Those that have no effect here (the particle filter's ``particles`` and
 ``resampleThreshold``) draw one warning at the node's launch line when they are set.
 
+Scans and odometry are data, not trusted geometry (:mod:`belvedere.nav._input`): a scan of
+more than 65,536 beams (``SCAN_BEAMS``), with angles that are not finite or a NaN range limit,
+or whose odometry or laser mount is not finite or farther than 1e8 m (``POSE_METRES``), is
+skipped; NaN ranges are dropped; ranges are used up to what a grid of ``GRID_CELLS`` cells
+holds around the laser (144 m at 5 cm); a scan that would grow a grid past ``GRID_CELLS`` is
+left out of the map. Each cause is one warning, counted (again at 10, 100, … times).
+
 :class:`GMappingCore` is the part without topics — scans and a TF buffer in, poses and maps
 out — which ``belvedere slam`` runs over a bag.
 """
@@ -25,6 +32,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from belvedere.bounded import LimitError
 from belvedere.graph import NS, Node, ServiceFailedError
 from belvedere.maps import OccupancyMap, grid_message
 from belvedere.msgs import types
@@ -296,7 +304,11 @@ class _GMappingNode:
                 self._publish_map(done.stamp_ns)
 
     def _publish_map(self, stamp_ns: int) -> None:
-        grid = self.core.occupancy()
+        try:
+            grid = self.core.occupancy()
+        except LimitError as err:  # (the keyframes' checks keep it within; a last guard)
+            self._warn_once("map", f"no map: {err.message}")
+            return
         slam = self.core.slam
         if grid is None or slam is None:
             return

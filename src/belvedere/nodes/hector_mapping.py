@@ -6,6 +6,11 @@ and ``map_metadata`` every ``~map_pub_period``, ``slam_out_pose`` and ``poseupda
 ``dynamic_map`` service, and TF ``map → odom`` (from ``odom → base`` at the scan's stamp) when
 ``~pub_map_odom_transform`` — or ``map → base`` when the odom frame is the base frame, as
 hector does for a robot without odometry.
+
+Scans are data, not trusted geometry (:mod:`belvedere.nav._input`): a scan of more than 65,536
+beams (``SCAN_BEAMS``), with angles that are not finite or a NaN range limit, or whose laser
+mount is not finite or farther than 1e8 m (``POSE_METRES``), is skipped; NaN ranges are
+dropped; ``~map_size`` squared may not pass ``GRID_CELLS``. Each cause is one counted warning.
 """
 
 from __future__ import annotations

@@ -19,6 +19,9 @@ seconds and minutes. The design follows Cartographer's 2D mapper in miniature:
 * **Map.** The occupancy grid is traced from the keyframes at their optimised poses, with
   GMapping's counting (:mod:`._occupancy`).
 
+* **Input** is data (:mod:`belvedere.nav._input`): no grid passes ``GRID_CELLS`` (a keyframe
+  that would grow one is left out of the map), bad odometry skips a scan (counted).
+
 Plain arrays in, plain arrays out; deterministic (no random numbers at all).
 """
 
