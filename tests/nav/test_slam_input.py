@@ -196,6 +196,10 @@ def test_the_checks() -> None:
         "their range_min is nan",
         "range_min nan",
     )
+    assert scan_problem(10, 0.0, 0.1, 0.1, -math.inf) == (
+        "their range_max is not above range_min and 0",
+        "0.1 .. -inf",
+    )
     assert pose_problem([1e7, -3.0, 0.5]) is None  # UTM coordinates are fine
     assert pose_problem([math.nan, 0.0, 0.0]) == ("not finite", "(nan, 0, 0)")
     assert pose_problem([0.0, -2e8, 0.0]) == (

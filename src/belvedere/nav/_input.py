@@ -6,7 +6,8 @@ fields hold. The rules, the same for every reader of ``LaserScan`` and odometry:
 
 - A scan with more than :data:`~belvedere.bounded.SCAN_BEAMS` beams is skipped, as is one
   whose ``angle_min`` or ``angle_increment`` (or its last beam's angle) is not finite, or whose
-  ``range_min`` or ``range_max`` is NaN (:func:`scan_problem`).
+  ``range_min`` or ``range_max`` is NaN, or whose ``range_max`` is not above ``range_min`` and 0
+  (:func:`scan_problem`).
 - NaN ranges are dropped and counted. ``+inf`` and ``-inf`` are not counted: REP 117 gives
   them a meaning (no return, too close), and real lasers send them all the time.
 - A pose (odometry, a sensor's mount, an initial pose) with a value that is not finite or
@@ -49,6 +50,8 @@ def scan_problem(
     for name, value in (("range_min", range_min), ("range_max", range_max)):
         if math.isnan(value):
             return f"their {name} is nan", f"{name} {value}"
+    if not range_max > max(range_min, 0.0):
+        return "their range_max is not above range_min and 0", f"{range_min} .. {range_max}"
     return None
 
 

@@ -80,12 +80,10 @@ class SubmapSlam(LoopClosing, MapDrawing):
         self.tuning = tuning = tuning or Tuning()
         self.tally = tally if tally is not None else Tally("slam", logger)
         """Where scans and keyframes left out are counted (see :mod:`belvedere.nav._input`)."""
-        problem = laser.problem()
-        if problem is not None:
-            raise ValueError(problem)
-        self.laser = laser
+        self.laser = laser.checked()
         self.max_range = params.maxRange if params.maxRange is not None else laser.range_max - 0.01
         self.max_urange = params.maxUrange if params.maxUrange is not None else self.max_range
+        self.max_range, self.max_urange = max(self.max_range, 0.0), max(self.max_urange, 0.0)
         self.resolution = params.delta
         sigma = tuning.field_sigma if tuning.field_sigma is not None else params.sigma
         radius = tuning.field_radius if tuning.field_radius is not None else params.kernelSize + 2

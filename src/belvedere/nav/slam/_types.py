@@ -3,6 +3,7 @@ the mapper keeps per submap, keyframe, loop closure and scan (see :mod:`._slam`)
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -66,6 +67,18 @@ class LaserGeometry:
         if math.isnan(self.range_min) or math.isnan(self.range_max):
             return "the laser's range_min or range_max is nan"
         return None
+
+    def checked(self) -> LaserGeometry:
+        """These beams, with a negative ``range_min`` raised to 0 (a negative range is no
+        reading, whatever the scan says: -inf would end no beam).
+
+        Raises:
+            ValueError: :meth:`problem`.
+        """
+        problem = self.problem()
+        if problem is not None:
+            raise ValueError(problem)
+        return self if self.range_min >= 0 else dataclasses.replace(self, range_min=0.0)
 
 
 @dataclass(frozen=True)
