@@ -191,10 +191,7 @@ def test_hector_mapping_skips_bad_scans_and_goes_on(warnings: pytest.LogCaptureF
         "/slam_out_pose", "geometry_msgs/PoseStamped", poses.append
     )
 
-    def mount_too(i: int, pose: Pose, msg: Any) -> tuple[Pose, Any]:
-        return _hostile_scans(i, pose, msg)
-
-    _drive(graph, 20, mount_too)
+    _drive(graph, 20, _hostile_scans)
     assert _lines(warnings) == [
         "/hector_mapping: skipped 1 scan: their angle_increment is not finite "
         "(the first at 0.300 s: angle_increment nan)",
