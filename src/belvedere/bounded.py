@@ -46,6 +46,7 @@ __all__ = [
     "IMAGE_PIXELS",
     "INFLATED_BYTES",
     "MESH_FILE_BYTES",
+    "POSE_METRES",
     "SCAN_BEAMS",
     "SCRIPT_BYTES",
     "SCRIPT_SECONDS",
@@ -97,6 +98,10 @@ GRID_CELLS: Final = 1 << 25
 reading that asked for it skipped."""
 SCAN_BEAMS: Final = 1 << 16
 """Beams of one laser scan (65,536; real 2D lidars have 360 to 3,600)."""
+POSE_METRES: Final = 1e8
+"""A pose read from input (odometry, a sensor's mount, an initial pose) with a coordinate
+farther than this from its frame's origin is refused: 100,000 km, past any robot's odometry
+(UTM coordinates reach 1e7 m) — a jump there is a broken reading, not a motion."""
 COMMAND_OUTPUT_BYTES: Final = 64 * MiB
 """What one ``<param command="…">`` (or ``$(eval …)`` command) may print, stdout and stderr
 each."""

@@ -165,6 +165,7 @@ def test_the_trajectory_and_the_map_do_not_depend_on_these_parameters() -> None:
         entropy = []
         for ns, scan, odom in zip(rec.stamps_ns, rec.scans, rec.odom, strict=True):
             done = slam.add_scan(ns / 1e9, np.asarray(scan.ranges), odom)
+            assert done is not None
             if ask or done.keyframe:
                 entropy.append(slam.entropy())
         return slam, entropy

@@ -6,6 +6,10 @@ node's message filter makes it, until the odometry at its stamp is known. Writes
 map_server's format (``MAP_PREFIX.pgm`` + ``MAP_PREFIX.yaml``, as map_saver writes them) and the
 base's trajectory in the map frame, one line per processed scan, in the TUM format
 (``stamp tx ty tz qx qy qz qw``). ``name:=value`` set the node's parameters.
+
+The bag is streamed (a progress bar on a terminal). Scans and odometry it cannot use (see
+:mod:`belvedere.nav._input`) are told once per cause at the end, counted and naming the bag
+and topic; when no scan could be used at all, the error says why.
 """
 
 from __future__ import annotations
@@ -28,6 +32,7 @@ from belvedere.errors import BelvedereError
 from belvedere.fileio import stage_write
 from belvedere.graph import NS
 from belvedere.maps import OccupancyMap, format_tum_line, save_map
+from belvedere.nav._input import Tally
 from belvedere.nodes._slam import Processed
 from belvedere.nodes.gmapping import GMappingCore, LaserMountError
 from belvedere.nodes.hector_mapping import HectorCore
@@ -48,12 +53,13 @@ class _Core(Protocol):
     base_frame: str
     odom_frame: str
     processed: list[Processed]
+    tally: Tally
 
     @property
     def throttle_scans(self) -> int: ...
     def wanted(self) -> bool: ...
     def ready(self, scan: Any, buffer: TFBuffer) -> bool: ...
-    def process(self, scan: Any, buffer: TFBuffer) -> Processed: ...
+    def process(self, scan: Any, buffer: TFBuffer) -> Processed | None: ...
     def occupancy(self) -> OccupancyMap | None: ...
     def trajectory(self) -> tuple[list[int], npt.NDArray[np.float64]]: ...
     def summary(self) -> str: ...
@@ -244,13 +250,15 @@ def run(args: argparse.Namespace) -> int:
         raise BelvedereError(message)
     params = _parameters(args)
     core: _Core
+    # What the run leaves out of bad scans and odometry, told once per cause at the end.
+    tally = Tally(f"{args.bag}: {args.scan_topic}", logger, live=False)
     try:
         if args.algorithm == "gmapping":
-            core = gmapping = GMappingCore(params)
+            core = gmapping = GMappingCore(params, tally=tally)
             if gmapping.without_effect is not None:
                 logger.warning("slam_gmapping: %s", gmapping.without_effect)
         else:
-            core = HectorCore(params)
+            core = HectorCore(params, tally=tally)
     except ValueError as err:
         raise BelvedereError(str(err)) from None
     reader = _open_bag(args.bag)
@@ -284,13 +292,20 @@ def run(args: argparse.Namespace) -> int:
         logger.warning("warning: %s (%d times)", text, problems.count(text))
     grid = core.occupancy()
     if not core.processed or grid is None:
-        message = f"no scan on {args.scan_topic} could be placed"
+        message = f"{args.bag}: no scan on {args.scan_topic} could be placed"
+        if tally:  # every scan was refused: the reasons are the error's
+            raise BelvedereError(message, hint="; ".join(tally.lines(who=False)))
+        if core.processed:
+            message = f"{args.bag}: no scan on {args.scan_topic} had a usable range"
+            hint = "every range was outside range_min..range_max (and the node's own limits)"
+            raise BelvedereError(message, hint=hint)
         needs = (
             f"TF from {core.odom_frame} to {core.base_frame} at the scans' stamps"
             if args.algorithm == "gmapping"
             else f"TF from the laser's frame to {core.base_frame}"
         )
         raise BelvedereError(message, hint=f"the bag needs {needs}")
+    tally.report()
     if args.trajectory:
         stamps, poses = core.trajectory()
         stage_write(args.trajectory, tum_text(stamps, poses), make_dirs=True).commit()

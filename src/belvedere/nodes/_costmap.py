@@ -9,6 +9,13 @@ Updates run at ``update_frequency`` and publish at ``publish_frequency`` in grap
 ``~<name>/costmap`` (``nav_msgs/OccupancyGrid``, costs translated as costmap_2d's publisher
 does), ``~<name>/costmap_updates`` (``map_msgs/OccupancyGridUpdate``, the box that changed)
 and ``~<name>/footprint`` (``geometry_msgs/PolygonStamped``, in the global frame).
+
+Readings and poses are data, not trusted geometry (:mod:`belvedere.nav._input`): a scan of
+more than 65,536 beams (``SCAN_BEAMS``), with angles that are not finite or a NaN range limit,
+a reading whose sensor pose, or a robot pose, that is not finite or farther than 1e8 m
+(``POSE_METRES``), and a malformed ``PointCloud2`` are dropped (NaN ranges too); a static map or
+a size (``width``/``height``/``resolution``) of more than ``GRID_CELLS`` cells is refused. Each
+cause is one counted warning.
 """
 
 from __future__ import annotations
@@ -24,9 +31,11 @@ from typing import Any, Final
 import numpy as np
 import numpy.typing as npt
 
+from belvedere.bounded import GRID_CELLS
 from belvedere.graph import NS, Node, Publisher, Subscription
 from belvedere.graph._executor import Timer
 from belvedere.msgs import build, types
+from belvedere.nav._input import Tally, pose_problem, scan_problem
 from belvedere.nav.costmap import CostGrid, CostmapParams, LayeredCostmap, Observation
 from belvedere.nav.costmap._params import SourceParams
 from belvedere.tf import TFBuffer, TFError, Transform
@@ -79,13 +88,22 @@ def scan_points(scan: Any, *, inf_is_valid: bool) -> npt.NDArray[np.float64]:
 
 
 def cloud_points(msg: Any) -> npt.NDArray[np.float64]:
-    """The finite x, y, z (float32 fields) of a ``sensor_msgs/PointCloud2``."""
+    """The finite x, y, z (float32 fields) of a ``sensor_msgs/PointCloud2``.
+
+    Raises:
+        ValueError: its layout does not fit its data (a field past ``point_step``, data that
+            is not whole points)."""
     offsets = {f.name: int(f.offset) for f in msg.fields}
     if not {"x", "y", "z"} <= set(offsets) or msg.point_step == 0:
         return np.empty((0, 3))
+    step = int(msg.point_step)
+    if any(not 0 <= offsets[a] <= step - 4 for a in "xyz"):
+        message = f"a field x, y or z lies past its point_step of {step}"
+        raise ValueError(message)
     count = int(msg.width) * int(msg.height)
-    data = np.frombuffer(bytes(msg.data), dtype=np.uint8)[: count * msg.point_step]
-    rows = data.reshape(-1, msg.point_step)
+    data = np.frombuffer(bytes(msg.data), dtype=np.uint8)[: count * step]
+    whole = len(data) - len(data) % step  # (a cut-off last point is not a point)
+    rows = data[:whole].reshape(-1, step)
     dtype = ">f4" if msg.is_bigendian else "<f4"
     pts = np.stack(
         [rows[:, offsets[a] : offsets[a] + 4].copy().view(dtype)[:, 0] for a in "xyz"], axis=1
@@ -157,6 +175,8 @@ class Costmap2DROS:
         self.stopped = True
         self._published: CostGrid | None = None
         self._warned: set[str] = set()
+        self.tally = Tally(f"{node.full_name}/{name}", logger)
+        """Readings and poses skipped or dropped, counted (:mod:`belvedere.nav._input`)."""
 
     # --- what move_base asks ---------------------------------------------------------------------
     @property
@@ -189,6 +209,15 @@ class Costmap2DROS:
             stamp, t, q = self.buffer.lookup(self.global_frame, self.robot_base_frame, 0)
         except TFError as err:
             self._warn_once("pose", f"no robot pose: {err.message}")
+            return None
+        problem = pose_problem([t[0], t[1], _yaw(q)])
+        if problem is not None:
+            why, what = problem
+            self.tally.add(
+                "no robot pose for {count}: it is " + why,
+                noun="update",
+                first=f"{self.node.now_ns() / NS:.3f} s: {what}",
+            )
             return None
         age = self.node.now_ns() - stamp
         if stamp != 0 and age > round(self.params.transform_tolerance * NS):
@@ -262,11 +291,21 @@ class Costmap2DROS:
     def _on_map(self, msg: Any, layer: str) -> None:
         info = msg.info
         width, height = int(info.width), int(info.height)
+        if width * height > GRID_CELLS:
+            self._warn_once(
+                "map",
+                f"map refused: {width:,} x {height:,} cells, more than the cap of {GRID_CELLS:,}",
+            )
+            return
         data = np.asarray(msg.data, dtype=np.int8).reshape(-1)
         if data.size != width * height:
             self._warn_once("map", f"a map of {width} x {height} cells carries {data.size}")
             return
         origin = (float(info.origin.position.x), float(info.origin.position.y))
+        resolution = float(info.resolution)
+        if not (math.isfinite(resolution) and resolution > 0) or pose_problem(origin):
+            self._warn_once("map", f"map refused: resolution {resolution}, origin {origin}")
+            return
         self.map_frame = str(msg.header.frame_id).lstrip("/")
         self.costmap.set_map(
             data.reshape(height, width), float(info.resolution), origin, self.map_frame, layer=layer
@@ -297,10 +336,49 @@ class Costmap2DROS:
             t_sensor = self.buffer.lookup_transform(self.global_frame, sensor, stamp)
         except TFError:
             return False
+        at = f"{stamp / NS:.3f} s"
+        for t in (t_cloud, t_sensor):
+            problem = pose_problem(t.translation)  # (TF refuses NaN and bad rotations)
+            if problem is not None:
+                why, what = problem
+                self.tally.add(
+                    "dropped {count} from " + source.name + ": the sensor's pose is " + why,
+                    noun="reading",
+                    first=f"{at}: {what}",
+                )
+                return True
         if source.data_type == "LaserScan":
+            problem = scan_problem(
+                len(msg.ranges),
+                float(msg.angle_min),
+                float(msg.angle_increment),
+                float(msg.range_min),
+                float(msg.range_max),
+            )
+            if problem is not None:
+                why, what = problem
+                self.tally.add(
+                    "skipped {count} from " + source.name + ": " + why, first=f"{at}: {what}"
+                )
+                return True
+            nan = int(np.count_nonzero(np.isnan(np.asarray(msg.ranges))))
+            if nan:
+                self.tally.add(
+                    "dropped {items} in {count} from " + source.name,
+                    items=nan,
+                    item="NaN range",
+                )
             local = scan_points(msg, inf_is_valid=source.inf_is_valid)
         elif source.data_type == "PointCloud2":
-            local = cloud_points(msg)
+            try:
+                local = cloud_points(msg)
+            except ValueError as err:
+                self.tally.add(
+                    "dropped {count} from " + source.name + ": " + str(err),
+                    noun="cloud",
+                    first=at,
+                )
+                return True
         else:
             local = np.array([[p.x, p.y, p.z] for p in msg.points], dtype=np.float64).reshape(-1, 3)
         points = _apply(t_cloud, local)

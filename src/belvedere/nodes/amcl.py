@@ -14,6 +14,13 @@ scan, stamped ``~transform_tolerance`` after it. Services: ``global_localization
 Every ``1/~save_pose_rate`` seconds the pose is written back to ``~initial_pose_x/y/a`` and
 ``~initial_cov_xx/yy/aa``, which a new map starts from. The filter's parameters are amcl's
 (see :class:`belvedere.nav.amcl.AmclParams`); its randomness comes from the graph's seed.
+
+Scans, odometry, poses and maps are data, not trusted geometry (:mod:`belvedere.nav._input`):
+a scan of more than 65,536 beams (``SCAN_BEAMS``), with angles that are not finite or a NaN
+range limit, or whose odometry or laser mount is not finite or farther than 1e8 m
+(``POSE_METRES``), is skipped (NaN ranges dropped); such an initial pose is ignored; a map of
+more than ``GRID_CELLS`` cells, or malformed, is refused (the filter keeps the map it has). A
+finite odometry jump is motion, as amcl takes it. Each cause is one counted warning.
 """
 
 from __future__ import annotations
@@ -28,9 +35,11 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from belvedere.bounded import GRID_CELLS
 from belvedere.graph import NS, GraphError, Node
 from belvedere.maps import OccupancyMap, map_from_message
 from belvedere.msgs import build, types
+from belvedere.nav._input import Tally, pose_problem, scan_problem
 from belvedere.nav._params import ParamReader, read_like
 from belvedere.nav.amcl import AmclMap, AmclParams, Localizer, laser_data
 from belvedere.nodes._registry import (
@@ -181,6 +190,25 @@ def base_bearings(mount: Transform, angle_min: float, increment: float) -> tuple
     return first, math.fmod(second - first + 5.0 * math.pi, 2.0 * math.pi) - math.pi
 
 
+def _map_refusal(msg: Any) -> str | None:
+    """Why amcl cannot take a map message, or None: more cells than
+    :data:`~belvedere.bounded.GRID_CELLS` (its distance fields are a few times the map),
+    cells that are not ``width x height``, a resolution or origin that is not finite."""
+    info = msg.info
+    width, height = int(info.width), int(info.height)
+    if width * height > GRID_CELLS:
+        return f"{width:,} x {height:,} cells, more than the cap of {GRID_CELLS:,}"
+    if len(msg.data) != width * height:
+        return f"{width:,} x {height:,} cells, but it carries {len(msg.data):,} values"
+    resolution = float(info.resolution)
+    if not (math.isfinite(resolution) and resolution > 0):
+        return f"its resolution is {resolution}"
+    origin = info.origin.position
+    if pose_problem([float(origin.x), float(origin.y)]) is not None:
+        return f"its origin ({float(origin.x)}, {float(origin.y)}) is not finite or too far"
+    return None
+
+
 def _read_params(node: Node) -> tuple[AmclParams, NodeParams]:
     values: dict[str, Any] = {}
     for name in (*AmclParams.names(), *NODE_PARAMETERS):
@@ -234,6 +262,8 @@ class _AmclNode:
         self.last_save_ns = node.now_ns()
         self.first_map_received = False
         self._warned: set[str] = set()
+        self.tally = Tally(node.full_name, logger)
+        """Scans, poses and readings skipped or dropped, counted (:mod:`belvedere.nav._input`)."""
         if cfg.use_map_topic:
             node.subscribe("map", "nav_msgs/OccupancyGrid", self._on_map, queue_size=1)
             node.logger.info("Subscribed to map topic.")
@@ -277,6 +307,10 @@ class _AmclNode:
                 frame,
                 self.config.global_frame_id,
             )
+        refusal = _map_refusal(msg)
+        if refusal is not None:
+            logger.error("%s: map refused: %s", self.node.full_name, refusal)
+            return
         grid: OccupancyMap = map_from_message(msg)
         # a new map starts from the pose last saved to the parameter server
         try:
@@ -313,6 +347,16 @@ class _AmclNode:
         pose = msg.pose.pose
         q = pose.orientation
         old = np.array([pose.position.x, pose.position.y, _yaw((q.x, q.y, q.z, q.w))])
+        problem = pose_problem(old.tolist())
+        if problem is None and not np.isfinite(np.asarray(msg.pose.covariance)).all():
+            problem = "not finite", f"covariance {list(msg.pose.covariance)[:2]}…"
+        if problem is not None:
+            why, what = problem
+            at = f"{_stamp_ns(msg) / NS:.3f} s"
+            self.tally.add(
+                "ignored {count}: it is " + why, noun="initial pose", first=f"{at}: {what}"
+            )
+            return
         # where the robot went since the pose's stamp, by the odometry
         try:
             then = _planar(
@@ -409,6 +453,11 @@ class _AmclNode:
             except TFError as err:
                 self._warn_once("laser", f"Couldn't transform from {frame} to {base}: {err}")
                 return None
+        problem = pose_problem([*mount.translation, *mount.quat_xyzw])
+        if problem is not None:
+            why, what = problem
+            self.tally.add("skipped {count}: the laser's mount on the base is " + why, first=what)
+            return None
         pose = (float(mount.translation[0]), float(mount.translation[1]), 0.0)
         self.lasers[frame] = pose
         return pose
@@ -423,6 +472,17 @@ class _AmclNode:
             return
         cfg = self.config
         stamp = _stamp_ns(scan)
+        problem = scan_problem(
+            len(scan.ranges),
+            float(scan.angle_min),
+            float(scan.angle_increment),
+            float(scan.range_min),
+            float(scan.range_max),
+        )
+        if problem is not None:
+            why, what = problem
+            self.tally.add("skipped {count}: " + why, first=f"{stamp / NS:.3f} s: {what}")
+            return
         laser = self._laser(scan)
         if laser is None:
             return
@@ -436,9 +496,23 @@ class _AmclNode:
                 "odom", f"Couldn't determine robot's pose associated with laser scan: {err}"
             )
             return
+        at = f"{stamp / NS:.3f} s"
+        if not (math.isfinite(angle_min) and math.isfinite(increment)):  # (its rotation)
+            why = "the laser's mount on the base is not finite"
+            self.tally.add("skipped {count}: " + why, first=f"{at}: {angle_min}, {increment}")
+            return
+        problem = pose_problem(odom.tolist())
+        if problem is not None:
+            why, what = problem
+            self.tally.add("skipped {count}: their odometry pose is " + why, first=f"{at}: {what}")
+            return
+        ranges = np.asarray(scan.ranges, dtype=np.float64)
+        nan = int(np.count_nonzero(np.isnan(ranges)))
+        if nan:
+            self.tally.add("dropped {items} in {count}", items=nan, item="NaN range")
         self.latest_odom = odom
         data = laser_data(
-            np.asarray(scan.ranges, dtype=np.float64),
+            ranges,
             angle_min,
             increment,
             float(scan.range_min),

@@ -7,7 +7,9 @@ to 100, until ``~odom_frame_id`` → ``~base_frame_id`` is known at its stamp �
 that the current pose becomes the one given. Out: ``amcl_pose`` (latched, zero covariance),
 ``particlecloud`` (latched, the one pose) and TF ``~global_frame_id`` → ``~odom_frame_id``
 that puts the base at the true pose, stamped ``~transform_tolerance`` ahead. ``~delta_x``,
-``~delta_y`` and ``~delta_yaw`` are where the map's origin is in the simulator's frame.
+``~delta_y`` and ``~delta_yaw`` are where the map's origin is in the simulator's frame. A true
+pose or an initial pose that is not finite or farther than 1e8 m (``POSE_METRES``) is skipped,
+counted.
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ from collections import deque
 from typing import Any
 
 from belvedere.graph import NS, Node
+from belvedere.nav._input import Tally, pose_problem
 from belvedere.nav._params import ParamReader, read_like
 from belvedere.nodes._registry import (
     NodeSpec,
@@ -57,6 +60,17 @@ def _pose_transform(pose: Any) -> Transform:
     return Transform((p.x, p.y, p.z), (q.x, q.y, q.z, q.w))
 
 
+def _pose_problem(pose: Any) -> tuple[str, str] | None:
+    """Why a ``geometry_msgs/Pose`` cannot be used (:func:`~belvedere.nav._input.pose_problem`;
+    a quaternion of length 0 too), or None."""
+    p, q = pose.position, pose.orientation
+    values = [float(v) for v in (p.x, p.y, p.z, q.x, q.y, q.z, q.w)]
+    problem = pose_problem(values)
+    if problem is None and not sum(v * v for v in values[3:]) > 1e-12:
+        return "not a rotation", f"quaternion {tuple(values[3:])}"
+    return problem
+
+
 def _read(node: Node) -> dict[str, Any]:
     values = {name: node.get_param(f"~{name}", default) for name, default in PARAMETERS.items()}
     return read_like(ParamReader(values), PARAMETERS)
@@ -85,6 +99,8 @@ class _FakeLocalization:
         )
         self.pending: deque[Any] = deque()
         self.pending_pose: Any = None
+        self.tally = Tally(node.full_name, logger)
+        """Poses skipped, counted (:mod:`belvedere.nav._input`)."""
         node.subscribe("/tf", "tf2_msgs/TFMessage", self._on_tf, queue_size=100)
         node.subscribe("/tf_static", "tf2_msgs/TFMessage", self._on_tf_static, queue_size=100)
         node.subscribe(
@@ -131,6 +147,15 @@ class _FakeLocalization:
 
     def _update(self, msg: Any) -> None:
         stamp = _stamp_ns(msg)
+        problem = _pose_problem(msg.pose.pose)
+        if problem is not None:
+            why, what = problem
+            self.tally.add(
+                "skipped {count}: the true pose is " + why,
+                noun="message",
+                first=f"{stamp / NS:.3f} s: {what}",
+            )
+            return
         current = self.offset @ _pose_transform(msg.pose.pose)
         try:
             odom_base = self.buffer.lookup_transform(self.odom_frame, self.base_frame, stamp)
@@ -164,6 +189,14 @@ class _FakeLocalization:
         self.cloud_pub.publish_data({"header": header, "poses": [pose]})
 
     def _shift(self, msg: Any) -> None:
+        problem = _pose_problem(msg.pose.pose)
+        if problem is not None:
+            why, what = problem
+            at = f"{_stamp_ns(msg) / NS:.3f} s"
+            self.tally.add(
+                "ignored {count}: it is " + why, noun="initial pose", first=f"{at}: {what}"
+            )
+            return
         frame = str(msg.header.frame_id).lstrip("/")
         if frame != self.global_frame:
             logger.warning(

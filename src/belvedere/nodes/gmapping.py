@@ -10,6 +10,13 @@ Parameters: slam_gmapping's, with its defaults; see :mod:`belvedere.nav.slam._pa
 what each does here. Those that have no effect here (the particle filter's ``particles`` and
 ``resampleThreshold``) draw one warning at the node's launch line when they are set.
 
+Scans and odometry are data, not trusted geometry (:mod:`belvedere.nav._input`): a scan of
+more than 65,536 beams (``SCAN_BEAMS``), with angles that are not finite or a NaN range limit,
+or whose odometry or laser mount is not finite or farther than 1e8 m (``POSE_METRES``), is
+skipped; NaN ranges are dropped; ranges are used up to what a grid of ``GRID_CELLS`` cells
+holds around the laser (144 m at 5 cm); a scan that would grow a grid past ``GRID_CELLS`` is
+left out of the map. Each cause is one warning, counted (again at 10, 100, … times).
+
 :class:`GMappingCore` is the part without topics — scans and a TF buffer in, poses and maps
 out — which ``belvedere slam`` runs over a bag.
 """
@@ -25,10 +32,12 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from belvedere.bounded import LimitError
 from belvedere.graph import NS, Node, ServiceFailedError
 from belvedere.maps import OccupancyMap, grid_message
 from belvedere.msgs import types
-from belvedere.nav.slam import GMappingParams, LaserGeometry, ScanPose, SubmapSlam, Tuning
+from belvedere.nav._input import Tally, pose_problem, scan_problem
+from belvedere.nav.slam import GMappingParams, LaserGeometry, SubmapSlam, Tuning
 from belvedere.nodes._registry import (
     NodeSpec,
     ParamLookup,
@@ -101,8 +110,16 @@ class GMappingCore:
     ``params`` are the node's parameters (names without ``~``); unknown ones are ignored, as
     slam_gmapping does; a bad value raises ``ValueError`` naming it."""
 
-    def __init__(self, params: Mapping[str, Any], *, tuning: Tuning | None = None) -> None:
+    def __init__(
+        self,
+        params: Mapping[str, Any],
+        *,
+        tuning: Tuning | None = None,
+        tally: Tally | None = None,
+    ) -> None:
         self.params = GMappingParams.from_mapping(params)
+        self.tally = tally if tally is not None else Tally("slam_gmapping", logger)
+        """Scans skipped and readings dropped, counted (see :mod:`belvedere.nav._input`)."""
         self.without_effect = GMappingParams.without_effect(params)
         """What to warn of (once) for the parameters given that have no effect, or None."""
         self.tuning = tuning
@@ -134,15 +151,29 @@ class GMappingCore:
         """Whether the odometry at the scan's stamp is known (tf's message filter's test)."""
         return buffer.can_transform(self.odom_frame, scan.header.frame_id, stamp_ns(scan))
 
-    def process(self, scan: Any, buffer: TFBuffer) -> Processed:
-        """Map one scan whose transforms are :meth:`ready`.
+    def process(self, scan: Any, buffer: TFBuffer) -> Processed | None:
+        """Map one scan whose transforms are :meth:`ready`; None when it is skipped (counted
+        in :attr:`tally`): more than :data:`~belvedere.bounded.SCAN_BEAMS` beams, angles
+        that are not finite, a NaN range limit, a laser mount or an odometry pose that is
+        not finite or past :data:`~belvedere.bounded.POSE_METRES`, or a beam count other
+        than the first scan's.
 
         Raises:
             TFError: a transform is missing.
             LaserMountError: (first scan) the laser is not level.
-            ValueError: the scan's beam count changed.
         """
         stamp = stamp_ns(scan)
+        problem = scan_problem(
+            len(scan.ranges),
+            float(scan.angle_min),
+            float(scan.angle_increment),
+            float(scan.range_min),
+            float(scan.range_max),
+        )
+        if problem is not None:
+            why, what = problem
+            self.tally.add("skipped {count}: " + why, first=f"{stamp / NS:.3f} s: {what}")
+            return None
         odom = planar(buffer.lookup_transform(self.odom_frame, self.base_frame, stamp))
         if self.slam is None:
             frame = scan.header.frame_id
@@ -150,10 +181,20 @@ class GMappingCore:
                 base_laser = buffer.lookup_transform(self.base_frame, frame, stamp)
             except TFError:
                 base_laser = buffer.lookup_transform(self.base_frame, frame, 0)
+            mount = pose_problem([*base_laser.translation, *base_laser.quat_xyzw])
+            if mount is not None:
+                why, pose = mount
+                self.tally.add(
+                    "skipped {count}: the laser's mount on the base is " + why,
+                    first=f"{stamp / NS:.3f} s: {pose}",
+                )
+                return None
             laser = laser_geometry(scan, base_laser, self.params.maxRange)
-            self.slam = SubmapSlam(laser, self.params, self.tuning)
+            self.slam = SubmapSlam(laser, self.params, self.tuning, tally=self.tally)
             self.laser_frame = frame
-        result: ScanPose = self.slam.add_scan(stamp / NS, np.asarray(scan.ranges), odom)
+        result = self.slam.add_scan(stamp / NS, np.asarray(scan.ranges), odom)
+        if result is None:
+            return None
         done = Processed(stamp_ns=stamp, pose=result.pose, odom=odom, keyframe=result.keyframe)
         self.processed.append(done)
         return done
@@ -203,7 +244,7 @@ class _GMappingNode:
             value = node.get_param(f"~{name}", None)
             if value is not None:
                 params[name] = value
-        self.core = GMappingCore(params)
+        self.core = GMappingCore(params, tally=Tally(node.full_name, logger))
         period = float(node.get_param("~transform_publish_period", 0.05))
         self.tf_delay = float(node.get_param("~tf_delay", period))
         self.buffer = TFBuffer()
@@ -259,11 +300,15 @@ class _GMappingNode:
                     self._failed = True
                     self.pending.clear()
                 continue
-            if self.core.map_due(done):
+            if done is not None and self.core.map_due(done):
                 self._publish_map(done.stamp_ns)
 
     def _publish_map(self, stamp_ns: int) -> None:
-        grid = self.core.occupancy()
+        try:
+            grid = self.core.occupancy()
+        except LimitError as err:  # (the keyframes' checks keep it within; a last guard)
+            self._warn_once("map", f"no map: {err.message}")
+            return
         slam = self.core.slam
         if grid is None or slam is None:
             return

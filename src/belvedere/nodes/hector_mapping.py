@@ -6,6 +6,11 @@ and ``map_metadata`` every ``~map_pub_period``, ``slam_out_pose`` and ``poseupda
 ``dynamic_map`` service, and TF ``map → odom`` (from ``odom → base`` at the scan's stamp) when
 ``~pub_map_odom_transform`` — or ``map → base`` when the odom frame is the base frame, as
 hector does for a robot without odometry.
+
+Scans are data, not trusted geometry (:mod:`belvedere.nav._input`): a scan of more than 65,536
+beams (``SCAN_BEAMS``), with angles that are not finite or a NaN range limit, or whose laser
+mount is not finite or farther than 1e8 m (``POSE_METRES``), is skipped; NaN ranges are
+dropped; ``~map_size`` squared may not pass ``GRID_CELLS``. Each cause is one counted warning.
 """
 
 from __future__ import annotations
@@ -18,9 +23,11 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from belvedere.bounded import GRID_CELLS
 from belvedere.graph import NS, Node
 from belvedere.maps import OccupancyMap, grid_message
 from belvedere.msgs import types
+from belvedere.nav._input import Tally, grid_reach, pose_problem, scan_problem
 from belvedere.nav.slam import HectorParams, HectorSlam
 from belvedere.nodes._registry import (
     NodeSpec,
@@ -80,7 +87,9 @@ class HectorCore:
     points cut to the laser limits, the matcher, the map. ``params`` are the node's
     parameters (names without ``~``); a bad value raises ``ValueError`` naming it."""
 
-    def __init__(self, params: Mapping[str, Any]) -> None:
+    def __init__(self, params: Mapping[str, Any], *, tally: Tally | None = None) -> None:
+        self.tally = tally if tally is not None else Tally("hector_mapping", logger)
+        """Scans skipped and readings dropped, counted (see :mod:`belvedere.nav._input`)."""
         merged = {**PARAMETERS, **params}
         self.settings = merged
         self.base_frame = str(merged["base_frame"]).lstrip("/")
@@ -106,6 +115,12 @@ class HectorCore:
         if self.params.resolution <= 0 or self.params.size < 2:
             message = "parameters map_resolution and map_size must be positive"
             raise ValueError(message)
+        if self.params.size**2 > GRID_CELLS:
+            message = (
+                f"parameter map_size: {self.params.size:,} x {self.params.size:,} cells is more "
+                f"than the cap of {GRID_CELLS:,}"
+            )
+            raise ValueError(message)
         self.slam = HectorSlam(self.params)
         self.processed: list[Processed] = []
         self.last_stamp_ns = 0
@@ -127,16 +142,44 @@ class HectorCore:
             buffer.can_transform(self.base_frame, frame, 0)
         )
 
-    def process(self, scan: Any, buffer: TFBuffer) -> Processed:
-        """Match one scan whose laser pose is :meth:`ready` (raises TFError if it is not)."""
+    def process(self, scan: Any, buffer: TFBuffer) -> Processed | None:
+        """Match one scan whose laser pose is :meth:`ready` (raises TFError if it is not);
+        None when it is skipped (counted in :attr:`tally`): more than
+        :data:`~belvedere.bounded.SCAN_BEAMS` beams, angles that are not finite, a NaN range
+        limit, or a laser mount that is not finite or past
+        :data:`~belvedere.bounded.POSE_METRES`. NaN ranges are dropped (counted)."""
         stamp = stamp_ns(scan)
         frame = scan.header.frame_id
+        problem = scan_problem(
+            len(scan.ranges),
+            float(scan.angle_min),
+            float(scan.angle_increment),
+            float(scan.range_min),
+            float(scan.range_max),
+        )
+        if problem is not None:
+            why, what = problem
+            self.tally.add("skipped {count}: " + why, first=f"{stamp / NS:.3f} s: {what}")
+            return None
         try:
             laser = buffer.lookup_transform(self.base_frame, frame, stamp)
         except TFError:
             laser = buffer.lookup_transform(self.base_frame, frame, 0)
+        mount = pose_problem([*laser.translation, *laser.quat_xyzw])
+        if mount is not None:
+            why, where = mount
+            self.tally.add(
+                "skipped {count}: the laser's mount on the base is " + why,
+                first=f"{stamp / NS:.3f} s: {where}",
+            )
+            return None
+        ranges = np.asarray(scan.ranges, dtype=np.float64)
+        nan = int(np.count_nonzero(np.isnan(ranges)))
+        if nan:
+            self.tally.add("dropped {items} in {count}", items=nan, item="NaN range")
+        p = self.params
         points = _scan_points(
-            scan, self.params.laser_min, self.params.laser_max, laser, self.laser_z
+            scan, ranges, p.laser_min, p.laser_max, p.resolution, laser, self.laser_z
         )
         before = self.slam.updates
         pose = self.slam.process(points, (laser.translation[0], laser.translation[1]))
@@ -177,7 +220,7 @@ class _HectorNode:
             value = node.get_param(f"~{name}", None)
             if value is not None:
                 params[name] = value
-        self.core = HectorCore(params)
+        self.core = HectorCore(params, tally=Tally(node.full_name, logger))
         core = self.core
         self.base_frame, self.map_frame, self.odom_frame = (
             core.base_frame,
@@ -216,6 +259,8 @@ class _HectorNode:
             )
             return
         done = self.core.process(msg, self.buffer)
+        if done is None:
+            return
         map_base = _planar(done.pose)
         self._publish_pose(map_base, done.stamp_ns)
         if self.pub_map_odom:
@@ -285,16 +330,18 @@ def _planar(pose: npt.NDArray[np.float64]) -> Transform:
 
 def _scan_points(
     msg: Any,
+    ranges: npt.NDArray[np.float64],
     range_min: float,
     range_max: float,
+    resolution: float,
     laser: Transform,
     z_limits: tuple[float, float],
 ) -> np.ndarray[Any, np.dtype[np.float64]]:
     """The scan's valid end points in the base frame (N, 2)."""
-    ranges = np.asarray(msg.ranges, dtype=np.float64)
     angles = msg.angle_min + msg.angle_increment * np.arange(len(ranges))
     lo = max(range_min, float(msg.range_min))
-    hi = min(range_max, float(msg.range_max))
+    # (a range past what a grid within GRID_CELLS holds is no use: range_max 1e30)
+    hi = min(range_max, float(msg.range_max), grid_reach(resolution))
     ok = np.isfinite(ranges) & (ranges >= lo) & (ranges <= hi)
     r, a = ranges[ok], angles[ok]
     local = np.column_stack((r * np.cos(a), r * np.sin(a), np.zeros(len(r))))

@@ -40,6 +40,9 @@ Bounds = tuple[int, int, int, int] | None
 Window = tuple[slice, slice]
 """The part of the grid an update rewrites: (rows, columns)."""
 
+_RAY_CELLS = 1 << 22
+"""Cells of rays traced at once when clearing (a memory bound)."""
+
 
 def _bounds(cols: npt.NDArray[np.int64], rows: npt.NDArray[np.int64]) -> Bounds:
     if cols.size == 0:
@@ -358,12 +361,17 @@ class ObstacleLayer:
         j = np.floor((wy - y_lo) / grid.resolution).astype(np.int64)
         inside = (i >= 0) & (i < grid.width) & (j >= 0) & (j < grid.height)
         ends = np.column_stack([i[inside], j[inside]])
-        cols, rows = raytrace(
-            start[0], start[1], ends, _cell_distance(raytrace_range, grid.resolution)
-        )
-        ok = (cols >= 0) & (cols < grid.width) & (rows >= 0) & (rows < grid.height)
-        grid.costs[rows[ok], cols[ok]] = FREE
-        return _bounds(cols[ok], rows[ok])
+        reach = _cell_distance(raytrace_range, grid.resolution)
+        # A batch of rays at a time: each is at most the grid's width or height long, which
+        # times 65,536 beams of a long raytrace_range would not fit in memory at once.
+        batch = max(1, _RAY_CELLS // (min(reach, max(grid.width, grid.height)) + 2))
+        touched: Bounds = None
+        for first in range(0, len(ends), batch):
+            cols, rows = raytrace(start[0], start[1], ends[first : first + batch], reach)
+            ok = (cols >= 0) & (cols < grid.width) & (rows >= 0) & (rows < grid.height)
+            grid.costs[rows[ok], cols[ok]] = FREE
+            touched = union(touched, _bounds(cols[ok], rows[ok]))
+        return touched
 
     def update(self, master: CostGrid, window: Window | None = None) -> None:
         """Write this layer's cells of ``window`` (all by default) into the master."""

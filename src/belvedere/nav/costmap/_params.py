@@ -22,6 +22,7 @@ from typing import Any, Final
 import numpy as np
 import numpy.typing as npt
 
+from belvedere.bounded import GRID_CELLS
 from belvedere.nav.costmap._footprint import footprint_from_params, pad_footprint
 
 __all__ = [
@@ -369,6 +370,15 @@ class CostmapParams:
         )
         padding = root.number("footprint_padding", 0.01)
         unpadded = footprint_from_params(values.get("footprint"), values.get("robot_radius", 0.46))
+        width, height = root.positive("width", 10), root.positive("height", 10)
+        resolution = root.positive("resolution", 0.05)
+        cells = float(np.floor(width / resolution) * np.floor(height / resolution))
+        if not cells <= GRID_CELLS:  # (NaN and inf too)
+            message = (
+                f"parameters width, height, resolution: a costmap of {cells:,.0f} cells, more "
+                f"than the cap of {GRID_CELLS:,}"
+            )
+            raise ValueError(message)
         return cls(
             global_frame=root.text("global_frame", "map").lstrip("/"),
             robot_base_frame=root.text("robot_base_frame", "base_link").lstrip("/"),
@@ -378,9 +388,9 @@ class CostmapParams:
             rolling_window=root.flag("rolling_window", False),
             track_unknown_space=track_unknown,
             always_send_full_costmap=root.flag("always_send_full_costmap", False),
-            width=root.positive("width", 10),
-            height=root.positive("height", 10),
-            resolution=root.positive("resolution", 0.05),
+            width=width,
+            height=height,
+            resolution=resolution,
             origin_x=root.number("origin_x", 0.0),
             origin_y=root.number("origin_y", 0.0),
             footprint=pad_footprint(unpadded, padding),

@@ -18,13 +18,63 @@ from collections.abc import Iterator
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["FieldGrid", "FreeGrid"]
+from belvedere.bounded import GRID_CELLS, LimitError
+
+__all__ = ["FieldGrid", "FreeGrid", "GridLimitError"]
 
 Array = npt.NDArray[np.float64]
 Grid = npt.NDArray[np.float32]
 
 _GROW_MARGIN = 10.0
 """Metres added around the needed area whenever a grid grows (so that it grows seldom)."""
+
+_BATCH_SAMPLES = 1 << 21
+"""Samples along beams placed at once when counting crossings (a memory bound: 65,536 beams
+of 144 m would otherwise take 2 GiB)."""
+
+
+class GridLimitError(LimitError):
+    """A grid that would grow past :data:`GRID_CELLS`: to ``cells``."""
+
+    def __init__(self, cells: float) -> None:
+        self.cells = cells
+        size = f"{cells:,.0f}" if math.isfinite(cells) else str(cells)
+        super().__init__(f"a grid of {size} cells, more than the cap of {GRID_CELLS:,}")
+
+
+def _layout(
+    origin: Array | None, res: float, lo: Array, hi: Array, margin: float
+) -> tuple[Array, int, int]:
+    """A grid's origin, rows and columns holding ``[lo, hi]`` plus ``margin`` (keeping the
+    cell boundaries of ``origin`` when there is one); less margin, down to none, when the
+    margin would take the grid past :data:`GRID_CELLS`.
+
+    Raises:
+        GridLimitError: even without a margin, more than :data:`GRID_CELLS` cells.
+    """
+    for m in (margin, 0.0):
+        if origin is not None:
+            new_lo = origin + np.floor((lo - m - origin) / res) * res
+        else:
+            new_lo = np.floor((lo - m) / res) * res
+        cols = np.ceil((hi[0] + m - new_lo[0]) / res)
+        rows = np.ceil((hi[1] + m - new_lo[1]) / res)
+        cells = float(rows * cols)
+        if cells <= GRID_CELLS:  # (False for NaN)
+            return new_lo, int(rows), int(cols)
+    raise GridLimitError(cells)
+
+
+def _batches(steps: npt.NDArray[np.int64], budget: int) -> Iterator[slice]:
+    """Consecutive runs of items whose ``steps`` sum to about ``budget`` (at least one each)."""
+    cum = np.cumsum(steps)
+    begin = 0
+    done = 0
+    while begin < len(steps):
+        end = max(begin + 1, int(np.searchsorted(cum, done + budget, side="right")))
+        yield slice(begin, end)
+        done = int(cum[end - 1])
+        begin = end
 
 
 class FieldGrid:
@@ -58,36 +108,44 @@ class FieldGrid:
         return self.origin.copy(), self.origin + size
 
     def _ensure(self, lo: Array, hi: Array) -> None:
-        pad = (self.radius + 2) * self.resolution
-        lo = lo - pad
-        hi = hi + pad
-        have_lo, have_hi = self.bounds()
-        if self.hits.size and np.all(lo >= have_lo) and np.all(hi <= have_hi):
+        layout = self.layout(lo, hi)
+        if layout is None:
             return
-        if self.hits.size:
-            lo = np.minimum(lo, have_lo)
-            hi = np.maximum(hi, have_hi)
-        res = self.resolution
-        # Grow by whole cells so that old cells keep their boundaries, and by a margin that
-        # grows with the grid (so that a grid growing step by step is copied seldom).
-        margin = _GROW_MARGIN
-        if self.hits.size:
-            margin = max(margin, 0.25 * float(np.max(have_hi - have_lo)))
-            new_lo = self.origin + np.floor((lo - margin - self.origin) / res) * res
-        else:
-            new_lo = np.floor((lo - margin) / res) * res
-        cols = math.ceil((hi[0] + margin - new_lo[0]) / res)
-        rows = math.ceil((hi[1] + margin - new_lo[1]) / res)
+        new_lo, rows, cols = layout
         hits = np.zeros((rows, cols), dtype=np.float32)
         field = np.zeros((rows, cols))
         if self.hits.size:
-            di, dj = np.rint((self.origin - new_lo) / res).astype(int)
+            di, dj = np.rint((self.origin - new_lo) / self.resolution).astype(int)
             h, w = self.shape
             hits[dj : dj + h, di : di + w] = self.hits
             field[dj : dj + h, di : di + w] = self.field
         self.origin = new_lo
         self.hits = hits
         self.field = field
+
+    def layout(self, lo: Array, hi: Array) -> tuple[Array, int, int] | None:
+        """The origin, rows and columns the grid takes to hold points in ``[lo, hi]`` (None:
+        it holds them already), never more than :data:`GRID_CELLS` cells.
+
+        Raises:
+            GridLimitError: holding them takes more cells than that.
+        """
+        pad = (self.radius + 2) * self.resolution
+        lo = lo - pad
+        hi = hi + pad
+        have_lo, have_hi = self.bounds()
+        if self.hits.size and np.all(lo >= have_lo) and np.all(hi <= have_hi):
+            return None
+        if self.hits.size:
+            lo = np.minimum(lo, have_lo)
+            hi = np.maximum(hi, have_hi)
+        # Grow by whole cells so that old cells keep their boundaries, and by a margin that
+        # grows with the grid (so that a grid growing step by step is copied seldom).
+        margin = _GROW_MARGIN
+        if self.hits.size:
+            margin = max(margin, 0.25 * float(np.max(have_hi - have_lo)))
+        origin = self.origin if self.hits.size else None
+        return _layout(origin, self.resolution, lo, hi, margin)
 
     def insert(self, points: Array, *, undoable: bool = False) -> None:
         """Add end points ``(N, 2)`` given in the grid's frame; ``undoable`` keeps what they
@@ -223,27 +281,36 @@ class FreeGrid:
         self.counts: npt.NDArray[np.int32] = np.zeros((0, 0), dtype=np.int32)
 
     def _ensure(self, lo: Array, hi: Array) -> None:
+        layout = self.layout(lo, hi)
+        if layout is None:
+            return
+        new_lo, rows, cols = layout
+        counts = np.zeros((rows, cols), dtype=np.int32)
+        if self.counts.size:
+            h, w = self.counts.shape
+            di, dj = np.rint((self.origin - new_lo) / self.resolution).astype(int)
+            counts[dj : dj + h, di : di + w] = self.counts
+        self.origin = new_lo
+        self.counts = counts
+
+    def layout(self, lo: Array, hi: Array) -> tuple[Array, int, int] | None:
+        """As :meth:`FieldGrid.layout`: the grid's new origin, rows and columns to hold
+        ``[lo, hi]``, or None.
+
+        Raises:
+            GridLimitError: that takes more than :data:`GRID_CELLS` cells.
+        """
         res = self.resolution
         h, w = self.counts.shape
         have_hi = self.origin + np.array([w, h]) * res
         if self.counts.size and np.all(lo >= self.origin) and np.all(hi < have_hi):
-            return
+            return None
         margin = _GROW_MARGIN
         if self.counts.size:
             lo = np.minimum(lo, self.origin)
             hi = np.maximum(hi, have_hi)
             margin = max(margin, 0.25 * float(np.max(have_hi - self.origin)))
-            new_lo = self.origin + np.floor((lo - margin - self.origin) / res) * res
-        else:
-            new_lo = np.floor((lo - margin) / res) * res
-        cols = math.ceil((hi[0] + margin - new_lo[0]) / res)
-        rows = math.ceil((hi[1] + margin - new_lo[1]) / res)
-        counts = np.zeros((rows, cols), dtype=np.int32)
-        if self.counts.size:
-            di, dj = np.rint((self.origin - new_lo) / res).astype(int)
-            counts[dj : dj + h, di : di + w] = self.counts
-        self.origin = new_lo
-        self.counts = counts
+        return _layout(self.origin if self.counts.size else None, res, lo, hi, margin)
 
     def add_beams(self, sensor: Array, ends: Array, short: float) -> None:
         """Beams from ``sensor`` (2,) to ``ends`` (N, 2), all in the grid's frame, each
@@ -259,14 +326,29 @@ class FreeGrid:
         unit = d / (length + short)[:, None]
         steps = np.ceil(length / self.resolution).astype(np.int64)
         self._ensure(np.minimum(ends.min(axis=0), sensor), np.maximum(ends.max(axis=0), sensor))
+        w = self.counts.shape[1]
+        total = int(steps.sum())
+        if total <= _BATCH_SAMPLES:
+            flat = np.unique(self._cells(sensor, unit, steps, w))  # once per beam set is enough
+            self.counts.reshape(-1)[flat] += 1
+            return
+        # A scan of many long beams: a batch of beams at a time, their cells marked once.
+        crossed = np.zeros(self.counts.size, dtype=bool)
+        for part in _batches(steps, _BATCH_SAMPLES):
+            crossed[self._cells(sensor, unit[part], steps[part], w)] = True
+        self.counts.reshape(-1)[crossed] += 1
+
+    def _cells(
+        self, sensor: Array, unit: Array, steps: npt.NDArray[np.int64], width: int
+    ) -> npt.NDArray[np.int64]:
+        """The flat cells of samples every cell along each beam (with repeats)."""
         ray = np.repeat(np.arange(len(steps)), steps)
         first = np.cumsum(steps) - steps
         t = (np.arange(int(steps.sum())) - first[ray]) * self.resolution
         pts = sensor + unit[ray] * t[:, None]
         ij = np.floor((pts - self.origin) / self.resolution).astype(np.int64)
-        w = self.counts.shape[1]
-        flat = np.unique(ij[:, 1] * w + ij[:, 0])  # once per beam set is enough
-        self.counts.reshape(-1)[flat] += 1
+        flat: npt.NDArray[np.int64] = ij[:, 1] * width + ij[:, 0]
+        return flat
 
     def at(self, points: Array) -> npt.NDArray[np.int32]:
         """Crossing counts at points (N, 2) (0 off the grid)."""

@@ -20,6 +20,9 @@ __all__ = ["HectorParams", "HectorSlam", "LogOddsGrid"]
 
 Array = npt.NDArray[np.float64]
 
+_BATCH_SAMPLES = 1 << 22
+"""Samples along rays placed at once when a scan updates the map (a memory bound)."""
+
 
 def _log_odds(p: float) -> float:
     return math.log(p / (1.0 - p))
@@ -90,27 +93,37 @@ class LogOddsGrid:
         self, origin_xy: tuple[float, float], ends: Array, free: float, occupied: float
     ) -> None:
         """Rays from ``origin_xy`` to each of ``ends`` (N, 2, world): cells passed are more
-        likely free, end cells more likely occupied; each cell changes once per scan."""
+        likely free, end cells more likely occupied; each cell changes once per scan.
+
+        Only the stretch of each ray over the map is sampled, a batch of rays at a time: the
+        work is bounded by the map's size, not by how far the rays go."""
         if len(ends) == 0:
             return
         start = self.to_cells(np.asarray([origin_xy]))[0]
         stop = self.to_cells(ends)
         span = stop - start
-        steps = np.maximum(np.ceil(np.abs(span).max(axis=1) * 2.0).astype(np.int64), 1)
-        longest = int(steps.max())
-        k = np.arange(longest, dtype=np.float64)[None, :]
-        # half-cell samples along every ray (N, longest), cut at each ray's own end
-        t = k / steps[:, None]
-        px = start[0] + span[:, :1] * t
-        py = start[1] + span[:, 1:] * t
-        keep = t < 1.0
-        fx = np.floor(px[keep]).astype(np.int64)
-        fy = np.floor(py[keep]).astype(np.int64)
+        # half-cell samples along every ray, k / steps of the way for k in [0, steps)
+        steps = np.maximum(np.ceil(np.abs(span).max(axis=1) * 2.0), 1.0)
+        first, last = self._on_map(start, span, steps)
+        # (a ray crosses the map in at most 2·√2·size half-cells: a bound whatever the floats)
+        count = np.clip(last - first, 0, 3 * self.size + 4).astype(np.int64)
+        size = self.size
+        if int(count.sum()) <= _BATCH_SAMPLES:
+            free_cells = np.unique(self._samples(start, span, steps, first, count))
+        else:
+            passed = np.zeros(size * size, dtype=bool)
+            cum = np.cumsum(count)
+            begin = 0
+            while begin < len(count):
+                end = max(begin + 1, int(np.searchsorted(cum, cum[begin] + _BATCH_SAMPLES)))
+                part = slice(begin, end)
+                passed[self._samples(start, span[part], steps[part], first[part], count[part])] = (
+                    True
+                )
+                begin = end
+            free_cells = np.flatnonzero(passed)
         ex = np.floor(stop[:, 0]).astype(np.int64)
         ey = np.floor(stop[:, 1]).astype(np.int64)
-        size = self.size
-        on = (fx >= 0) & (fy >= 0) & (fx < size) & (fy < size)
-        free_cells = np.unique(fy[on] * size + fx[on])
         on = (ex >= 0) & (ey >= 0) & (ex < size) & (ey < size)
         end_cells = np.unique(ey[on] * size + ex[on])
         free_cells = np.setdiff1d(free_cells, end_cells, assume_unique=True)
@@ -118,6 +131,44 @@ class LogOddsGrid:
         flat[free_cells] += free
         flat[end_cells] += occupied
         np.clip(flat, -50.0, 50.0, out=flat)
+
+    def _on_map(self, start: Array, span: Array, steps: Array) -> tuple[Array, Array]:
+        """For each ray, the samples ``k`` in ``[first, last)`` that can fall on the map
+        (a superset: the rest of ``[0, steps)`` surely falls off it)."""
+        lo = np.zeros(len(span))
+        hi = np.ones(len(span))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            for axis in (0, 1):
+                d = span[:, axis]
+                a = (0.0 - start[axis]) / d
+                b = (self.size - start[axis]) / d
+                flat = d == 0
+                inside = 0.0 <= start[axis] < self.size
+                lo = np.where(flat, lo if inside else 1.0, np.maximum(lo, np.minimum(a, b)))
+                hi = np.where(flat, hi, np.minimum(hi, np.maximum(a, b)))
+        first = np.clip(np.floor(lo * steps) - 1.0, 0.0, steps)
+        last = np.clip(np.ceil(hi * steps) + 1.0, 0.0, steps)
+        return first, np.where(hi < lo, first, last)
+
+    def _samples(
+        self,
+        start: Array,
+        span: Array,
+        steps: Array,
+        first: Array,
+        count: npt.NDArray[np.int64],
+    ) -> npt.NDArray[np.int64]:
+        """The flat cells (on the map) of samples ``first .. first + count`` of each ray."""
+        ray = np.repeat(np.arange(len(count)), count)
+        offset = np.cumsum(count) - count
+        k = first[ray] + (np.arange(int(count.sum())) - offset[ray])
+        t = k / steps[ray]
+        fx = np.floor(start[0] + span[ray, 0] * t).astype(np.int64)
+        fy = np.floor(start[1] + span[ray, 1] * t).astype(np.int64)
+        size = self.size
+        on = (fx >= 0) & (fy >= 0) & (fx < size) & (fy < size)
+        cells: npt.NDArray[np.int64] = fy[on] * size + fx[on]
+        return cells
 
 
 def _prob(log_odds: npt.NDArray[np.float32]) -> Array:
@@ -204,9 +255,11 @@ def _gauss_newton_step(
     )
     hessian = jacobian.T @ jacobian
     rhs = jacobian.T @ residual
-    if abs(np.linalg.det(hessian)) < 1e-12:
+    if not abs(np.linalg.det(hessian)) >= 1e-12:  # (NaN too)
         return None, None
     step = np.asarray(np.linalg.solve(hessian, rhs), dtype=np.float64)
+    if not np.isfinite(step).all():
+        return None, None
     return step, hessian
 
 

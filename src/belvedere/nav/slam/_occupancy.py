@@ -13,6 +13,7 @@ import math
 import numpy as np
 import numpy.typing as npt
 
+from belvedere.bounded import GRID_CELLS, LimitError
 from belvedere.maps import OccupancyMap
 
 __all__ = ["OccupancyCounts"]
@@ -32,8 +33,18 @@ class OccupancyCounts:
         self.origin = np.array([xmin, ymin], dtype=np.float64)
         cols = max(1, math.ceil((xmax - xmin) / resolution))
         rows = max(1, math.ceil((ymax - ymin) / resolution))
+        if rows * cols > GRID_CELLS:
+            message = f"a map of {rows * cols:,} cells, more than the cap of {GRID_CELLS:,}"
+            raise LimitError(message)
         self.visits = np.zeros((rows, cols), dtype=np.int32)
         self.hits = np.zeros((rows, cols), dtype=np.int32)
+
+    @staticmethod
+    def cells_for(resolution: float, lo: Array, hi: Array) -> float:
+        """At most how many cells a map holding ``[lo, hi]`` has (as it grows by whole cells
+        from wherever it began inside that box)."""
+        size = np.ceil((hi - lo) / resolution) + 3
+        return float(size[0] * size[1])
 
     def _grow(self, lo: Array, hi: Array) -> None:
         res = self.resolution
@@ -41,8 +52,14 @@ class OccupancyCounts:
         have_hi = self.origin + np.array([cols, rows]) * res
         if np.all(lo >= self.origin) and np.all(hi < have_hi):
             return
-        extra_lo = np.maximum(np.ceil((self.origin - lo) / res), 0).astype(int)
-        extra_hi = np.maximum(np.ceil((hi - have_hi) / res) + 1, 0).astype(int)
+        extra_lo = np.maximum(np.ceil((self.origin - lo) / res), 0)
+        extra_hi = np.maximum(np.ceil((hi - have_hi) / res) + 1, 0)
+        cells = float((rows + extra_lo[1] + extra_hi[1]) * (cols + extra_lo[0] + extra_hi[0]))
+        if not cells <= GRID_CELLS:  # (NaN too)
+            message = f"a map of {cells:,.0f} cells, more than the cap of {GRID_CELLS:,}"
+            raise LimitError(message)
+        extra_lo = extra_lo.astype(int)
+        extra_hi = extra_hi.astype(int)
         pad = ((int(extra_lo[1]), int(extra_hi[1])), (int(extra_lo[0]), int(extra_hi[0])))
         self.visits = np.pad(self.visits, pad)
         self.hits = np.pad(self.hits, pad)

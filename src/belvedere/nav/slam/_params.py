@@ -65,6 +65,8 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from belvedere.bounded import GRID_CELLS
+
 __all__ = ["GMappingParams"]
 
 _WITHOUT_EFFECT = (
@@ -194,4 +196,13 @@ class GMappingParams:
             raise ValueError(message)
         if self.xmax <= self.xmin or self.ymax <= self.ymin:
             message = "parameters xmin/xmax, ymin/ymax: the map's extent is empty"
+            raise ValueError(message)
+        cells = math.ceil((self.xmax - self.xmin) / self.delta) * math.ceil(
+            (self.ymax - self.ymin) / self.delta
+        )
+        if cells > GRID_CELLS:
+            message = (
+                f"parameters xmin/xmax, ymin/ymax, delta: a map of {cells:,} cells, more than "
+                f"the cap of {GRID_CELLS:,}"
+            )
             raise ValueError(message)

@@ -19,6 +19,9 @@ seconds and minutes. The design follows Cartographer's 2D mapper in miniature:
 * **Map.** The occupancy grid is traced from the keyframes at their optimised poses, with
   GMapping's counting (:mod:`._occupancy`).
 
+* **Input** is data (:mod:`belvedere.nav._input`): no grid passes ``GRID_CELLS`` (a keyframe
+  that would grow one is left out of the map), bad odometry skips a scan (counted).
+
 Plain arrays in, plain arrays out; deterministic (no random numbers at all).
 """
 
@@ -27,13 +30,15 @@ from __future__ import annotations
 import contextlib
 import logging
 import math
-from dataclasses import dataclass, field
 
 import numpy as np
 import numpy.typing as npt
 
-from belvedere.maps import OccupancyMap
-from belvedere.nav.slam._grid import FieldGrid, FreeGrid
+from belvedere.bounded import GRID_CELLS
+from belvedere.nav._input import Tally, grid_reach, pose_problem
+from belvedere.nav.slam._grid import FieldGrid, FreeGrid, GridLimitError
+from belvedere.nav.slam._loops import LoopClosing
+from belvedere.nav.slam._map import MapDrawing
 from belvedere.nav.slam._match import Match, refine
 from belvedere.nav.slam._occupancy import OccupancyCounts
 from belvedere.nav.slam._params import GMappingParams
@@ -41,6 +46,16 @@ from belvedere.nav.slam._posegraph import PoseGraph
 from belvedere.nav.slam._proposal import sampled_covariance
 from belvedere.nav.slam._se2 import between, compose, inverse, transform_points
 from belvedere.nav.slam._search import SearchPyramid
+from belvedere.nav.slam._types import (
+    LaserGeometry,
+    ScanPose,
+    Tuning,
+    _Closure,
+    _Keyframe,
+    _LastMatch,
+    _State,
+    _Submap,
+)
 
 __all__ = ["LaserGeometry", "ScanPose", "SubmapSlam", "Tuning"]
 
@@ -49,228 +64,7 @@ logger = logging.getLogger("belvedere.nav.slam")
 Array = npt.NDArray[np.float64]
 
 
-@dataclass(frozen=True)
-class LaserGeometry:
-    """Where the beams point, in the base frame (the laser assumed level)."""
-
-    directions: Array
-    """(B, 2) unit vectors, one per beam in the scan's order."""
-    origin: Array
-    """(2,) the laser's position on the base."""
-    range_min: float
-    range_max: float
-
-    @classmethod
-    def planar(
-        cls,
-        angle_min: float,
-        angle_increment: float,
-        count: int,
-        range_min: float,
-        range_max: float,
-        laser_pose: tuple[float, float, float] = (0.0, 0.0, 0.0),
-        upside_down: bool = False,
-    ) -> LaserGeometry:
-        """Beams of a ``LaserScan`` from a laser at ``laser_pose`` (x, y, yaw) on the base;
-        ``upside_down`` mirrors them (a laser mounted with its z axis down)."""
-        angles = angle_min + np.arange(count) * angle_increment
-        if upside_down:
-            angles = -angles
-        yaw = laser_pose[2]
-        directions = np.stack([np.cos(angles + yaw), np.sin(angles + yaw)], axis=1)
-        return cls(
-            directions=directions,
-            origin=np.array(laser_pose[:2], dtype=np.float64),
-            range_min=float(range_min),
-            range_max=float(range_max),
-        )
-
-
-@dataclass(frozen=True)
-class Tuning:
-    """Constants of this mapper that GMapping has no parameter for."""
-
-    submap_keyframes: int = 20
-    field_sigma: float | None = None
-    """Standard deviation (m) of the likelihood field; None: from ``sigma``."""
-    field_radius: int | None = None
-    """Kernel radius in cells; None: from ``kernelSize``."""
-    field_saturation: float = 1.5
-    """End points in a cell for its full weight. A wall seen once weighs 1/this: the part
-    of a wall only the last keyframe saw is a lower ridge, whose slope drags the next scans
-    back along the wall (towards the parts seen more often)."""
-    prior_floor_xy: float = 0.02
-    prior_floor_theta: float = 0.05
-    """The odometry prior's least standard deviation per scan (m, rad): loose enough that
-    a match seeing little (a short ``maxUrange``) is not pulled along with the odometry's
-    heading creep."""
-    loop_radius: float = 4.0
-    """Finished submaps with a keyframe this near (m) are searched for loop closures."""
-    loop_min_score: float = 0.45
-    loop_window_xy: tuple[float, float, float] = (0.3, 0.08, 5.0)
-    """Linear window: base (m), growth per metre travelled since the last closure, cap."""
-    loop_window_theta: tuple[float, float, float] = (0.05, 0.0035, 0.35)
-    loop_max_range: float = 20.0
-    """Beams used to search for closures are cut to this range (m) (finer angular steps
-    would otherwise be needed)."""
-    loop_points: int = 90
-    loop_sigma_xy: float = 0.05
-    loop_sigma_theta: float = 0.01
-    loop_huber: float = 3.0
-    """Loop edges cost linearly beyond this Mahalanobis distance when the graph is
-    optimised (a Huber kernel, as Cartographer's): a wrong closure that got this far pulls
-    the graph with a bounded force, too weak to bend it, and is then dropped by
-    ``loop_max_error``."""
-    loop_min_travel: float = 15.0
-    """Submaps nearer than this along the graph (m) are not searched for closures."""
-    loop_min_ratio: float = 0.1
-    """Closures whose translational information is this lopsided (corridors) are dropped."""
-    loop_max_chi2: float = 100.0
-    """Closures adding more than this to the graph's χ² (after optimising) are refused:
-    their correction lies that far (squared, Mahalanobis) outside the drift the chain
-    edges allow between their ends."""
-    loop_max_error: float = 8.0
-    """After optimising, a new closure this far (Mahalanobis) from the graph is dropped."""
-    loop_max_contradiction: float = 0.2
-    """A closure whose end points fall in the submap's free space more than this share of
-    those the submap knows about is dropped."""
-    free_cells: int = 4
-    """The free-space grid's cells, in map cells."""
-    covered_min: float = 0.5
-    """The scan is matched with its points inside the submap's mapped range only, unless
-    fewer than this share of them are."""
-    free_short: float = 0.4
-    """Beams count as passing up to this far (m) before their end."""
-    loop_ambiguity: float = 0.9
-    """A closure whose scan fits another pose in the window nearly as well (this fraction of
-    the best score) is dropped. At 0.8, a short-range scan in a corridor (its two long walls
-    most of its points) always had a second peak half a metre along and no closure was made;
-    the contradiction check, the graph's error and its χ² gate stand behind this one."""
-    agree_xy: float = 0.1
-    agree_theta: float = 0.01
-    """A closure moving its keyframe less than this agrees with the graph: accepted."""
-    consistent_xy: float = 0.25
-    consistent_theta: float = 0.025
-    consistent_rate: float = 0.1
-    """Two closures asking for corrections this close confirm each other (the linear part
-    grows by this fraction of the correction asked for)."""
-    pending_travel: float = 30.0
-    """How long (metres travelled) a closure waits for confirmation."""
-    loop_length: float = 1.0
-    """A loop edge's length for the search windows (metres of travel it stands for)."""
-    chain_sigma_xy: tuple[float, float] = (0.01, 0.01)
-    """Submap chain edge: base (m), growth per metre."""
-    chain_sigma_theta: tuple[float, float] = (0.002, 0.002)
-    search_depth: int = 6
-    optimize_error: float = 2.0
-    """New loop edges this far (Mahalanobis) from the graph's estimate: optimise at once."""
-    optimize_every: int = 10
-    """Otherwise optimise after this many new loop edges."""
-    optimize_iterations: int = 4
-
-
-@dataclass(frozen=True)
-class ScanPose:
-    """The result of one scan: the base's pose in the map frame, whether the scan was added
-    to the map (a keyframe), and the match's quality."""
-
-    pose: Array
-    keyframe: bool
-    score: float
-
-
-@dataclass
-class _Submap:
-    grid: FieldGrid
-    anchor: tuple[int, Array] | None
-    """(submap, pose in it) this one was created at."""
-    keyframes: int = 0
-    pyramid: SearchPyramid | None = None
-    finished: bool = False
-    free: FreeGrid | None = None
-    """Where the submap's keyframes' beams passed (coarse)."""
-    sensors: Array = field(default_factory=lambda: np.zeros((0, 2)))
-    """Where the laser was (submap frame) for each keyframe inserted."""
-
-
-@dataclass
-class _Keyframe:
-    stamp: float
-    ranges: npt.NDArray[np.float32]
-    home: int
-    local: Array
-    search: Array
-    """The (subsampled, range-limited) points used to search for loop closures."""
-    other: int = -1
-    weight: float = 0.0
-    travel: float = 0.0
-    """Metres travelled (by odometry) when it was taken."""
-
-
-@dataclass(eq=False)
-class _Closure:
-    keyframe: int
-    submap: int
-    measurement: Array
-    """The keyframe's home submap seen from ``submap``."""
-    information: Array
-    """Of the keyframe's pose in ``submap`` (its own frame's axes)."""
-
-
-def _moved_information(information: Array, local: Array) -> Array:
-    """The information of ``z = m ∘ local⁻¹`` (the home submap seen from the old one) given
-    that of ``m`` (the keyframe seen from the old one) in the keyframe's own axes: the same
-    uncertainty, carried from the keyframe's origin to the home submap's."""
-    # δz ≈ J δm with δm in the keyframe's axes; z's error is taken in z's axes.
-    c, s = math.cos(local[2]), math.sin(local[2])
-    lx, ly = local[0], local[1]
-    inv_local = np.array([-(c * lx + s * ly), s * lx - c * ly])
-    # Moving the keyframe by δm (its axes) moves z's origin by R(δθ)·inv_local + δt,
-    # seen in z's axes: rotate the keyframe's axes into z's by -local's angle.
-    rot = np.array([[c, s], [-s, c]])
-    jac = np.eye(3)
-    jac[:2, :2] = rot.T
-    jac[:2, 2] = rot.T @ np.array([-inv_local[1], inv_local[0]])
-    cov = jac @ np.linalg.inv(information) @ jac.T
-    return np.asarray(np.linalg.inv(cov))
-
-
-@dataclass
-class _LastMatch:
-    """What the pose's covariance is computed from when it is asked for (not before: a run
-    that never asks pays nothing for it)."""
-
-    submap: int
-    version: int
-    """The submap's grid's :attr:`~FieldGrid.version` the scan was matched against."""
-    pose: Array
-    """The match, in the submap's frame."""
-    points: Array
-    """The end points matched (the base's frame)."""
-    information: Array
-    variance: float
-    """The match's least-squares information and its residuals' variance."""
-    covariance: Array | None = None
-    """Once computed (the submap's frame)."""
-
-
-@dataclass
-class _State:
-    scans_stamp: list[float] = field(default_factory=list)
-    scans_home: list[int] = field(default_factory=list)
-    scans_local: list[Array] = field(default_factory=list)
-    scans_other: list[int] = field(default_factory=list)
-    scans_weight: list[float] = field(default_factory=list)
-
-
-def _degenerate(hessian: Array, ratio: float) -> bool:
-    """Whether a match pins its translation down in one direction only."""
-    block = hessian[:2, :2]
-    eig = np.linalg.eigvalsh(block)
-    return bool(eig[0] <= ratio * max(eig[1], 1e-12))
-
-
-class SubmapSlam:
+class SubmapSlam(LoopClosing, MapDrawing):
     """Feed :meth:`add_scan` with each scan's ranges and the base's odometry pose; read
     :meth:`pose`, :meth:`trajectory`, :meth:`occupancy`."""
 
@@ -279,16 +73,32 @@ class SubmapSlam:
         laser: LaserGeometry,
         params: GMappingParams | None = None,
         tuning: Tuning | None = None,
+        *,
+        tally: Tally | None = None,
     ) -> None:
         self.params = params = params or GMappingParams()
         self.tuning = tuning = tuning or Tuning()
-        self.laser = laser
+        self.tally = tally if tally is not None else Tally("slam", logger)
+        """Where scans and keyframes left out are counted (see :mod:`belvedere.nav._input`)."""
+        self.laser = laser.checked()
         self.max_range = params.maxRange if params.maxRange is not None else laser.range_max - 0.01
         self.max_urange = params.maxUrange if params.maxUrange is not None else self.max_range
+        self.max_range, self.max_urange = max(self.max_range, 0.0), max(self.max_urange, 0.0)
         self.resolution = params.delta
         sigma = tuning.field_sigma if tuning.field_sigma is not None else params.sigma
         radius = tuning.field_radius if tuning.field_radius is not None else params.kernelSize + 2
         self._field = (sigma, radius)
+        reach = grid_reach(self.resolution, radius + 2)
+        if max(self.max_range, self.max_urange) > reach:
+            # A beam longer than a grid of GRID_CELLS cells can hold is no use to any grid
+            # (range_max 1e30 in a downloaded bag). Shorter beams are unaffected.
+            self.tally.once(
+                f"uses ranges up to {reach:.0f} m, the most a grid of {GRID_CELLS:,} cells at "
+                f"{self.resolution:g} m holds around the laser (its range_max is "
+                f"{laser.range_max:g} m)"
+            )
+            self.max_range = min(self.max_range, reach)
+            self.max_urange = min(self.max_urange, reach)
         self.submaps: list[_Submap] = []
         self.keyframes: list[_Keyframe] = []
         self.graph = PoseGraph()
@@ -312,6 +122,12 @@ class SubmapSlam:
         self._travel = 0.0
         self._map: OccupancyCounts | None = None
         self._map_poses = np.zeros((0, 3))
+        self._map_partial = False
+        """Whether the map was traced from some keyframes only (retraced in full next)."""
+        self._map_lo = np.array([params.xmin, params.ymin], dtype=np.float64)
+        self._map_hi = np.array([params.xmax, params.ymax], dtype=np.float64)
+        """The box the map may grow to: its keyframes' reach around their poses when they
+        were added (each added only if the box stays within :data:`GRID_CELLS`)."""
 
     # ------------------------------------------------------------------ scans
 
@@ -326,14 +142,34 @@ class SubmapSlam:
         pts = laser.origin + laser.directions[usable] * rr[:, None]
         return pts, usable
 
-    def add_scan(self, stamp: float, ranges: Array, odom: Array) -> ScanPose:
+    def add_scan(self, stamp: float, ranges: Array, odom: Array) -> ScanPose | None:
         """One scan: its stamp (s), its ranges (as in the ``LaserScan``), and the base's
-        pose in the odometry frame at that stamp."""
+        pose in the odometry frame at that stamp.
+
+        Input is data, not trusted geometry (each case counted in :attr:`tally`): a scan
+        whose beam count is not the first scan's, or whose odometry pose is not finite or
+        past :data:`~belvedere.bounded.POSE_METRES`, is skipped (None); NaN ranges are
+        dropped; a scan that would grow a grid past :data:`GRID_CELLS` is matched but left
+        out of the map (not a keyframe)."""
         ranges = np.asarray(ranges, dtype=np.float64)
         odom = np.asarray(odom, dtype=np.float64)
         if len(ranges) != len(self.laser.directions):
-            message = f"a scan of {len(ranges)} beams, expected {len(self.laser.directions)}"
-            raise ValueError(message)
+            self.tally.add(
+                "skipped {count}: their beam count differs from the first scan's "
+                f"{len(self.laser.directions):,}",
+                first=f"{stamp:.3f} s: {len(ranges):,} beams",
+            )
+            return None
+        problem = pose_problem(odom.tolist())
+        if problem is not None:
+            why, pose = problem
+            self.tally.add(
+                "skipped {count}: their odometry pose is " + why, first=f"{stamp:.3f} s: {pose}"
+            )
+            return None
+        nan = int(np.count_nonzero(np.isnan(ranges)))
+        if nan:
+            self.tally.add("dropped {items} in {count}", items=nan, item="NaN range")
         pts, usable = self._points(ranges)
         skip = self.params.lskip + 1
         match_pts = pts if skip == 1 else pts[np.flatnonzero(usable)[: len(pts)] % skip == 0]
@@ -341,8 +177,8 @@ class SubmapSlam:
             self._start(odom)
             self._last_odom = odom
             self._remember(stamp)
-            self._add_keyframe(stamp, ranges, pts)
-            return ScanPose(pose=self.pose(), keyframe=True, score=1.0)
+            added = self._add_keyframe(stamp, ranges, pts)
+            return ScanPose(pose=self.pose(), keyframe=added, score=1.0)
         motion = between(self._last_odom, odom)
         self._last_odom = odom
         dist = math.hypot(motion[0], motion[1])
@@ -365,7 +201,7 @@ class SubmapSlam:
             or (p.temporalUpdate >= 0 and stamp - self._last_keyframe_stamp > p.temporalUpdate)
         )
         if keyframe:
-            self._add_keyframe(stamp, ranges, pts)
+            keyframe = self._add_keyframe(stamp, ranges, pts)
         return ScanPose(pose=self.pose(), keyframe=keyframe, score=score)
 
     def _start(self, odom: Array) -> None:
@@ -528,11 +364,26 @@ class SubmapSlam:
         assert anchor[0] == tracking
         return between(anchor[1], self._local)
 
-    def _add_keyframe(self, stamp: float, ranges: Array, points: Array) -> None:
+    def _add_keyframe(self, stamp: float, ranges: Array, points: Array) -> bool:
+        """Add the scan to the active submaps and the map; unless a grid would grow past
+        :data:`GRID_CELLS` for it: then it is left out (counted) and nothing changes."""
+        tracking = self._active[0]
+        placed = []
+        for s in self._active:
+            at = self._local_in(s)
+            placed.append((s, transform_points(at, points), *self._free_beams(at, ranges)))
+        extent = self._extent(ranges)
+        refusal = self._refusal(placed, compose(self.graph.poses[tracking], self._local), extent)
+        if refusal is not None:
+            self.tally.add(
+                f"left {{count}} out of the map: a grid would grow past the cap of {GRID_CELLS:,} "
+                "cells",
+                first=f"{stamp:.3f} s: {refusal}",
+            )
+            return False
         self._since_linear = 0.0
         self._since_angular = 0.0
         self._last_keyframe_stamp = stamp
-        tracking = self._active[0]
         t = self.tuning
         near = np.hypot(points[:, 0], points[:, 1]) <= t.loop_max_range
         search = points[near]
@@ -544,17 +395,18 @@ class SubmapSlam:
             home=tracking,
             local=self._local.copy(),
             search=search,
+            extent=extent,
         )
         kf.other, kf.weight = self._blend()
         kf.travel = self._travel
         self.keyframes.append(kf)
-        for s in self._active:
+        for s, world, sensor, ends in placed:
             sub = self.submaps[s]
-            at = self._local_in(s)
-            sub.grid.insert(transform_points(at, points), undoable=self._keeps_before(s))
+            sub.grid.insert(world, undoable=self._keeps_before(s))
             sub.keyframes += 1
-            self._add_free(sub, at, ranges)
+            self._add_free(sub, sensor, ends)
         g = compose(self.graph.poses[tracking], kf.local)
+        self._grow_map_box(g, extent)
         self._kf_xy = np.vstack([self._kf_xy, g[None, :2]])
         self._kf_submaps.append(tracking)
         self._close_loops(len(self.keyframes) - 1, g)
@@ -566,9 +418,33 @@ class SubmapSlam:
             tracking = self._active[0]
             pose = compose(self.graph.poses[tracking], self._local)
             fresh = self._new_submap(pose, (tracking, self._local.copy()))
+            # (one scan around its own origin: within grid_reach, so it fits)
             self.submaps[fresh].grid.insert(points)
             self.submaps[fresh].keyframes += 1
-            self._add_free(self.submaps[fresh], np.zeros(3), ranges)
+            self._add_free(self.submaps[fresh], *self._free_beams(np.zeros(3), ranges))
+        return True
+
+    def _refusal(
+        self, placed: list[tuple[int, Array, Array, Array]], pose: Array, extent: float
+    ) -> str | None:
+        """Why a keyframe at ``pose`` (the map's frame) cannot be added: the grid it would
+        grow past :data:`GRID_CELLS` (a submap's, their free space's or the map's); None
+        when all of them can hold it."""
+        for s, world, sensor, ends in placed:
+            sub = self.submaps[s]
+            try:
+                if len(world):
+                    sub.grid.layout(world.min(axis=0), world.max(axis=0))
+            except GridLimitError as err:
+                return f"submap {s}'s grid to {err.cells:,.0f} cells"
+            try:
+                if len(ends) and sub.free is not None:
+                    sub.free.layout(
+                        np.minimum(ends.min(axis=0), sensor), np.maximum(ends.max(axis=0), sensor)
+                    )
+            except GridLimitError as err:
+                return f"submap {s}'s free space to {err.cells:,.0f} cells"
+        return self._map_refusal(pose, extent)
 
     def _keeps_before(self, submap: int) -> bool:
         """Whether an insert into ``submap`` must keep what it overwrites: the last match's
@@ -583,18 +459,23 @@ class SubmapSlam:
             return False
         return True
 
-    def _add_free(self, sub: _Submap, pose: Array, ranges: Array) -> None:
-        """Count the scan's beams (up to ``maxUrange``) as passing, in the submap's frame; a
-        beam with no return (+inf, REP 117) passed all the way."""
-        assert sub.free is not None
+    def _free_beams(self, pose: Array, ranges: Array) -> tuple[Array, Array]:
+        """The laser's position and the ends of the scan's beams (cut at ``maxUrange``) in
+        a submap's frame, the scan taken at ``pose`` in it; a beam with no return (+inf,
+        REP 117) passed all the way."""
         laser = self.laser
         with np.errstate(invalid="ignore"):
             ok = (ranges >= laser.range_min) & ~np.isnan(ranges)
         r = np.minimum(ranges[ok], self.max_urange)
         ends = laser.origin + laser.directions[ok] * r[:, None]
         sensor = transform_points(pose, laser.origin[None, :])[0]
+        return sensor, transform_points(pose, ends)
+
+    def _add_free(self, sub: _Submap, sensor: Array, ends: Array) -> None:
+        """Count the beams from ``sensor`` to ``ends`` (:meth:`_free_beams`) as passing."""
+        assert sub.free is not None
         sub.sensors = np.vstack([sub.sensors, sensor[None, :]])
-        sub.free.add_beams(sensor, transform_points(pose, ends), self.tuning.free_short)
+        sub.free.add_beams(sensor, ends, self.tuning.free_short)
 
     def _finish(self, index: int) -> None:
         sub = self.submaps[index]
@@ -607,239 +488,12 @@ class SubmapSlam:
         assert anchor is not None
         self._local = between(anchor[1], self._local)
 
-    # ----------------------------------------------------------- loop closure
-
-    def _close_loops(self, k: int, g: Array) -> None:
-        t = self.tuning
-        kf = self.keyframes[k]
-        tracking = kf.home
-        if len(kf.search) < 10:
-            return
-        recent = min(self._active) - 1
-        if recent <= 0:
-            return
-        # How far the graph puts each old submap from here, in metres of travel: the search
-        # window grows with it (drift), and shrinks once a loop has been closed nearby.
-        travel = self.graph.distances(tracking)[:recent] + math.hypot(kf.local[0], kf.local[1])
-        wxy = np.minimum(t.loop_window_xy[0] + t.loop_window_xy[1] * travel, t.loop_window_xy[2])
-        wth = np.minimum(
-            t.loop_window_theta[0] + t.loop_window_theta[1] * travel, t.loop_window_theta[2]
-        )
-        kf_sub = np.asarray(self._kf_submaps)
-        # Only submaps far along the graph: nearer ones are held by the chain already, and
-        # matching against them mostly finds the chain's own errors in corridors.
-        old = (kf_sub < recent) & (travel[np.minimum(kf_sub, recent - 1)] >= t.loop_min_travel)
-        d = np.hypot(self._kf_xy[old, 0] - g[0], self._kf_xy[old, 1] - g[1])
-        near = d < t.loop_radius + wxy[kf_sub[old]]
-        candidates = np.unique(kf_sub[old][near])
-        if not len(candidates):
-            return
-        far = float(np.hypot(kf.search[:, 0], kf.search[:, 1]).max())
-        step = self.resolution / max(far, self.resolution)
-        found_edges: list[tuple[int, Array, Array]] = []
-        pts: Array | None = None
-        for b in candidates:
-            sub = self.submaps[int(b)]
-            if sub.pyramid is None:
-                continue
-            center = between(self.graph.poses[b], g)
-            found = sub.pyramid.search(
-                kf.search,
-                center,
-                float(wxy[b]),
-                float(wth[b]),
-                step,
-                t.loop_min_score,
-                ambiguity=t.loop_ambiguity,
-            )
-            if found is None or found.runner_up > 0.0:
-                continue
-            if pts is None:
-                pts, _ = self._points(kf.ranges.astype(np.float64))
-            match = refine(sub.grid, pts, found.pose, iterations=10)
-            if match.score < t.loop_min_score or _degenerate(match.hessian, t.loop_min_ratio):
-                continue
-            if self._contradiction(sub, pts, match.pose) > t.loop_max_contradiction:
-                continue
-            # The match's covariance (residual variance over its information), with a floor:
-            # a closure along a corridor pins the corridor's direction down loosely only.
-            dof = max(len(pts) - 3, 1)
-            try:
-                cov = np.linalg.inv(match.hessian) * (match.cost / dof)
-            except np.linalg.LinAlgError:
-                continue
-            cov = cov + np.diag([t.loop_sigma_xy**2, t.loop_sigma_xy**2, t.loop_sigma_theta**2])
-            found_edges.append((int(b), compose(match.pose, inverse(kf.local)), np.linalg.inv(cov)))
-        self._consider(k, found_edges)
-
-    def _contradiction(self, sub: _Submap, points: Array, pose: Array) -> float:
-        """Of the scan's end points at ``pose`` that the submap has an opinion on, the share
-        it saw as free space (its beams passed there, no wall near): a scan fitted to the
-        wrong bay of a corridor puts its far walls in the submap's open corridor."""
-        assert sub.free is not None
-        world = transform_points(pose, points)
-        crossed = sub.free.at(world) >= 2
-        value, _ = sub.grid.sample(world)
-        supported = value >= 0.3
-        against = crossed & (value < 0.1)
-        known = int(against.sum() + supported.sum())
-        return float(against.sum() / known) if known >= 10 else 0.0
-
-    def _correction(self, closure: _Closure) -> tuple[Array, Array]:
-        """Where the closure would put its keyframe, and where the graph has it now."""
-        kf = self.keyframes[closure.keyframe]
-        now = compose(self.graph.poses[kf.home], kf.local)
-        there = compose(self.graph.poses[closure.submap], compose(closure.measurement, kf.local))
-        return there, now
-
-    def _agree(self, a: _Closure, b: _Closure) -> bool:
-        """Whether moving ``a``'s keyframe where ``a`` says, and everything near it along,
-        puts ``b``'s keyframe where ``b`` says."""
-        t = self.tuning
-        there_a, now_a = self._correction(a)
-        there_b, now_b = self._correction(b)
-        moved = compose(compose(there_a, inverse(now_a)), now_b)
-        d = between(moved, there_b)
-        size = math.hypot(*between(now_b, there_b)[:2])
-        return bool(
-            math.hypot(d[0], d[1]) <= t.consistent_xy + t.consistent_rate * size
-            and abs(d[2]) <= t.consistent_theta
-        )
-
-    def _consider(self, k: int, found: list[tuple[int, Array, Array]]) -> None:
-        """Accept closures that agree with the graph as it is; hold the others until a
-        closure from another keyframe asks for the same correction (two different views
-        of a corridor seldom alias the same way)."""
-        t = self.tuning
-        accepted: list[_Closure] = []
-        for b, z, info in found:
-            closure = _Closure(keyframe=k, submap=b, measurement=z, information=info)
-            c = between(*reversed(self._correction(closure)))
-            logger.debug(
-                "closure t=%.1f keyframe %d (submap %d) -> %d: correction %+.2f %+.2f %+.1f°",
-                self.keyframes[k].stamp,
-                k,
-                self.keyframes[k].home,
-                b,
-                c[0],
-                c[1],
-                math.degrees(c[2]),
-            )
-            if math.hypot(c[0], c[1]) <= t.agree_xy and abs(c[2]) <= t.agree_theta:
-                accepted.append(closure)
-                continue
-            partners = [p for p in self._pending if p.keyframe != k and self._agree(closure, p)]
-            if partners:
-                accepted.append(closure)
-                accepted.extend(partners)
-                self._pending = [p for p in self._pending if p not in partners]
-            else:
-                self._pending.append(closure)
-        self._pending = [
-            p
-            for p in self._pending
-            if self._travel - self.keyframes[p.keyframe].travel < t.pending_travel
-        ]
-        if not accepted:
-            return
-        added: list[int] = []
-        chi2_before = self.graph.cost()
-        poses_before = self.graph.poses.copy()
-        for closure in accepted:
-            added.append(self.graph.edge_count)
-            home = self.keyframes[closure.keyframe].home
-            # The measurement is the keyframe's pose in the old submap, turned into the home
-            # submap's: its covariance turns with it (the home frame's origin is elsewhere).
-            self.graph.add_edge(
-                closure.submap,
-                home,
-                closure.measurement,
-                _moved_information(closure.information, self.keyframes[closure.keyframe].local),
-                huber=t.loop_huber,
-                length=t.loop_length,
-            )
-        logger.debug(
-            "accepted: %s",
-            ", ".join(f"{self.keyframes[c.keyframe].stamp:.1f}->{c.submap}" for c in accepted),
-        )
-        self._optimize()
-        # A closure the rest of the graph cannot agree with is most likely a false match.
-        while added:
-            errors = self.graph.errors()[added]
-            worst = int(np.argmax(errors))
-            if errors[worst] <= t.loop_max_error:
-                break
-            removed = added.pop(worst)
-            logger.debug("closure edge %d dropped: %.1f from the graph", removed, errors[worst])
-            self.refused_closures += 1
-            self.graph.remove_edge(removed)
-            added = [e - 1 if e > removed else e for e in added]
-            self._optimize()
-        # The Mahalanobis gate: the χ² the closures add to the graph, once it has bent to
-        # them as far as its chain edges (the front end's drift model) allow, is their
-        # correction's squared distance in the uncertainty grown along the path between
-        # their ends. Closures that need the trajectory bent far beyond that are refused.
-        grown = self.graph.cost() - chi2_before
-        if added and grown > t.loop_max_chi2:
-            logger.debug("closures refused: they add %.1f to the graph's chi2", grown)
-            for e in sorted(added, reverse=True):
-                self.graph.remove_edge(e)
-            self.graph.poses = poses_before
-            self._refresh_keyframe_xy()
-            self.refused_closures += len(added)
-            return
-        self.loop_closures += len(added)
-        self._settle_pending()
-
-    def _settle_pending(self) -> None:
-        """With a loop confirmed, the closures still waiting for a partner are tried one by
-        one on the bent graph: each that the graph takes within the same gates stays. One
-        seen on the way into the loop (its partner expired before the loop was confirmed)
-        would otherwise leave the stretch before the confirmed closure bent by the whole
-        correction spread along the loop, rather than held where it was seen."""
-        t = self.tuning
-        for closure in list(self._pending):
-            cost_before = self.graph.cost()
-            poses_before = self.graph.poses.copy()
-            edge = self.graph.edge_count
-            self.graph.add_edge(
-                closure.submap,
-                self.keyframes[closure.keyframe].home,
-                closure.measurement,
-                _moved_information(closure.information, self.keyframes[closure.keyframe].local),
-                huber=t.loop_huber,
-                length=t.loop_length,
-            )
-            self._optimize()
-            error = float(self.graph.errors()[edge])
-            grown = self.graph.cost() - cost_before
-            if error > t.loop_max_error or grown > t.loop_max_chi2:
-                logger.debug("pending closure refused: error %.1f, chi2 +%.1f", error, grown)
-                self.graph.remove_edge(edge)
-                self.graph.poses = poses_before
-                self._refresh_keyframe_xy()
-                continue
-            logger.debug(
-                "pending closure %.1f->%d settled: error %.1f, chi2 +%.1f",
-                self.keyframes[closure.keyframe].stamp,
-                closure.submap,
-                error,
-                grown,
-            )
-            self._pending.remove(closure)
-            self.loop_closures += 1
-
-    def _optimize(self) -> None:
-        self.graph.optimize(iterations=self.tuning.optimize_iterations)
-        self._refresh_keyframe_xy()
-
-    def _refresh_keyframe_xy(self) -> None:
-        self._kf_xy = self.keyframe_poses()[:, :2]
-
     # ---------------------------------------------------------------- results
 
     def pose(self) -> Array:
-        """The base's current pose in the map frame."""
+        """The base's current pose in the map frame (zeros before the first scan)."""
+        if not self._active:
+            return np.zeros(3)
         home = self._active[0]
         pose = compose(self.graph.poses[home], self._local)
         other, weight = self._blend()
@@ -941,45 +595,3 @@ class SubmapSlam:
             np.asarray([kf.other for kf in kfs]),
             np.asarray([kf.weight for kf in kfs]),
         )
-
-    def occupancy(self) -> OccupancyMap:
-        """The occupancy grid traced from every keyframe at its current pose (keyframes
-        already traced at the same pose are not traced again)."""
-        p = self.params
-        poses = self.keyframe_poses()
-        done = len(self._map_poses)
-        if (
-            self._map is None
-            or done > len(poses)
-            or (done and np.abs(poses[:done] - self._map_poses).max() > 1e-9)
-        ):
-            self._map = OccupancyCounts(self.resolution, p.xmin, p.ymin, p.xmax, p.ymax)
-            done = 0
-        if done < len(poses):
-            self._trace(self._map, poses[done:], self.keyframes[done:])
-        self._map_poses = poses
-        return self._map.to_map(p.occ_thresh)
-
-    def _trace(self, counts: OccupancyCounts, poses: Array, keyframes: list[_Keyframe]) -> None:
-        laser = self.laser
-        ranges = np.stack([kf.ranges for kf in keyframes]).astype(np.float64)
-        with np.errstate(invalid="ignore"):
-            valid = np.isfinite(ranges) & (ranges >= laser.range_min) & (ranges <= self.max_range)
-        hit = valid & (ranges < self.max_urange)
-        r = np.where(valid, np.minimum(ranges, self.max_urange), 0.0)
-        c = np.cos(poses[:, 2])[:, None]
-        s = np.sin(poses[:, 2])[:, None]
-        ox = laser.origin[0]
-        oy = laser.origin[1]
-        sensors = np.stack(
-            [poses[:, 0] + c[:, 0] * ox - s[:, 0] * oy, poses[:, 1] + s[:, 0] * ox + c[:, 0] * oy],
-            axis=1,
-        )
-        dx = laser.directions[None, :, 0] * r
-        dy = laser.directions[None, :, 1] * r
-        ex = sensors[:, 0:1] + c * dx - s * dy
-        ey = sensors[:, 1:2] + s * dx + c * dy
-        keep = valid.reshape(-1)
-        ends = np.stack([ex.reshape(-1), ey.reshape(-1)], axis=1)
-        starts_idx = np.repeat(np.arange(len(poses)), ranges.shape[1])[keep]
-        counts.add_scans_indexed(sensors, starts_idx, ends[keep], hit.reshape(-1)[keep])
