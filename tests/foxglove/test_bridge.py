@@ -45,20 +45,6 @@ def ros1_decoder(channel: dict[str, Any]) -> Callable[[bytes], Any]:
 
 
 @pytest.fixture
-def graph() -> Iterator[Graph]:
-    g = Graph(sim_time=True)
-    yield g
-    g.shutdown()
-
-
-@pytest.fixture
-def bridge(graph: Graph) -> Iterator[FoxgloveBridge]:
-    b = FoxgloveBridge(graph, port=0)
-    yield b
-    b.close()
-
-
-@pytest.fixture
 def client(bridge: FoxgloveBridge) -> Iterator[FoxgloveClient]:
     c = FoxgloveClient(bridge.url)
     yield c

@@ -5,7 +5,6 @@ foxglove_bridge.launch`` (or a ``<node>``) serves the launch's graph, with the b
 from __future__ import annotations
 
 import logging
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -18,13 +17,6 @@ from belvedere.launch._runtime import LaunchRuntime
 from belvedere.packages import PackageIndex
 from tests.conftest import free_port
 from tests.foxglove.client import FoxgloveClient
-
-
-@pytest.fixture
-def graph() -> Iterator[Graph]:
-    g = Graph(sim_time=True)
-    yield g
-    g.shutdown()
 
 
 def _launch(graph: Graph, path: Path, text: str) -> LaunchRuntime:

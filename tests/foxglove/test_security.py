@@ -7,7 +7,6 @@ from __future__ import annotations
 import json
 import socket
 import struct
-from collections.abc import Iterator
 
 import pytest
 import websockets.exceptions
@@ -19,20 +18,6 @@ from belvedere.foxglove import FOXGLOVE_APP, FoxgloveBridge, FoxgloveBridgeError
 from belvedere.graph import Graph
 from tests.foxglove.client import SUBPROTOCOLS, FoxgloveClient
 from tests.waiting import DEADLINE, wait_until
-
-
-@pytest.fixture
-def graph() -> Iterator[Graph]:
-    g = Graph(sim_time=True)
-    yield g
-    g.shutdown()
-
-
-@pytest.fixture
-def bridge(graph: Graph) -> Iterator[FoxgloveBridge]:
-    b = FoxgloveBridge(graph, port=0)
-    yield b
-    b.close()
 
 
 def refused(url: str, *, origin: str | None) -> str:

@@ -13,7 +13,13 @@ from belvedere.graph import Graph
 if TYPE_CHECKING:
     from belvedere.foxglove import FoxgloveBridge
 
-__all__ = ["DEFAULT_PORT", "add_foxglove_options", "port", "start_foxglove"]
+__all__ = [
+    "DEFAULT_PORT",
+    "add_foxglove_options",
+    "add_origin_option",
+    "port",
+    "start_foxglove",
+]
 
 DEFAULT_PORT = 8765
 """belvedere.foxglove.DEFAULT_PORT, without importing the bridge to build the parser."""
@@ -52,8 +58,13 @@ def add_foxglove_options(p: argparse.ArgumentParser) -> None:
         help=f"also serve the graph's topics to Foxglove on PORT (default: {DEFAULT_PORT})",
     )
     p.add_argument("--foxglove-host", default="127.0.0.1", metavar="HOST", help=HOST_HELP)
+    add_origin_option(p, "--foxglove-allow-origin")
+
+
+def add_origin_option(p: argparse.ArgumentParser, flag: str) -> None:
+    """The bridge's ``--allow-origin`` (named ``flag``)."""
     p.add_argument(
-        "--foxglove-allow-origin",
+        flag,
         action="append",
         default=[],
         type=origin,

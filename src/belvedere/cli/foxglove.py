@@ -7,8 +7,13 @@ import argparse
 import os
 import time
 
-from belvedere.cli._args import origin
-from belvedere.cli._foxglove import DEFAULT_PORT, HOST_HELP, ORIGINS_HELP, port, start_foxglove
+from belvedere.cli._foxglove import (
+    DEFAULT_PORT,
+    HOST_HELP,
+    add_origin_option,
+    port,
+    start_foxglove,
+)
 from belvedere.cli._tool import add_graph_options, join_graph
 
 __all__ = ["add_parser", "run"]
@@ -32,15 +37,7 @@ def add_parser(
         help=f"port to serve on (default: {DEFAULT_PORT}; 0: any free port)",
     )
     p.add_argument("--host", default="127.0.0.1", dest="foxglove_host", help=HOST_HELP)
-    p.add_argument(
-        "--allow-origin",
-        action="append",
-        default=[],
-        type=origin,
-        dest="foxglove_origins",
-        metavar="ORIGIN",
-        help=ORIGINS_HELP,
-    )
+    add_origin_option(p, "--allow-origin")
     p.add_argument("--duration", type=float, help="exit after SECONDS (for scripts)")
     add_graph_options(p)
     p.set_defaults(run=run)

@@ -26,10 +26,18 @@ import logging
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 from belvedere.bounded import GRID_CELLS, POSE_METRES, SCAN_BEAMS
 
-__all__ = ["Tally", "grid_reach", "plural", "pose_problem", "scan_problem"]
+__all__ = [
+    "Tally",
+    "grid_reach",
+    "laser_scan_problem",
+    "plural",
+    "pose_problem",
+    "scan_problem",
+]
 
 
 def scan_problem(
@@ -53,6 +61,17 @@ def scan_problem(
     if not range_max > max(range_min, 0.0):
         return "their range_max is not above range_min and 0", f"{range_min} .. {range_max}"
     return None
+
+
+def laser_scan_problem(scan: Any) -> tuple[str, str] | None:
+    """:func:`scan_problem` of a ``LaserScan`` (anything with its fields)."""
+    return scan_problem(
+        len(scan.ranges),
+        float(scan.angle_min),
+        float(scan.angle_increment),
+        float(scan.range_min),
+        float(scan.range_max),
+    )
 
 
 def pose_problem(values: Sequence[float]) -> tuple[str, str] | None:
@@ -131,6 +150,22 @@ class Tally:
         if self.live and cause.events >= max(10 * cause.logged, 1):
             cause.logged = cause.events
             self.log.warning("%s", self._line(key, cause, so_far=cause.events > 1))
+
+    def refused(
+        self,
+        problem: tuple[str, str] | None,
+        *,
+        at: str,
+        template: str = "skipped {count}: ",
+        noun: str = "scan",
+    ) -> bool:
+        """Count ``problem`` (a :func:`scan_problem` or :func:`pose_problem`) under
+        ``template`` followed by its reason, the event ``at`` a place; False if there is none."""
+        if problem is None:
+            return False
+        why, what = problem
+        self.add(template + why, noun=noun, first=f"{at}: {what}")
+        return True
 
     def once(self, text: str) -> None:
         """A note, not counted: logged now (live) or by :meth:`report`, once per text."""

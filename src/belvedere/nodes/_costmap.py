@@ -35,7 +35,7 @@ from belvedere.bounded import GRID_CELLS
 from belvedere.graph import NS, Node, Publisher, Subscription
 from belvedere.graph._executor import Timer
 from belvedere.msgs import build, types
-from belvedere.nav._input import Tally, pose_problem, scan_problem
+from belvedere.nav._input import Tally, laser_scan_problem, pose_problem
 from belvedere.nav.costmap import CostGrid, CostmapParams, LayeredCostmap, Observation
 from belvedere.nav.costmap._params import SourceParams
 from belvedere.tf import TFBuffer, TFError, Transform
@@ -348,18 +348,8 @@ class Costmap2DROS:
                 )
                 return True
         if source.data_type == "LaserScan":
-            problem = scan_problem(
-                len(msg.ranges),
-                float(msg.angle_min),
-                float(msg.angle_increment),
-                float(msg.range_min),
-                float(msg.range_max),
-            )
-            if problem is not None:
-                why, what = problem
-                self.tally.add(
-                    "skipped {count} from " + source.name + ": " + why, first=f"{at}: {what}"
-                )
+            template = "skipped {count} from " + source.name + ": "
+            if self.tally.refused(laser_scan_problem(msg), at=at, template=template):
                 return True
             nan = int(np.count_nonzero(np.isnan(np.asarray(msg.ranges))))
             if nan:

@@ -39,7 +39,7 @@ from belvedere.bounded import GRID_CELLS
 from belvedere.graph import NS, GraphError, Node
 from belvedere.maps import OccupancyMap, map_from_message
 from belvedere.msgs import build, types
-from belvedere.nav._input import Tally, pose_problem, scan_problem
+from belvedere.nav._input import Tally, laser_scan_problem, pose_problem
 from belvedere.nav._params import ParamReader, read_like
 from belvedere.nav.amcl import AmclMap, AmclParams, Localizer, laser_data
 from belvedere.nodes._registry import (
@@ -350,12 +350,9 @@ class _AmclNode:
         problem = pose_problem(old.tolist())
         if problem is None and not np.isfinite(np.asarray(msg.pose.covariance)).all():
             problem = "not finite", f"covariance {list(msg.pose.covariance)[:2]}…"
-        if problem is not None:
-            why, what = problem
-            at = f"{_stamp_ns(msg) / NS:.3f} s"
-            self.tally.add(
-                "ignored {count}: it is " + why, noun="initial pose", first=f"{at}: {what}"
-            )
+        at = f"{_stamp_ns(msg) / NS:.3f} s"
+        template = "ignored {count}: it is "
+        if self.tally.refused(problem, at=at, template=template, noun="initial pose"):
             return
         # where the robot went since the pose's stamp, by the odometry
         try:
@@ -472,16 +469,7 @@ class _AmclNode:
             return
         cfg = self.config
         stamp = _stamp_ns(scan)
-        problem = scan_problem(
-            len(scan.ranges),
-            float(scan.angle_min),
-            float(scan.angle_increment),
-            float(scan.range_min),
-            float(scan.range_max),
-        )
-        if problem is not None:
-            why, what = problem
-            self.tally.add("skipped {count}: " + why, first=f"{stamp / NS:.3f} s: {what}")
+        if self.tally.refused(laser_scan_problem(scan), at=f"{stamp / NS:.3f} s"):
             return
         laser = self._laser(scan)
         if laser is None:

@@ -190,12 +190,9 @@ class _FakeLocalization:
 
     def _shift(self, msg: Any) -> None:
         problem = _pose_problem(msg.pose.pose)
-        if problem is not None:
-            why, what = problem
-            at = f"{_stamp_ns(msg) / NS:.3f} s"
-            self.tally.add(
-                "ignored {count}: it is " + why, noun="initial pose", first=f"{at}: {what}"
-            )
+        at = f"{_stamp_ns(msg) / NS:.3f} s"
+        template = "ignored {count}: it is "
+        if self.tally.refused(problem, at=at, template=template, noun="initial pose"):
             return
         frame = str(msg.header.frame_id).lstrip("/")
         if frame != self.global_frame:

@@ -36,7 +36,7 @@ from belvedere.bounded import LimitError
 from belvedere.graph import NS, Node, ServiceFailedError
 from belvedere.maps import OccupancyMap, grid_message
 from belvedere.msgs import types
-from belvedere.nav._input import Tally, pose_problem, scan_problem
+from belvedere.nav._input import Tally, laser_scan_problem, pose_problem
 from belvedere.nav.slam import GMappingParams, LaserGeometry, SubmapSlam, Tuning
 from belvedere.nodes._registry import (
     NodeSpec,
@@ -163,16 +163,7 @@ class GMappingCore:
             LaserMountError: (first scan) the laser is not level.
         """
         stamp = stamp_ns(scan)
-        problem = scan_problem(
-            len(scan.ranges),
-            float(scan.angle_min),
-            float(scan.angle_increment),
-            float(scan.range_min),
-            float(scan.range_max),
-        )
-        if problem is not None:
-            why, what = problem
-            self.tally.add("skipped {count}: " + why, first=f"{stamp / NS:.3f} s: {what}")
+        if self.tally.refused(laser_scan_problem(scan), at=f"{stamp / NS:.3f} s"):
             return None
         odom = planar(buffer.lookup_transform(self.odom_frame, self.base_frame, stamp))
         if self.slam is None:

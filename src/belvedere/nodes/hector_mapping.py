@@ -27,7 +27,7 @@ from belvedere.bounded import GRID_CELLS
 from belvedere.graph import NS, Node
 from belvedere.maps import OccupancyMap, grid_message
 from belvedere.msgs import types
-from belvedere.nav._input import Tally, grid_reach, pose_problem, scan_problem
+from belvedere.nav._input import Tally, grid_reach, laser_scan_problem, pose_problem
 from belvedere.nav.slam import HectorParams, HectorSlam
 from belvedere.nodes._registry import (
     NodeSpec,
@@ -150,16 +150,7 @@ class HectorCore:
         :data:`~belvedere.bounded.POSE_METRES`. NaN ranges are dropped (counted)."""
         stamp = stamp_ns(scan)
         frame = scan.header.frame_id
-        problem = scan_problem(
-            len(scan.ranges),
-            float(scan.angle_min),
-            float(scan.angle_increment),
-            float(scan.range_min),
-            float(scan.range_max),
-        )
-        if problem is not None:
-            why, what = problem
-            self.tally.add("skipped {count}: " + why, first=f"{stamp / NS:.3f} s: {what}")
+        if self.tally.refused(laser_scan_problem(scan), at=f"{stamp / NS:.3f} s"):
             return None
         try:
             laser = buffer.lookup_transform(self.base_frame, frame, stamp)
