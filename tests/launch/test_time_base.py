@@ -1,0 +1,205 @@
+"""One time base across processes, as ROS 1 has one master clock: the course's two-terminal
+flows (a simulation in one process; navigation, scripts and tools each in their own) agree on
+every stamp, every ``now()`` and every transform lookup.
+
+The rule: a launch simulates time, so its graph publishes ``/clock`` and ``/use_sim_time`` is
+true before any node starts (a launch's own ``/use_sim_time false`` is one warning); every
+process that joins (a launch of clients, ``run`` of a node or a script, rospy, the tools)
+follows that ``/clock``. A graph has one clock: a second simulation is refused.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import subprocess
+import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any
+
+from belvedere.bags import Decoder, open_bag
+from belvedere.graph import NS, Graph, ZenohTransport
+from tests.conftest import EXAMPLES
+from tests.waiting import DEADLINE, wait_until
+
+BELVEDERE = [sys.executable, "-m", "belvedere", "--package-path", str(EXAMPLES)]
+FAKE_TURTLEBOT = ["rbx1_bringup", "fake_turtlebot.launch"]
+MBOT_ARBOTIX = ["mbot_description", "arbotix_mbot_with_laser_xacro.launch"]
+
+ODOM_PERIOD = 0.05
+"""The ArbotiX fakes publish /odom (and odom -> base_footprint) at 20 Hz."""
+CLOCK_PERIOD = 0.01
+"""A simulation announces its time at 100 Hz: a receiver's now() is that far behind at most."""
+
+STAMPS_SCRIPT = """\
+import sys
+import rospy
+from nav_msgs.msg import Odometry
+from sensor_msgs.msg import JointState
+from tf2_msgs.msg import TFMessage
+
+# For each topic: how far each stamp is from this process's now() when it arrives.
+seen = {}
+
+
+def check(topic, skip=()):
+    def received(msg):
+        now = rospy.Time.now()
+        if hasattr(msg, "transforms"):
+            stamps = [t.header.stamp for t in msg.transforms if t.child_frame_id not in skip]
+        else:
+            stamps = [msg.header.stamp]
+        for stamp in stamps:
+            seen.setdefault(topic, []).append((now - stamp).to_sec())
+
+    return received
+
+
+rospy.init_node("stamps")
+rospy.Subscriber("/odom", Odometry, check("/odom"))
+rospy.Subscriber("/joint_states", JointState, check("/joint_states"))
+# fake_localization stamps map -> odom ahead by its transform_tolerance, as the original
+rospy.Subscriber("/tf", TFMessage, check("/tf", skip=("odom",)))
+print("use_sim_time", rospy.get_param("/use_sim_time"), flush=True)
+rospy.sleep(float(sys.argv[1]))
+for topic, lags in sorted(seen.items()):
+    print(f"{topic} {len(lags)} {min(lags):.6f} {max(lags):.6f}", flush=True)
+"""
+
+
+@contextmanager
+def running(command: list[str], log: Path) -> Iterator[subprocess.Popen[bytes]]:
+    """``command`` running in its own process (a terminal of the course), its output in
+    ``log``; ended when the block ends."""
+    with log.open("wb") as out, subprocess.Popen(command, stdout=out, stderr=out) as process:
+        try:
+            yield process
+        finally:
+            process.terminate()
+            try:
+                process.wait(timeout=DEADLINE)
+            except subprocess.TimeoutExpired:
+                process.kill()
+
+
+class Probe:
+    """The test's own process on the graph, in the simulation's time (following /clock):
+    the last /clock, and every /odom with this process's now() when it arrived."""
+
+    def __init__(self, endpoint: str) -> None:
+        self.graph = Graph(
+            sim_time=True, transport=ZenohTransport(endpoint=endpoint), clock_hz=None
+        )
+        node = self.graph.create_node("time_probe")
+        self.clock: list[int] = []
+        self.odom: list[tuple[int, int, Any]] = []
+        node.subscribe("/clock", "rosgraph_msgs/Clock", self._on_clock, queue_size=1)
+        self.graph.follow_clock(node)
+        node.subscribe("/odom", "nav_msgs/Odometry", self._on_odom, queue_size=100)
+        self.graph.start()
+
+    def _on_clock(self, msg: Any) -> None:
+        self.clock.append(msg.clock.sec * NS + msg.clock.nanosec)
+
+    def _on_odom(self, msg: Any) -> None:
+        stamp = msg.header.stamp.sec * NS + msg.header.stamp.nanosec
+        self.odom.append((self.graph.now_ns(), stamp, msg.pose.pose.position))
+
+    def at(self, x: float, y: float, within: float) -> bool:
+        if not self.odom:
+            return False
+        p = self.odom[-1][2]
+        return math.hypot(p.x - x, p.y - y) < within
+
+    def worst_lag(self) -> float:
+        """The largest |now() - stamp| of the /odom this process received, in seconds."""
+        return max(abs(now - stamp) for now, stamp, _ in self.odom) / NS
+
+    def close(self) -> None:
+        self.graph.shutdown()
+
+
+@contextmanager
+def probing(endpoint: str) -> Iterator[Probe]:
+    probe = Probe(endpoint)
+    try:
+        yield probe
+    finally:
+        probe.close()
+
+
+def tool(*words: str) -> subprocess.CompletedProcess[str]:
+    """A belvedere verb run to its end (one more terminal)."""
+    return subprocess.run(
+        [*BELVEDERE, *words], capture_output=True, text=True, timeout=DEADLINE, check=False
+    )
+
+
+def lags(output: str) -> dict[str, tuple[int, float, float]]:
+    """The stamp checker's lines: topic → (messages, least and greatest now() - stamp)."""
+    found = re.findall(r"^(/\S+) (\d+) (-?[0-9.]+) (-?[0-9.]+)$", output, re.MULTILINE)
+    return {t: (int(n), float(lo), float(hi)) for t, n, lo, hi in found}
+
+
+def offsets(echo: str) -> list[float]:
+    return [float(v) for v in re.findall(r"^offset: (-?[0-9.e+-]+)$", echo, re.MULTILINE)]
+
+
+def test_fake_turtlebot_and_move_base_in_two_terminals(endpoint: str, tmp_path: Path) -> None:
+    """rbx1's chapter: fake_turtlebot.launch in one terminal (its /use_sim_time false is
+    overruled, saying so), fake_move_base_blank_map.launch in another, goals from a rospy
+    script run in a third; the robot's /odom arrives; the tools join in its time."""
+    with (
+        probing(endpoint) as probe,
+        running(
+            [*BELVEDERE, "launch", "--headless", "--rtf", "1", *FAKE_TURTLEBOT],
+            tmp_path / "sim.log",
+        ) as sim,
+    ):
+        wait_until(lambda: probe.clock or sim.poll() is not None, what="the simulation's /clock")
+        assert sim.poll() is None, (tmp_path / "sim.log").read_text()
+        nav = [*BELVEDERE, "launch", "--headless", "rbx1_nav", "fake_move_base_blank_map.launch"]
+        with running(nav, tmp_path / "nav.log") as second:
+            goals = tool("run", "rbx1_nav", "nav_goals.py", "_goals:=[[1.0, 0.5, 0.0]]")
+            assert "Goal ended: SUCCEEDED" in goals.stdout + goals.stderr, goals.stderr[-2000:]
+            assert goals.returncode == 0
+            wait_until(lambda: probe.at(1.0, 0.5, 0.25), what="/odom at the goal")
+            # the tools, each in a process of its own, in the simulation's time
+            echo = tool("topic", "echo", "--offset", "-n", "5", "/odom")
+            assert echo.returncode == 0, echo.stderr
+            assert all(abs(o) <= ODOM_PERIOD + CLOCK_PERIOD for o in offsets(echo.stdout)), (
+                echo.stdout
+            )
+            tf = tool("tf", "echo", "map", "base_footprint", "-n", "1")
+            x, y = (float(v) for v in re.findall(r"Translation: \[(\S+), (\S+),", tf.stdout)[0])
+            assert math.hypot(x - 1.0, y - 0.5) < 0.25, tf.stdout + tf.stderr
+            saved = tool("run", "map_server", "map_saver", "-f", str(tmp_path / "blank"))
+            assert saved.returncode == 0, saved.stderr
+            assert (tmp_path / "blank.yaml").is_file()
+            bag = tmp_path / "odom.bag"
+            recorded = tool("bag", "record", "-q", "--duration", "1", "-O", str(bag), "/odom")
+            assert recorded.returncode == 0, recorded.stderr
+            assert second.poll() is None
+            assert sim.poll() is None
+    sim_log = (tmp_path / "sim.log").read_text()
+    nav_log = (tmp_path / "nav.log").read_text()
+    assert re.search(
+        r"fake_turtlebot\.launch:2:\d+: /use_sim_time false is not used: this launch simulates"
+        r" time",
+        sim_log,
+    ), sim_log
+    assert sim_log.count("/use_sim_time false is not used") == 1
+    assert "transform timeout" not in nav_log, nav_log[-2000:]
+    assert probe.worst_lag() <= ODOM_PERIOD + CLOCK_PERIOD
+    # rosbag's time of each message is the simulation's, as is its header's stamp
+    opened = open_bag(bag)
+    try:
+        decoder = Decoder()
+        records = [(m.stamp_ns, decoder.decode(m).header.stamp) for m in opened.messages()]
+    finally:
+        opened.close()
+    assert records
+    for stamp_ns, header in records:
+        assert abs(stamp_ns - (header.sec * NS + header.nanosec)) / NS <= ODOM_PERIOD + CLOCK_PERIOD
