@@ -190,6 +190,8 @@ def _echo(tool: Tool, args: argparse.Namespace) -> int:
         sys.stdout.flush()
         printed.release()
 
+    if args.offset:
+        tool.wait_for_clock()  # offsets from the graph's now: not from 0 before /clock
     tool.node.subscribe(topic, msg_type, show, queue_size=100)
     timeout = args.timeout
     nothing = f"no message on {topic} within {timeout or 0:g} s"
