@@ -203,3 +203,69 @@ def test_fake_turtlebot_and_move_base_in_two_terminals(endpoint: str, tmp_path: 
     assert records
     for stamp_ns, header in records:
         assert abs(stamp_ns - (header.sec * NS + header.nanosec)) / NS <= ODOM_PERIOD + CLOCK_PERIOD
+
+
+FAKE_NAV_DEMO = """\
+<launch>
+  <!-- the book's fake_nav_demo.launch, for the mbot: its own /use_sim_time false -->
+  <param name="use_sim_time" value="false"/>
+  <node name="map_server" pkg="map_server" type="map_server"
+        args="$(find rbx1_nav)/maps/blank_map.yaml"/>
+  <include file="$(find mbot_navigation)/launch/move_base.launch"/>
+  <node pkg="fake_localization" type="fake_localization" name="fake_localization">
+    <remap from="base_pose_ground_truth" to="odom"/>
+  </node>
+</launch>
+"""
+
+GOAL = (
+    "{header: {frame_id: map, stamp: now}, "
+    "pose: {position: {x: 0.6, y: -0.3}, orientation: {w: 1.0}}}"
+)
+
+
+def test_mbot_arbotix_and_a_nav_demo_in_two_terminals(endpoint: str, tmp_path: Path) -> None:
+    """The mbot ArbotiX-with-laser launch in one terminal, a generated fake_nav_demo.launch
+    (map_server, move_base, fake_localization) in another, a 2D Nav Goal stamped "now" from
+    ``topic pub`` in a third, and a rospy script in a fourth: every message each receives is
+    within one update period of its own now()."""
+    demo = tmp_path / "fake_nav_demo.launch"
+    demo.write_text(FAKE_NAV_DEMO)
+    checker = tmp_path / "stamps.py"
+    checker.write_text(STAMPS_SCRIPT)
+    sim_log, nav_log = tmp_path / "sim.log", tmp_path / "nav.log"
+    with (
+        probing(endpoint) as probe,
+        running([*BELVEDERE, "launch", "--headless", "--rtf", "1", *MBOT_ARBOTIX], sim_log) as sim,
+    ):
+        wait_until(lambda: probe.clock or sim.poll() is not None, what="the simulation's /clock")
+        assert sim.poll() is None, sim_log.read_text()
+        with running([*BELVEDERE, "launch", "--headless", str(demo)], nav_log) as second:
+            wait_until(
+                lambda: "process[fake_localization-3]" in nav_log.read_text(),
+                what="the navigation launch",
+            )
+            goal = tool(
+                "topic", "pub", "-1", "/move_base_simple/goal", "geometry_msgs/PoseStamped", GOAL
+            )
+            assert goal.returncode == 0, goal.stderr
+            stamps = tool("run", str(checker), "2.0")
+            assert stamps.returncode == 0, stamps.stderr
+            wait_until(lambda: probe.at(0.6, -0.3, 0.2), what="/odom at the goal")
+            assert second.poll() is None
+            assert sim.poll() is None
+    assert "use_sim_time True" in stamps.stdout
+    seen = lags(stamps.stdout)
+    assert set(seen) == {"/odom", "/joint_states", "/tf"}, stamps.stdout
+    for topic, (count, least, most) in seen.items():
+        assert count > 0
+        # the stamp is this process's now(), give or take one update and one /clock tick
+        assert -CLOCK_PERIOD <= least <= most <= ODOM_PERIOD + CLOCK_PERIOD, (topic, least, most)
+    assert probe.worst_lag() <= ODOM_PERIOD + CLOCK_PERIOD
+    said = nav_log.read_text()
+    assert re.search(
+        r"fake_nav_demo\.launch:3:\d+: /use_sim_time false is not used: the running graph "
+        r"simulates time",
+        said,
+    ), said
+    assert "transform timeout" not in said
