@@ -30,6 +30,8 @@ MBOT_ARBOTIX = ["mbot_description", "arbotix_mbot_with_laser_xacro.launch"]
 
 ODOM_PERIOD = 0.05
 """The ArbotiX fakes publish /odom (and odom -> base_footprint) at 20 Hz."""
+DISPLAY_PERIOD = 0.1
+"""joint_state_publisher publishes /joint_states (and robot_state_publisher /tf) at 10 Hz."""
 CLOCK_PERIOD = 0.01
 """A simulation announces its time at 100 Hz: a receiver's now() is that far behind at most."""
 
@@ -89,9 +91,9 @@ class Probe:
     the last /clock, and every /odom with this process's now() when it arrived."""
 
     def __init__(self, endpoint: str) -> None:
-        self.graph = Graph(
-            sim_time=True, transport=ZenohTransport(endpoint=endpoint), clock_hz=None
-        )
+        # a tool's way: it holds no parameters (the graph's first launch does)
+        transport = ZenohTransport(endpoint=endpoint, serve_params=False)
+        self.graph = Graph(sim_time=True, transport=transport, clock_hz=None)
         node = self.graph.create_node("time_probe")
         self.clock: list[int] = []
         self.odom: list[tuple[int, int, Any]] = []
@@ -269,3 +271,65 @@ def test_mbot_arbotix_and_a_nav_demo_in_two_terminals(endpoint: str, tmp_path: P
         said,
     ), said
     assert "transform timeout" not in said
+
+
+def test_a_second_simulation_is_refused_naming_the_first(endpoint: str, tmp_path: Path) -> None:
+    """A user starting the simulation twice: the graph has one clock, so the second refuses
+    to start (naming the process that runs the first), and /clock never jumps back."""
+    with (
+        probing(endpoint) as probe,
+        running([*BELVEDERE, "launch", "--headless", *FAKE_TURTLEBOT], tmp_path / "sim.log") as sim,
+    ):
+        wait_until(lambda: probe.clock or sim.poll() is not None, what="the simulation's /clock")
+        since = len(probe.clock)
+        again = tool("launch", "--headless", *FAKE_TURTLEBOT)
+        assert again.returncode == 1
+        assert f"error: a simulation already runs on this graph: pid {sim.pid} on " in again.stderr
+        assert "publishes /clock" in again.stderr
+        model = EXAMPLES / "mbot_description/urdf/urdf/mbot_base.urdf"
+        other = tool("sim", "--headless", str(model))
+        assert other.returncode == 1
+        assert f"pid {sim.pid} on" in other.stderr
+        wait_until(lambda: len(probe.clock) > since + 20, what="the first /clock going on")
+        assert sim.poll() is None
+    assert probe.clock == sorted(probe.clock)
+
+
+def test_a_plain_launch_and_a_script_first_graph(endpoint: str, tmp_path: Path) -> None:
+    """A launch with no simulation in it (the mbot's display launch, headless) makes the graph
+    and its time: a rospy script and ``topic echo`` joining agree with it. A graph that a
+    script started alone (roscore's way) is on the wall clock: a launch of clients joining it,
+    the script and the tools agree with that."""
+    checker = tmp_path / "stamps.py"
+    checker.write_text(STAMPS_SCRIPT)
+    display = [
+        *BELVEDERE,
+        "launch",
+        "--headless",
+        "mbot_description",
+        "display_mbot_base_urdf.launch",
+    ]
+    with probing(endpoint) as probe, running(display, tmp_path / "display.log") as first:
+        wait_until(lambda: probe.clock or first.poll() is not None, what="the launch's /clock")
+        stamps = tool("run", str(checker), "1.0")
+        echo = tool("topic", "echo", "--offset", "-n", "3", "/joint_states")
+    assert "use_sim_time True" in stamps.stdout, stamps.stdout + stamps.stderr
+    assert echo.returncode == 0, echo.stderr
+    assert all(abs(o) <= DISPLAY_PERIOD for o in offsets(echo.stdout)), echo.stdout
+    checks = [(stamps.stdout, True)]
+    # the script first: it provides the graph, on the wall clock; the same launch joins it
+    script_log = tmp_path / "script.log"
+    with running([*BELVEDERE, "run", str(checker), "8.0"], script_log) as script:
+        wait_until(lambda: "use_sim_time False" in script_log.read_text(), what="the script")
+        with running(display, tmp_path / "joined.log"):
+            wait_until(lambda: script.poll() is not None, what="the script's end")
+            echo = tool("topic", "echo", "--offset", "-n", "3", "/joint_states")
+    assert echo.returncode == 0, echo.stderr
+    assert all(abs(o) <= DISPLAY_PERIOD for o in offsets(echo.stdout)), echo.stdout
+    checks.append((script_log.read_text(), False))
+    for output, simulated in checks:
+        seen = lags(output)
+        assert set(seen) == {"/joint_states", "/tf"}, output
+        for topic, (count, least, most) in seen.items():
+            assert count > 0
+            assert -CLOCK_PERIOD <= least <= most <= DISPLAY_PERIOD, (simulated, topic, least, most)

@@ -21,6 +21,7 @@ from belvedere.graph import (
     TransportError,
     ZenohTransport,
     check_domain,
+    graph_running,
 )
 
 __all__ = [
@@ -28,6 +29,7 @@ __all__ = [
     "Tool",
     "action_parsers",
     "add_graph_options",
+    "holds_parameters",
     "join_graph",
     "open_tool",
     "open_transport",
@@ -114,7 +116,7 @@ def open_tool(args: argparse.Namespace, kind: str) -> Tool:
     running graph's time (following its ``/clock`` when it simulates time, as rostopic and
     tf_echo do under ``/use_sim_time``), else the wall clock's."""
     transport = open_transport(args, serve_params=False)
-    sim_time = bool(_running_params(transport).get("use_sim_time", False))
+    sim_time = bool((_running_params(transport) or {}).get("use_sim_time", False))
     graph = Graph(sim_time=sim_time, transport=transport, clock_hz=None)
     node = graph.create_node(f"belvedere_{kind}_{os.getpid()}")
     if sim_time:
@@ -122,31 +124,53 @@ def open_tool(args: argparse.Namespace, kind: str) -> Tool:
     return Tool(graph, transport, node)
 
 
-def join_graph(args: argparse.Namespace) -> Graph:
+def join_graph(args: argparse.Namespace, *, sim_time: bool = True) -> Graph:
     """A graph on the running one: its parameters copied, in its time (following its
-    ``/clock`` when it simulates time), as ROS nodes join a running master."""
+    ``/clock`` when it simulates time), as ROS nodes join a running master. Where only
+    tools run (nothing holds parameters), this process makes the graph instead, holding its
+    parameters, in simulated time or not as ``sim_time`` says, as roslaunch starts a
+    roscore when none runs."""
     transport = open_transport(args, serve_params=False)
-    remote = _running_params(transport)
-    sim_time = bool(remote.get("use_sim_time", False))
     seed = getattr(args, "seed", 0)
-    graph = Graph(sim_time=sim_time, seed=seed, transport=transport, clock_hz=None)
-    if remote:
-        graph.params.set("/", remote)
-    if sim_time:
+    remote = _running_params(transport)
+    if remote is None:
+        transport.serve_params = True  # read when the graph attaches it, just below
+        return Graph(sim_time=sim_time, seed=seed, transport=transport)
+    following = bool(remote.get("use_sim_time", False))
+    graph = Graph(sim_time=following, seed=seed, transport=transport, clock_hz=None)
+    graph.params.set("/", remote)
+    if following:
         graph.follow_clock(graph.create_node(f"belvedere_clock_follower_{os.getpid()}"))
     return graph
 
 
-def _running_params(transport: ZenohTransport) -> dict[str, Any]:
-    """The running graph's parameters; none when nothing else runs (this process listens)
-    or nothing holds parameters (a graph of tools only: it is on the wall clock)."""
+def _running_params(transport: ZenohTransport) -> dict[str, Any] | None:
+    """The running graph's parameters; None when nothing else runs (this process listens)
+    or nothing holds parameters (a graph of tools only, on the wall clock)."""
     if transport.role == "listen":
-        return {}
+        return None
     try:
         remote: Any = transport.param_request({"op": "get", "name": "/"})
     except GraphError:
-        return {}
+        return None
     return remote if isinstance(remote, dict) else {}
+
+
+def holds_parameters(args: argparse.Namespace) -> bool:
+    """Whether a graph runs on the endpoint and a process of it holds the parameters (a
+    launch, a simulation, a script run alone: ROS's master), not only tools."""
+    if not graph_running(getattr(args, "endpoint", None), getattr(args, "domain", None)):
+        return False
+    transport = ZenohTransport(
+        endpoint=getattr(args, "endpoint", None),
+        domain=getattr(args, "domain", None),
+        serve_params=False,
+        role="connect",
+    )
+    try:
+        return _running_params(transport) is not None
+    finally:
+        transport.close()
 
 
 def refuse_second_clock(transport: ZenohTransport) -> None:
