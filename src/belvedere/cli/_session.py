@@ -47,7 +47,7 @@ def run_session(
     clock) instead of making one, as ROS nodes join a running master. ``announce``: say each
     process started (roslaunch's lines)."""
     if join:
-        graph = join_graph(args, sim_time=sim_time)
+        graph = join_graph(args, alone=sim_time)
         transport = graph.transport
         join = not getattr(transport, "serve_params", False)
     else:

@@ -124,18 +124,20 @@ def open_tool(args: argparse.Namespace, kind: str) -> Tool:
     return Tool(graph, transport, node)
 
 
-def join_graph(args: argparse.Namespace, *, sim_time: bool = True) -> Graph:
+def join_graph(args: argparse.Namespace, *, alone: bool | None = None) -> Graph:
     """A graph on the running one: its parameters copied, in its time (following its
-    ``/clock`` when it simulates time), as ROS nodes join a running master. Where only
-    tools run (nothing holds parameters), this process makes the graph instead, holding its
-    parameters, in simulated time or not as ``sim_time`` says, as roslaunch starts a
-    roscore when none runs."""
+    ``/clock`` when it simulates time), as ROS nodes join a running master. Where nothing
+    holds parameters (nothing runs, or only tools), a graph on the wall clock, as a tool's;
+    with ``alone`` given, this process makes the graph instead, holding its parameters, in
+    simulated time if ``alone`` is true, as roslaunch starts a roscore when none runs."""
     transport = open_transport(args, serve_params=False)
     seed = getattr(args, "seed", 0)
     remote = _running_params(transport)
     if remote is None:
+        if alone is None:
+            return Graph(sim_time=False, seed=seed, transport=transport, clock_hz=None)
         transport.serve_params = True  # read when the graph attaches it, just below
-        return Graph(sim_time=sim_time, seed=seed, transport=transport)
+        return Graph(sim_time=alone, seed=seed, transport=transport)
     following = bool(remote.get("use_sim_time", False))
     graph = Graph(sim_time=following, seed=seed, transport=transport, clock_hz=None)
     graph.params.set("/", remote)
@@ -196,6 +198,14 @@ def refuse_second_clock(transport: ZenohTransport) -> None:
             msg,
             hint="stop it first (Ctrl-C in its terminal), or run this one on a graph of its "
             "own (--domain N)",
+        )
+    remote = _running_params(transport)
+    if remote is not None and not remote.get("use_sim_time", False):
+        logger.warning(
+            "warning: this graph already runs on the wall clock (the process that started it "
+            "holds its parameters, /use_sim_time false): the processes that joined it keep "
+            "the wall clock, not this simulated time; start the simulation first, or on a "
+            "graph of its own (--domain N)"
         )
 
 
