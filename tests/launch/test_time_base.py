@@ -49,6 +49,8 @@ seen = {}
 def check(topic, skip=()):
     def received(msg):
         now = rospy.Time.now()
+        if now.is_zero():
+            return  # /clock not heard yet
         if hasattr(msg, "transforms"):
             stamps = [t.header.stamp for t in msg.transforms if t.child_frame_id not in skip]
         else:
@@ -106,8 +108,11 @@ class Probe:
         self.clock.append(msg.clock.sec * NS + msg.clock.nanosec)
 
     def _on_odom(self, msg: Any) -> None:
+        now = self.graph.now_ns()
+        if now == 0:
+            return  # /clock not heard yet: this process has no time to compare with
         stamp = msg.header.stamp.sec * NS + msg.header.stamp.nanosec
-        self.odom.append((self.graph.now_ns(), stamp, msg.pose.pose.position))
+        self.odom.append((now, stamp, msg.pose.pose.position))
 
     def at(self, x: float, y: float, within: float) -> bool:
         if not self.odom:
