@@ -150,8 +150,11 @@ def lags(output: str) -> dict[str, tuple[int, float, float]]:
     return {t: (int(n), float(lo), float(hi)) for t, n, lo, hi in found}
 
 
-def offsets(echo: str) -> list[float]:
-    return [float(v) for v in re.findall(r"^offset: (-?[0-9.e+-]+)$", echo, re.MULTILINE)]
+def offsets(echo: str, count: int) -> list[float]:
+    """``topic echo --offset``'s offsets (each message's now() - stamp); ``count`` of them."""
+    found = [float(v) for v in re.findall(r"^offset: (-?[0-9.e+-]+)$", echo, re.MULTILINE)]
+    assert len(found) == count, echo
+    return found
 
 
 def test_fake_turtlebot_and_move_base_in_two_terminals(endpoint: str, tmp_path: Path) -> None:
@@ -176,7 +179,7 @@ def test_fake_turtlebot_and_move_base_in_two_terminals(endpoint: str, tmp_path: 
             # the tools, each in a process of its own, in the simulation's time
             echo = tool("topic", "echo", "--offset", "-n", "5", "/odom")
             assert echo.returncode == 0, echo.stderr
-            assert all(abs(o) <= ODOM_PERIOD + CLOCK_PERIOD for o in offsets(echo.stdout)), (
+            assert all(abs(o) <= ODOM_PERIOD + CLOCK_PERIOD for o in offsets(echo.stdout, 5)), (
                 echo.stdout
             )
             tf = tool("tf", "echo", "map", "base_footprint", "-n", "1")
@@ -320,7 +323,7 @@ def test_a_plain_launch_and_a_script_first_graph(endpoint: str, tmp_path: Path) 
         echo = tool("topic", "echo", "--offset", "-n", "3", "/joint_states")
     assert "use_sim_time True" in stamps.stdout, stamps.stdout + stamps.stderr
     assert echo.returncode == 0, echo.stderr
-    assert all(abs(o) <= DISPLAY_PERIOD for o in offsets(echo.stdout)), echo.stdout
+    assert all(abs(o) <= DISPLAY_PERIOD for o in offsets(echo.stdout, 3)), echo.stdout
     checks = [(stamps.stdout, True)]
     # the script first: it provides the graph, on the wall clock; the same launch joins it
     script_log = tmp_path / "script.log"
@@ -330,7 +333,7 @@ def test_a_plain_launch_and_a_script_first_graph(endpoint: str, tmp_path: Path) 
             wait_until(lambda: script.poll() is not None, what="the script's end")
             echo = tool("topic", "echo", "--offset", "-n", "3", "/joint_states")
     assert echo.returncode == 0, echo.stderr
-    assert all(abs(o) <= DISPLAY_PERIOD for o in offsets(echo.stdout)), echo.stdout
+    assert all(abs(o) <= DISPLAY_PERIOD for o in offsets(echo.stdout, 3)), echo.stdout
     checks.append((script_log.read_text(), False))
     for output, simulated in checks:
         seen = lags(output)
