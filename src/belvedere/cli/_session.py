@@ -12,7 +12,8 @@ from pathlib import Path
 
 from belvedere.cli._foxglove import start_foxglove
 from belvedere.cli._script import ScriptOptions, install_script
-from belvedere.cli._tool import join_graph, open_transport
+from belvedere.cli._tool import USE_SIM_TIME, join_graph, open_transport, refuse_second_clock
+from belvedere.errors import BelvedereError
 from belvedere.graph import Graph, GraphError
 from belvedere.launch import LaunchConfig, LaunchNode
 from belvedere.launch._runtime import LaunchRuntime
@@ -46,9 +47,19 @@ def run_session(
     clock) instead of making one, as ROS nodes join a running master. ``announce``: say each
     process started (roslaunch's lines)."""
     if join:
-        graph = join_graph(args)
+        graph = join_graph(args, alone=sim_time)
+        transport = graph.transport
+        join = not getattr(transport, "serve_params", False)
     else:
-        graph = Graph(sim_time=sim_time, seed=args.seed, transport=open_transport(args))
+        transport = open_transport(args)
+        if sim_time:
+            try:
+                refuse_second_clock(transport)
+            except BelvedereError:
+                transport.close()
+                raise
+        graph = Graph(sim_time=sim_time, seed=args.seed, transport=transport)
+    _hold_time_base(config, graph)
     runtime = LaunchRuntime(
         config,
         graph,
@@ -84,6 +95,35 @@ def run_session(
         runtime.close()
         graph.shutdown()
     return status
+
+
+def _hold_time_base(config: LaunchConfig, graph: Graph) -> None:
+    """One time base for the whole graph, as ROS has one master clock: the process that
+    made the graph decided it (a launch simulates time, so ``/use_sim_time`` is true and its
+    ``/clock`` runs from 0; a script run alone is on the wall clock), and every process
+    that joins follows it. A launch's own ``/use_sim_time`` saying otherwise is not set
+    (nodes in other processes would read it and stamp in another time than this one's
+    nodes): one warning says which time wins and why."""
+    param = config.params.get(USE_SIM_TIME)
+    if param is None or bool(param.value) == graph.sim_time:
+        return
+    del config.params[USE_SIM_TIME]
+    where = f"{param.source}: " if param.source is not None else ""
+    said = "true" if param.value else "false"
+    if graph.executor.following:
+        why = "the running graph simulates time (it publishes /clock)"
+    elif graph.sim_time:
+        why = "this launch simulates time (it publishes /clock, from 0)"
+    else:
+        why = "the running graph is on the wall clock (as its first process started it)"
+    logger.warning(
+        "warning: %s/use_sim_time %s is not used: %s, so /use_sim_time stays %s and every "
+        "process on the graph (launches, scripts, tools) keeps that one time",
+        where,
+        said,
+        why,
+        "true" if graph.sim_time else "false",
+    )
 
 
 def _share_params(graph: Graph, config: LaunchConfig) -> None:

@@ -21,19 +21,26 @@ from belvedere.graph import (
     TransportError,
     ZenohTransport,
     check_domain,
+    graph_running,
 )
 
 __all__ = [
+    "USE_SIM_TIME",
     "Tool",
     "action_parsers",
     "add_graph_options",
+    "holds_parameters",
     "join_graph",
     "open_tool",
     "open_transport",
+    "refuse_second_clock",
     "wait_for",
 ]
 
 logger = logging.getLogger("belvedere.cli")
+
+USE_SIM_TIME = "/use_sim_time"
+CLOCK = "/clock"
 
 
 def _domain(text: str) -> int:
@@ -94,36 +101,112 @@ class Tool:
     def info(self, timeout: float = 0.5) -> GraphInfo:
         return self.transport.info(timeout=timeout)
 
+    def wait_for_clock(self, timeout: float = 2.0) -> None:
+        """In a simulation's time, until its ``/clock`` has been heard (the graph's time
+        reads 0 before: a stamp of "now" would be 0). The executor must be running."""
+        if self.graph.executor.following:
+            wait_for(lambda: self.graph.now_ns() > 0, timeout, step=0.01)
+
     def close(self) -> None:
         self.graph.shutdown()
 
 
 def open_tool(args: argparse.Namespace, kind: str) -> Tool:
-    """A wall-time graph with one anonymous node, connected (or listening) on the endpoint."""
+    """A graph with one anonymous node, connected (or listening) on the endpoint, in the
+    running graph's time (following its ``/clock`` when it simulates time, as rostopic and
+    tf_echo do under ``/use_sim_time``), else the wall clock's."""
     transport = open_transport(args, serve_params=False)
-    graph = Graph(sim_time=False, transport=transport)
+    sim_time = bool((_running_params(transport) or {}).get("use_sim_time", False))
+    graph = Graph(sim_time=sim_time, transport=transport, clock_hz=None)
     node = graph.create_node(f"belvedere_{kind}_{os.getpid()}")
+    if sim_time:
+        graph.follow_clock(node)
     return Tool(graph, transport, node)
 
 
-def join_graph(args: argparse.Namespace) -> Graph:
+def join_graph(args: argparse.Namespace, *, alone: bool | None = None) -> Graph:
     """A graph on the running one: its parameters copied, in its time (following its
-    ``/clock`` when it simulates time), as ROS nodes join a running master."""
+    ``/clock`` when it simulates time), as ROS nodes join a running master. Where nothing
+    holds parameters (nothing runs, or only tools), a graph on the wall clock, as a tool's;
+    with ``alone`` given, this process makes the graph instead, holding its parameters, in
+    simulated time if ``alone`` is true, as roslaunch starts a roscore when none runs."""
     transport = open_transport(args, serve_params=False)
+    seed = getattr(args, "seed", 0)
+    remote = _running_params(transport)
+    if remote is None:
+        if alone is None:
+            return Graph(sim_time=False, seed=seed, transport=transport, clock_hz=None)
+        transport.serve_params = True  # read when the graph attaches it, just below
+        return Graph(sim_time=alone, seed=seed, transport=transport)
+    following = bool(remote.get("use_sim_time", False))
+    graph = Graph(sim_time=following, seed=seed, transport=transport, clock_hz=None)
+    graph.params.set("/", remote)
+    if following:
+        graph.follow_clock(graph.create_node(f"belvedere_clock_follower_{os.getpid()}"))
+    return graph
+
+
+def _running_params(transport: ZenohTransport) -> dict[str, Any] | None:
+    """The running graph's parameters; None when nothing else runs (this process listens)
+    or nothing holds parameters (a graph of tools only, on the wall clock)."""
+    if transport.role == "listen":
+        return None
     try:
         remote: Any = transport.param_request({"op": "get", "name": "/"})
     except GraphError:
-        remote = {}  # a graph without a parameter server (a tool's): nothing to copy
-    if not isinstance(remote, dict):
-        remote = {}
-    sim_time = bool(remote.get("use_sim_time", False))
-    seed = getattr(args, "seed", 0)
-    graph = Graph(sim_time=sim_time, seed=seed, transport=transport, clock_hz=None)
-    if remote:
-        graph.params.set("/", remote)
-    if sim_time:
-        graph.follow_clock(graph.create_node(f"belvedere_clock_follower_{os.getpid()}"))
-    return graph
+        return None
+    return remote if isinstance(remote, dict) else {}
+
+
+def holds_parameters(args: argparse.Namespace) -> bool:
+    """Whether a graph runs on the endpoint and a process of it holds the parameters (a
+    launch, a simulation, a script run alone: ROS's master), not only tools."""
+    if not graph_running(getattr(args, "endpoint", None), getattr(args, "domain", None)):
+        return False
+    transport = ZenohTransport(
+        endpoint=getattr(args, "endpoint", None),
+        domain=getattr(args, "domain", None),
+        serve_params=False,
+        role="connect",
+    )
+    try:
+        return _running_params(transport) is not None
+    finally:
+        transport.close()
+
+
+def refuse_second_clock(transport: ZenohTransport) -> None:
+    """A simulation starting where another process already publishes ``/clock`` is an
+    error naming that process: a graph has one clock (ROS 1 one master, and Gazebo refuses
+    a second server on it); two would make ``/clock`` jump between their times."""
+    if transport.role == "listen":
+        return  # nothing else runs here
+    info = transport.info(timeout=1.0)
+    owners = sorted(
+        {
+            process
+            for _, node in info.publishers.get(CLOCK, set())
+            for process in info.processes.get(node, {node})
+        }
+    )
+    if owners:
+        msg = (
+            f"a simulation already runs on this graph: {', '.join(owners)} publishes {CLOCK}, "
+            "and a graph has one clock"
+        )
+        raise BelvedereError(
+            msg,
+            hint="stop it first (Ctrl-C in its terminal), or run this one on a graph of its "
+            "own (--domain N)",
+        )
+    remote = _running_params(transport)
+    if remote is not None and not remote.get("use_sim_time", False):
+        logger.warning(
+            "warning: this graph already runs on the wall clock (the process that started it "
+            "holds its parameters, /use_sim_time false): the processes that joined it keep "
+            "the wall clock, not this simulated time; start the simulation first, or on a "
+            "graph of its own (--domain N)"
+        )
 
 
 def wait_for(condition: object, timeout: float, step: float = 0.05) -> bool:

@@ -42,7 +42,11 @@ def add_parser(
         parents=[common],
         help="run a roslaunch file",
         description="Run a ROS launch file: belvedere launch PKG FILE.launch [name:=value …] "
-        "or belvedere launch PATH.launch [name:=value …].",
+        "or belvedere launch PATH.launch [name:=value …]. A launch that makes the graph "
+        "simulates time: it publishes /clock (paced by --rtf) and /use_sim_time is true "
+        "before any node starts. A launch of clients only (move_base, amcl, map_server, "
+        "rviz, scripts …) beside a running graph joins it and follows its time; a second "
+        "simulation on one graph is refused.",
     )
     p.add_argument("target", metavar="PKG|PATH", help="a package name, or a launch file")
     p.add_argument("file", nargs="?", metavar="FILE", help="the launch file in PKG")

@@ -23,7 +23,7 @@ from belvedere import nodes
 from belvedere.cli._args import add_viewer_options
 from belvedere.cli._script import add_script_options
 from belvedere.cli._session import run_session
-from belvedere.cli._tool import add_graph_options
+from belvedere.cli._tool import add_graph_options, holds_parameters
 from belvedere.errors import BelvedereError, did_you_mean
 from belvedere.graph import graph_running
 from belvedere.launch import LaunchConfig, LaunchNode
@@ -152,8 +152,9 @@ def run(args: argparse.Namespace) -> int:
         return run_session(config, packages, args, quiet_end=True, join=join)
     # A script gets its arguments as rosrun passes them (rospy reads its own remaps,
     # _param:= and __name:=). Like rosrun it joins the graph that runs; only when none
-    # does, this provides one as roscore would: the parameter server, in wall time.
-    if graph_running(args.endpoint, args.domain):
+    # does (or only tools run), this provides one as roscore would: the parameter server,
+    # in wall time.
+    if holds_parameters(args):
         return run_alone(script, words, packages, args)
     return run_session(
         config, packages, args, script=(spec, script, words), sim_time=False, quiet_end=True

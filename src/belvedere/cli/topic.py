@@ -13,7 +13,7 @@ from typing import Any
 
 from belvedere.cli._tool import Tool, action_parsers, open_tool, wait_for, wait_for_messages
 from belvedere.errors import BelvedereError
-from belvedere.graph import GraphInfo, did_you_mean, resolve_name
+from belvedere.graph import NS, GraphInfo, did_you_mean, resolve_name
 from belvedere.msgs import message_from_args, message_to_yaml, short, types
 
 __all__ = ["add_parser", "run"]
@@ -183,12 +183,15 @@ def _echo(tool: Tool, args: argparse.Namespace) -> int:
         text = message_to_yaml(msg, noarr=args.noarr)
         if args.offset and hasattr(msg, "header"):
             stamp = msg.header.stamp
-            offset = time.time() - (stamp.sec + stamp.nanosec * 1e-9)
+            # rostopic's offset is from the node's now: the simulation's under /use_sim_time
+            offset = tool.graph.now_ns() / NS - (stamp.sec + stamp.nanosec * 1e-9)
             text = f"offset: {offset:.6f}\n" + text
         sys.stdout.write(text + "\n---\n")
         sys.stdout.flush()
         printed.release()
 
+    if args.offset:
+        tool.wait_for_clock()  # offsets from the graph's now: not from 0 before /clock
     tool.node.subscribe(topic, msg_type, show, queue_size=100)
     timeout = args.timeout
     nothing = f"no message on {topic} within {timeout or 0:g} s"
@@ -211,6 +214,7 @@ def _pub(tool: Tool, args: argparse.Namespace) -> int:
         seq[0] += 1
         return msg
 
+    tool.wait_for_clock()  # stamps of "now" (and auto headers) in the graph's time
     first = build()  # bad YAML fails here, before anything is advertised
     latch = args.latch or args.rate is None
     pub = tool.node.publisher(topic, msg_type, latch=latch)
