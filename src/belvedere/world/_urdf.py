@@ -47,7 +47,7 @@ from belvedere.world._model import (
 )
 from belvedere.world._poses import from_matrix
 
-__all__ = ["MeshPath", "robot_entry"]
+__all__ = ["MeshPath", "placed_sensor", "robot_entry"]
 
 logger = logging.getLogger(__name__)
 
@@ -160,7 +160,7 @@ class _Converter:
             gravity=gravity,
             source=self.model.link(start).source.best,
             sensors=tuple(
-                _placed_sensor(sensor, offset)
+                placed_sensor(sensor, offset)
                 for name, offset in members
                 for ext in self.model.gazebo_for(name)
                 for sensor in ext.sensors
@@ -256,7 +256,7 @@ class _Converter:
         )
 
 
-def _placed_sensor(sensor: XmlData, offset: Matrix4) -> XmlData:
+def placed_sensor(sensor: XmlData, offset: Matrix4) -> XmlData:
     """A sensor of a link lumped into another, posed in that one's frame (as sdformat moves
     it); as written if it cannot say where it is (its spawn said why)."""
     if np.array_equal(offset, np.eye(4)):

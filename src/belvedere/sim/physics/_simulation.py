@@ -33,7 +33,7 @@ from belvedere.sim.physics._ros_control import RosControl
 from belvedere.sim.physics._sensors import CameraSensor, DepthCamera, ImuSensor, LaserSensor
 from belvedere.sim.physics._skid_steer import SkidSteer
 from belvedere.tf import Transform
-from belvedere.world import WorldModel, WorldModelEntry, empty_world
+from belvedere.world import SDFError, WorldModel, WorldModelEntry, empty_world, saved_robot
 
 __all__ = ["PLUGINS", "PhysicsSimulation", "SpawnedRobot"]
 
@@ -83,6 +83,29 @@ class SpawnedRobot:
         return {j for p in self.plugins for j in p.joint_names()}
 
 
+def _saved_robots(world: WorldModel) -> list[tuple[WorldModelEntry, RobotModel, Pose]]:
+    """The world's models that are robots (saved with their plugins and sensors), each as
+    the robot to spawn where it stands; one that cannot be a robot stays a model of the
+    world (rigid), with a warning."""
+    out = []
+    for entry in world.models:
+        if not entry.robot:
+            continue
+        try:
+            robot, pose = saved_robot(entry)
+        except SDFError as err:
+            logger.warning(
+                "%s: warning: model %r has plugins and sensors but cannot run as a robot (%s):"
+                " it is one rigid body, without them",
+                err.location or entry.source,
+                entry.name,
+                err.message,
+            )
+            continue
+        out.append((entry, robot, pose))
+    return out
+
+
 class PhysicsSimulation:
     """A world (default: the empty world, a ground plane and the sun) and the robots in it,
     stepped on ``graph``'s executor."""
@@ -97,7 +120,13 @@ class PhysicsSimulation:
     ) -> None:
         """``node``: the simulation's node (default: a new one named ``gazebo``)."""
         self.graph = graph
-        self.world = world or empty_world()
+        world = world or empty_world()
+        saved = _saved_robots(world)
+        self.saved: dict[str, WorldModelEntry] = {entry.name: entry for entry, _, _ in saved}
+        """The robots the world file holds (a world saved with them), as it wrote them."""
+        self.world = replace(
+            world, models=tuple(m for m in world.models if m.name not in self.saved)
+        )
         self.engine = Engine(self.world.physics)
         self.world_roots: dict[str, str] = {}
         self._build_world()  # first: a world MuJoCo refuses leaves nothing on the graph
@@ -113,6 +142,12 @@ class PhysicsSimulation:
         """Whether an ``after_step`` hook wants to run after every step now (no batching)."""
         self.engine.on_recompile.append(self._bind_all)
         self.timer = self.node.timer(self.engine.physics.max_step_size, self.physics_step)
+        for entry, robot, pose in saved:
+            self.spawn(robot, name=entry.name, pose=pose)
+
+    def world_entry(self, name: str) -> WorldModelEntry | None:
+        """The model of that name the world file holds (a robot saved in it too), if any."""
+        return self.world.model(name) or self.saved.get(name)
 
     def _build_world(self) -> None:
         try:
