@@ -140,8 +140,12 @@ class ProcessMonitor:
         else:
             text = "".join(traceback.format_exception(err)).rstrip("\n")
         logger.error("%s", text, extra=VERBATIM)
+        path = self.log_file(process.name)
         try:
-            write_file(self.log_file(process.name), text + "\n")
+            path.parent.mkdir(parents=True, exist_ok=True)
+            write_file(path, text + "\n")
+        except OSError as problem:
+            logger.debug("cannot write %s: %s", path, problem.strerror)
         except FileWriteError as problem:
             logger.debug("%s", problem.message)
         if process.node is not None and not process.node.closed:
