@@ -19,6 +19,10 @@ from typing import Any
 import pytest
 import yaml
 
+from belvedere.graph import Graph
+from belvedere.launch import load_launch
+from belvedere.launch._runtime import LaunchRuntime
+from belvedere.packages import PackageIndex
 from tests.conftest import EXAMPLES, free_port
 from tests.debian_ros import missing_debian_ros
 from tests.waiting import DEADLINE
@@ -247,3 +251,116 @@ def test_the_lines_and_exit_status_are_debian_roslaunchs(
     assert our_code == ros_code == 0
     assert our_lines == ros_lines
     assert "Initiating shutdown!" in ros_lines
+
+
+WATCH = """#!/usr/bin/env python3
+import glob, os, time
+import rospy
+rospy.init_node("watch")
+pattern = os.path.join(os.environ["ROS_LOG_DIR"], "*", rospy.myargv()[1])
+while sum(open(p).read().count("error:") for p in glob.glob(pattern)) < 2:
+    time.sleep(0.05)
+"""
+
+IN_PROCESS = """<launch>
+  <include file="$(find gazebo_ros)/launch/empty_world.launch">
+    <arg name="gui" value="false"/>
+  </include>
+  <param name="robot_description" textfile="$(find mbot_description)/urdf/urdf/mbot_base.urdf"/>
+  <node name="urdf_spawner" pkg="gazebo_ros" type="spawn_model"
+        args="-urdf -model r -param robot_description"/>
+  <node pkg="map_server" type="map_server" name="mapless" args="{missing}" respawn="true"/>
+  <node pkg="life" type="watch.py" name="boss" args="mapless-4.log" required="true"/>
+</launch>
+"""
+"""Nodes of belvedere's own: the spawner ends once the robot is in; a map server without its
+map dies at each start and is started again (its log file keeps each death's error); a
+script ends the launch, required, once the map server has died twice."""
+
+
+def test_nodes_of_this_process_live_and_die_as_processes(
+    tmp_path: Path, endpoint: str, own_log_dir: Path
+) -> None:
+    launch = life_package(tmp_path)
+    watch = launch.parent / "scripts" / "watch.py"
+    watch.write_text(WATCH)
+    watch.chmod(0o755)
+    missing = tmp_path / "none.yaml"
+    launch.write_text(IN_PROCESS.format(missing=missing))
+    env = {**os.environ, "ROS_PACKAGE_PATH": f"{tmp_path}:{EXAMPLES}"}
+    done = belvedere_launch(launch, env)
+    assert done.returncode == 0, done.stderr
+    lines = lifecycle_lines(done.stderr, own_log_dir)
+    assert "[urdf_spawner-3] process has finished cleanly" in lines
+    died = (
+        "[mapless-4] process has died [pid PID, exit code 1, cmd map_server/map_server "
+        f"{missing} __name:=mapless __log:=LOG/RUN/mapless-4.log]."
+    )
+    assert lines.count(died) >= 2
+    assert lines[lines.index(died) + 1 : lines.index(died) + 3] == [
+        "log file: LOG/RUN/mapless-4*.log",
+        "[mapless-4] restarting process",
+    ]
+    assert "process[mapless-4]: started in this process" in done.stderr
+    banner = lines.index("=" * 80 + "REQUIRED process [boss-5] has died!")
+    assert lines[banner + 1] == "process has finished cleanly"
+    (log,) = own_log_dir.glob("*/mapless-4.log")
+    assert log.read_text().count(f"error: cannot read the map file '{missing}'") >= 2
+
+
+def test_respawn_and_required_together_are_refused_as_roslaunch_refuses_them(
+    tmp_path: Path,
+) -> None:
+    launch = tmp_path / "both.launch"
+    launch.write_text(
+        '<launch>\n  <node pkg="life" type="hold.py" name="h" respawn="true" required="true"/>\n'
+        "</launch>\n"
+    )
+    done = subprocess.run(
+        [*BELVEDERE, "launch", str(launch), "--nodes"], capture_output=True, text=True
+    )
+    assert done.returncode == 1
+    assert done.stderr.startswith(
+        f"{launch}:2:3: error: Invalid <node> tag: respawn and required cannot both be set "
+        "to true\n"
+    )
+
+
+def test_a_node_whose_run_raises_dies_alone(
+    tmp_path: Path, own_log_dir: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """A node of this process raising while it runs (here a timer of its) is that process
+    dying with exit code 1; the others run on."""
+    launch = tmp_path / "two.launch"
+    launch.write_text(
+        "<launch>\n"
+        '  <node pkg="tf2_ros" type="static_transform_publisher" name="a"\n'
+        '        args="0 0 0 0 0 0 m a"/>\n'
+        '  <node pkg="tf2_ros" type="static_transform_publisher" name="b"\n'
+        '        args="0 0 0 0 0 0 m b"/>\n'
+        "</launch>\n"
+    )
+    packages = PackageIndex([EXAMPLES])
+    graph = Graph()
+    runtime = LaunchRuntime(
+        load_launch(launch, packages=packages), graph, packages, headless=True, lifecycle=True
+    )
+    runtime.start()
+    (_, a), (_, b) = runtime.in_process
+
+    def broken() -> None:
+        msg = "a bug in the node"
+        raise RuntimeError(msg)
+
+    a.timer(0.1, broken)
+    try:
+        graph.run(duration=0.5)
+        assert runtime.poll_processes() is None  # the launch runs on
+    finally:
+        runtime.close()
+        graph.shutdown()
+    assert a.closed
+    assert not b.closed
+    assert "RuntimeError: a bug in the node" in caplog.text
+    assert "[a-2] process has died [pid " in caplog.text
+    assert ", exit code 1, cmd tf2_ros/static_transform_publisher 0 0 0 0 0 0 m a " in caplog.text

@@ -44,7 +44,6 @@ from pathlib import Path
 from typing import IO
 
 from belvedere.errors import BelvedereError
-from belvedere.fileio import FileWriteError, write_file
 from belvedere.graph import Node
 from belvedere.launch._model import LaunchNode
 
@@ -141,13 +140,12 @@ class ProcessMonitor:
             text = "".join(traceback.format_exception(err)).rstrip("\n")
         logger.error("%s", text, extra=VERBATIM)
         path = self.log_file(process.name)
-        try:
+        try:  # appended, as roslaunch appends to the logs of a node that respawns
             path.parent.mkdir(parents=True, exist_ok=True)
-            write_file(path, text + "\n")
+            with open(path, "a", encoding="utf-8") as log:
+                log.write(text + "\n")
         except OSError as problem:
             logger.debug("cannot write %s: %s", path, problem.strerror)
-        except FileWriteError as problem:
-            logger.debug("%s", problem.message)
         if process.node is not None and not process.node.closed:
             process.node.shutdown()
         process.exit_code = 1

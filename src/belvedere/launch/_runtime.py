@@ -252,7 +252,7 @@ class LaunchRuntime:
     def _start_in_process(self, spec: LaunchNode, node: Node, name: str) -> None:
         """A node of this process, as a process of the launch: its start raising is its
         death (exit code 1), not the launch's failure; so is an action it left for later
-        (spawn_model's spawn) raising."""
+        (spawn_model's spawn) raising, or one of its timers."""
         assert self.monitor is not None
         try:
             words = shlex.split(spec.args)
@@ -271,12 +271,20 @@ class LaunchRuntime:
         self.monitor.add(process)
         self._run_in_process(process)
 
+    def _crash(self, process: LaunchProcess) -> Callable[[Exception], None]:
+        def crashed(err: Exception) -> None:
+            assert self.monitor is not None
+            self.monitor.failed(process, err)
+
+        return crashed
+
     def _run_in_process(self, process: LaunchProcess) -> None:
         assert self.monitor is not None
         assert process.node is not None
         spec = process.spec
         starter = nodes.find(spec.pkg, spec.type)
         assert starter is not None
+        process.node.on_crash = self._crash(process)  # its run raising is its death too
         deferred, controllers = len(self.deferred), len(self.controllers)
         try:
             starter(self, spec, process.node)
