@@ -168,3 +168,16 @@ def test_save_run_again_and_spawn_again_across_processes(endpoint: str, tmp_path
     assert end - start > 0.3
     assert messages["/scan"]
     assert messages["/scan"][-1]["header"]["frame_id"] == "laser_link"
+
+
+def test_an_sdf_model_with_plugins_spawns_as_a_robot() -> None:
+    """spawn_sdf_model (``spawn_model -sdf``) of a model with plugins and sensors: a robot,
+    as a saved one is, not a rigid model."""
+    room = read_world(EXAMPLES / "mbot_gazebo/worlds/room.world")
+    entry = room.model("mrobot")
+    assert entry is not None
+    sim = PhysicsSimulation(Graph(), read_world(BOX_ROOM))
+    sim.add_model(entry, name="second", pose=Pose((1.0, 0.0, 0.0)))
+    assert list(sim.robots) == ["second"]
+    assert {type(p) for p in sim.plugins} == {DiffDrive, LaserSensor}
+    np.testing.assert_allclose(sim.model_pose("second")[:3, 3], [1.0, 0.0, 0.0], atol=1e-9)

@@ -42,7 +42,10 @@ def add_parser(
         parents=[common],
         help="run a roslaunch file",
         description="Run a ROS launch file: belvedere launch PKG FILE.launch [name:=value …] "
-        "or belvedere launch PATH.launch [name:=value …].",
+        "or belvedere launch PATH.launch [name:=value …]. Nodes live and die as roslaunch's "
+        "processes: one that fails dies alone ('[name-N] process has died …', its log under "
+        'ROS_LOG_DIR or ~/.ros/log), required="true" ends the launch, respawn="true" '
+        "starts it again after respawn_delay; the exit status is 0, as roslaunch's.",
     )
     p.add_argument("target", metavar="PKG|PATH", help="a package name, or a launch file")
     p.add_argument("file", nargs="?", metavar="FILE", help="the launch file in PKG")

@@ -443,12 +443,18 @@ class PhysicsSimulation:
     ) -> None:
         """Add an SDF model to the world (spawn_sdf_model). ``origin``: the ``model://NAME``
         it came from, if it came from the model path (a saved world includes it from
-        there); by default the entry's own ``uri``."""
+        there); by default the entry's own ``uri``. A model with plugins or sensors is a
+        robot, spawned as one (its plugins and sensors run)."""
         name = name or entry.name
         if name in self.robots or name in self.world_roots:
             msg = f"a model named {name!r} already exists in the simulation"
             raise ModelError(msg)
         placed = replace(entry, name=name, pose=pose, uri=origin or entry.uri)
+        robots = _saved_robots(WorldModel(models=(placed,)))
+        if robots:
+            _, robot, at = robots[0]
+            self.spawn(robot, name=name, pose=at)
+            return
         try:
             roots = add_world(
                 self.engine.spec, WorldModel(models=(placed,)), scene=self.world.scene
