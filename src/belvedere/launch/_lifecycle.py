@@ -22,7 +22,9 @@ Each description ends with ``log file: DIR/name-N*.log``. The launch's exit stat
 whichever way it ends, as roslaunch's is. A launch that joined a running graph (roslaunch
 beside a running master) ends, as roslaunch does, once all its processes have died and none
 will respawn; one that made the graph keeps it (and its master, as roslaunch keeps the
-roscore it started) until Ctrl-C.
+roscore it started) until Ctrl-C. Processes are numbered as roslaunch numbers them: from 2 on
+a graph the launch made (process 1 is the rosout of roslaunch's own roscore), from 1 beside a
+running one.
 
 The log directory is ROS's (``ROS_LOG_DIR``, else ``ROS_HOME/log``, else ``~/.ros/log``) and
 the launch's run id below it, made only when something is written there: what a script of

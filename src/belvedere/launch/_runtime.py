@@ -261,12 +261,9 @@ class LaunchRuntime:
         cmd = [f"{spec.pkg}/{spec.type}", *words, *(f"{a}:={b}" for a, b in spec.remappings)]
         cmd += [f"__name:={spec.name}", f"__log:={self.monitor.log_file(name)}"]
         process = LaunchProcess(
-            spec, name, cmd, os.getpid(), node=node, finished=lambda: self.finished.get(node_of())
+            spec, name, cmd, os.getpid(), node=node, finished=lambda: self.finished.get(full)
         )
-
-        def node_of() -> str:
-            return process.node.full_name if process.node is not None else spec.full_name
-
+        full = node.full_name
         process.start = lambda: self._restart_in_process(process)
         self.monitor.add(process)
         self._run_in_process(process)
@@ -352,16 +349,12 @@ class LaunchRuntime:
     ) -> None:
         assert self.monitor is not None
         spec = process.spec
-        log: Any = None
+        log = None
         if spec.output != "screen":
             log = self.monitor.stdout_for(process.name, append=spec.respawn and not first)
+        stdout: Any = None if spec.output == "screen" else (log or subprocess.DEVNULL)
         try:
-            popen = subprocess.Popen(
-                words,
-                env=env,
-                cwd=spec.cwd,
-                stdout=subprocess.DEVNULL if spec.output != "screen" and log is None else log,
-            )
+            popen = subprocess.Popen(words, env=env, cwd=spec.cwd, stdout=stdout)
         finally:
             if log is not None:
                 log.close()
