@@ -19,13 +19,13 @@ from typing import Any
 import pytest
 import yaml
 
-from belvedere.graph import Graph
+from belvedere.graph import Graph, ZenohTransport, graph_running
 from belvedere.launch import load_launch
 from belvedere.launch._runtime import LaunchRuntime
 from belvedere.packages import PackageIndex
 from tests.conftest import EXAMPLES, free_port
 from tests.debian_ros import missing_debian_ros
-from tests.waiting import DEADLINE
+from tests.waiting import DEADLINE, wait_until
 
 BELVEDERE = [sys.executable, "-m", "belvedere"]
 ROSLAUNCH = Path("/usr/bin/roslaunch")
@@ -364,3 +364,53 @@ def test_a_node_whose_run_raises_dies_alone(
     assert "RuntimeError: a bug in the node" in caplog.text
     assert "[a-2] process has died [pid " in caplog.text
     assert ", exit code 1, cmd tf2_ros/static_transform_publisher 0 0 0 0 0 0 m a " in caplog.text
+
+
+SPAWNER = """<launch>
+  <param name="robot_description" textfile="$(find mbot_description)/urdf/urdf/mbot_base.urdf"/>
+  <node name="urdf_spawner" pkg="gazebo_ros" type="spawn_model"
+        args="-urdf -model mrobot -param robot_description"/>
+</launch>
+"""
+
+
+def test_a_spawner_beside_the_running_room_dies_and_its_launch_ends(
+    tmp_path: Path, endpoint: str, own_log_dir: Path
+) -> None:
+    """In a second terminal, beside the room that holds mrobot: the spawner's launch joins
+    the running graph (roslaunch beside a running master); Gazebo refuses the name, the
+    spawner dies, and with no process left the launch ends, as roslaunch does."""
+    room = [*BELVEDERE, "launch", "--package-path", str(EXAMPLES), "--headless", "mbot_gazebo"]
+    room += ["view_mbot_gazebo_room.launch", "gui:=false"]
+    spawner = tmp_path / "spawner.launch"
+    spawner.write_text(SPAWNER)
+    quiet = {"stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL}
+    with subprocess.Popen(room, **quiet) as running:  # type: ignore[call-overload]
+        try:
+            wait_until(lambda: graph_running() or running.poll() is not None, what="the graph")
+            probe = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint))
+            models: list[list[str]] = []
+            probe.create_node("probe").subscribe(
+                "/gazebo/model_states", "gazebo_msgs/ModelStates", lambda m: models.append(m.name)
+            )
+            probe.start()
+            try:
+                wait_until(lambda: models or running.poll() is not None, what="the room")
+            finally:
+                probe.shutdown()
+            assert "mrobot" in models[-1]
+            second = [*BELVEDERE, "launch", "--package-path", str(EXAMPLES), str(spawner)]
+            done = subprocess.run(
+                [*second, "--headless"], capture_output=True, text=True, timeout=DEADLINE
+            )
+            assert running.poll() is None  # the world runs on
+        finally:
+            running.terminate()
+            running.wait(timeout=DEADLINE)
+    assert done.returncode == 0, done.stderr
+    assert "SpawnModel: Failure - model name mrobot already exist." in done.stderr
+    lines = lifecycle_lines(done.stderr, own_log_dir)
+    assert lines[0].startswith(
+        "[urdf_spawner-1] process has died [pid PID, exit code 1, cmd gazebo_ros/spawn_model "
+    )
+    assert "all processes on machine have died, roslaunch will exit" in done.stderr
