@@ -133,6 +133,14 @@ def own_graph(monkeypatch: pytest.MonkeyPatch) -> str:
     return value
 
 
+@pytest.fixture(autouse=True)
+def own_log_dir(monkeypatch: pytest.MonkeyPatch, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """Where launches write ROS's logs (``ROS_LOG_DIR``): never the user's ``~/.ros/log``."""
+    path = tmp_path_factory.mktemp("ros_log")
+    monkeypatch.setenv("ROS_LOG_DIR", str(path))
+    return path
+
+
 @pytest.fixture
 def endpoint(own_graph: str) -> str:
     """This test's endpoint (``BELVEDERE_ENDPOINT``)."""

@@ -353,7 +353,7 @@ def test_a_launch_playing_into_a_recorder_is_deterministic(
         runs.append([(m.connection.topic, m.stamp_ns, m.data) for m in bag.messages()])
         bag.close()
     err = capsys.readouterr().err
-    assert "required node /player exited" in err
+    assert "REQUIRED process [player-2] has died!\nprocess has finished cleanly\n" in err
     assert runs[0] == runs[1]
     original = open_bag(source)
     expected = [(m.connection.topic, m.stamp_ns) for m in original.messages()]

@@ -77,6 +77,7 @@ def test_launch_of_a_misspelt_file(tmp_path: Path, capsys: pytest.CaptureFixture
     assert capsys.readouterr().err.endswith(
         "  hint: the package's launch files: mbot_laser_nav_gazebo.launch, "
         "view_mbot_gazebo_empty_world.launch, view_mbot_gazebo_play_ground.launch, "
+        "view_mbot_gazebo_room.launch, "
         "view_mbot_with_camera_gazebo.launch, view_mbot_with_kinect_gazebo.launch, "
         "view_mbot_with_laser_gazebo.launch\n"
     )

@@ -211,7 +211,8 @@ def test_a_world_that_already_holds_the_robot(
     args = ["sim", MBOT, "--engine", "physics", "--world", str(world), "--headless"]
     assert main([*args, "--duration", "0.1"]) == 1
     err = capsys.readouterr().err
-    assert f"{world}:2:3: error: the world already has a model named 'mbot'" in err
+    assert f"{world}:2:3: error: SpawnModel: Failure - model name mbot already exist." in err
+    assert "The world already has a model named 'mbot'" in err
     assert "mbot_gazebo.xacro cannot be spawned under that name again" in err
 
 

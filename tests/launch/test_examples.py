@@ -228,7 +228,8 @@ def test_required_script_ends_the_launch_and_params_are_dumped(
     )
     # paced at real time; the duration only bounds the run should the script never end it
     assert main(["launch", str(launch), "--headless", "--duration", str(DEADLINE)]) == 0
-    assert "required node /quick exited: shutting down" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "=" * 80 + "REQUIRED process [quick-2] has died!\nprocess has finished cleanly\n" in err
     assert "speed: 0.3" in dump.read_text()
 
 
@@ -261,8 +262,9 @@ def test_launch_prints_roslaunchs_summary_and_the_processes_it_starts(
     assert err.startswith(summary)
     lines = err[len(summary) :].splitlines()
     assert lines[0].startswith("graph: domain ")
-    assert lines[1] == "process[r1/camera_tf-1]: started in this process"
-    assert re.fullmatch(r"process\[quick-2\]: started with pid \[\d+\]", lines[2])
+    # roslaunch's own roscore's rosout is process 1
+    assert lines[1] == "process[r1/camera_tf-2]: started in this process"
+    assert re.fullmatch(r"process\[quick-3\]: started with pid \[\d+\]", lines[2])
     assert out == ""
     assert main([*argv, "-q"]) == 0
     assert "SUMMARY" not in capsys.readouterr().err
@@ -322,8 +324,8 @@ def test_spawning_a_model_the_world_already_has_names_both_places(tmp_path: Path
         runtime.start()
     text = info.value.describe()
     assert text.startswith(f"{launch}:7:")
-    assert f"the world already has a model named 'mrobot' (at {world}:3:3)" in text
-    assert "Gazebo refuses to spawn it again" in text
+    assert "SpawnModel: Failure - model name mrobot already exist." in text
+    assert f"the world already has a model named 'mrobot', at {world}:3:3" in text
     runtime.close()
     graph.shutdown()
 
@@ -344,7 +346,7 @@ def test_two_spawners_of_one_name_name_both_places(tmp_path: Path) -> None:
     packages = PackageIndex([EXAMPLES])
     graph = Graph()
     runtime = LaunchRuntime(load_launch(launch, packages=packages), graph, packages, headless=True)
-    with pytest.raises(LaunchError, match=rf"/first \(at {launch}:6:\d+\) already spawned") as info:
+    with pytest.raises(LaunchError, match=rf"\(/first, at {launch}:6:\d+, spawned a model") as info:
         runtime.start()
     assert str(info.value.location).startswith(f"{launch}:7:")
     runtime.close()

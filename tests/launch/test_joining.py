@@ -95,7 +95,7 @@ def test_spawn_model_beside_a_running_simulation(endpoint: str, tmp_path: Path) 
             wait_until(lambda: "mbot" in models[-1], what="mbot in /gazebo/model_states")
             again = subprocess.run([*spawn, "-model", "mbot"], capture_output=True, text=True)
             assert again.returncode == 1
-            assert "SpawnModel: Failure - a model named 'mbot' already exists" in again.stderr
+            assert "SpawnModel: Failure - model name mbot already exist." in again.stderr
             assert "error: spawn_model mbot:" in again.stderr
             assert running.poll() is None
         finally:

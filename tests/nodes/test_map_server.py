@@ -172,12 +172,14 @@ def test_a_bad_map_in_a_launch_names_the_yaml_line_and_the_node(
         ["launch", "--package-path", str(pkg.parent), "--headless", "--duration", "0.1",
          str(launch)]
     )  # fmt: skip
-    assert code == 1
-    err = capsys.readouterr().err
-    assert err.splitlines()[-2:] == [
+    assert code == 0  # the node died, not the launch (roslaunch's exit status)
+    lines = capsys.readouterr().err.splitlines()
+    died = next(i for i, line in enumerate(lines) if "process has died" in line)
+    assert lines[died - 2 : died] == [
         f"{yaml_file}:2:13: error: resolution must be a positive number of metres per cell, got -1",
         f"  loading the map of node /map_server at {launch}:2:3",
     ]
+    assert lines[died].startswith("[map_server-2] process has died [pid ")
 
 
 def test_map_server_without_a_map_file(capsys: pytest.CaptureFixture[str]) -> None:

@@ -69,7 +69,11 @@ def test_save_world_as_writes_the_running_world(tmp_path: Path) -> None:
     assert written == tmp_path / "saved.world"
     saved = read_world(written, packages=PACKAGES)
     assert [m.name for m in saved.models] == [*(m.name for m in running.world.models), "mbot"]
+    mbot = saved.model("mbot")
+    assert mbot is not None
+    assert [p.filename for p in mbot.plugins] == ["libgazebo_ros_diff_drive.so"]
     fresh = PhysicsSimulation(Graph(), saved)
+    assert list(fresh.robots) == ["mbot"]  # it drives again
     for name, pose in poses.items():
         np.testing.assert_allclose(fresh.model_pose(name), pose, atol=1e-6, err_msg=name)
 

@@ -64,6 +64,8 @@ class _Formatter(logging.Formatter):
         if ros_line is not None:
             return ros_line  # a node's log, in ROS's format (see belvedere.graph.NodeLogger)
         msg = record.getMessage()
+        if getattr(record, "verbatim", False):
+            return msg  # roslaunch's own lines (belvedere.launch._lifecycle)
         own_prefix = _OWN_PREFIX.search(msg) is not None
         if record.levelno >= logging.WARNING and not own_prefix:
             msg = f"{record.levelname.lower()}: {msg}"

@@ -44,8 +44,9 @@ def run_session(
     ``/use_sim_time``), else the wall clock's, as with a bare roscore. ``quiet_end``: a
     required node's exit ends the run without a word, and its exit status is the run's
     (rosrun's way). ``join``: the nodes join the graph that is running (its parameters, its
-    clock) instead of making one, as ROS nodes join a running master. ``announce``: say each
-    process started (roslaunch's lines)."""
+    clock) instead of making one, as ROS nodes join a running master. ``announce``: roslaunch's
+    way: say each process started, and each node lives and dies as roslaunch's processes do
+    (:mod:`belvedere.launch._lifecycle`)."""
     if join:
         graph = join_graph(args, alone=sim_time)
         transport = graph.transport
@@ -66,6 +67,8 @@ def run_session(
         packages,
         headless=args.headless,
         announce=announce,
+        lifecycle=announce,
+        joined=join,
         viewer_options={
             "host": args.host,
             "port": args.port,
@@ -166,7 +169,7 @@ def _run(
             spec = runtime.poll_processes()
         if spec is not None:
             ended.append(spec)
-            if not quiet_end:
+            if not quiet_end and runtime.monitor is None:  # the monitor said it its way
                 sys.stderr.write(f"required node {spec.full_name} exited: shutting down\n")
             return True
         return False

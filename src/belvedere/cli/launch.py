@@ -46,7 +46,10 @@ def add_parser(
         "simulates time: it publishes /clock (paced by --rtf) and /use_sim_time is true "
         "before any node starts. A launch of clients only (move_base, amcl, map_server, "
         "rviz, scripts …) beside a running graph joins it and follows its time; a second "
-        "simulation on one graph is refused.",
+        "simulation on one graph is refused. Nodes live and die as roslaunch's "
+        "processes: one that fails dies alone ('[name-N] process has died …', its log under "
+        'ROS_LOG_DIR or ~/.ros/log), required="true" ends the launch, respawn="true" '
+        "starts it again after respawn_delay; the exit status is 0, as roslaunch's.",
     )
     p.add_argument("target", metavar="PKG|PATH", help="a package name, or a launch file")
     p.add_argument("file", nargs="?", metavar="FILE", help="the launch file in PKG")

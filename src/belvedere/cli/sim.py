@@ -30,7 +30,7 @@ from belvedere.sim import (
     MAX_TURN_RATE_PARAM,
 )
 from belvedere.sim.kinematic import ArbotixConfig, KinematicSimulation
-from belvedere.sim.physics import GazeboRos, PhysicsSimulation
+from belvedere.sim.physics import GazeboRos, PhysicsSimulation, name_taken
 from belvedere.tf import JointStatePublisher, RobotStatePublisher
 from belvedere.world import ModelPaths, WorldModel, empty_world, read_world
 from belvedere.yamlfile import load_yaml_file
@@ -228,15 +228,15 @@ def _physics(
     embedded = world.model(model.name)
     if embedded is not None:  # Gazebo refuses to spawn a second model of one name
         msg = (
-            f"the world already has a model named {model.name!r} (at "
-            f"{embedded.source or world.path}); the robot {model.path or model.name} cannot be "
-            "spawned under that name again"
+            f"{name_taken(model.name)} The world already has a model named {model.name!r}; "
+            f"the robot {model.path or model.name} cannot be spawned under that name again"
         )
         raise ParseError(
             msg,
             embedded.source,
-            hint="remove that <model> from the world file (a world saved while the robot was "
-            "in it keeps a copy)",
+            hint="a world saved while the robot was in it keeps the robot, and it runs as it "
+            "did: run the world alone (belvedere launch gazebo_ros empty_world.launch "
+            f"world_name:={world.path}), or remove that <model> from the world file",
         )
     sim = PhysicsSimulation(graph, world, auto_reset=args.auto_reset)
     GazeboRos(sim, packages=packages)

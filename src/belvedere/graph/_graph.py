@@ -237,8 +237,10 @@ class Subscription:
         self.received += 1
         try:
             self.callback(msg)
-        except BelvedereError:
-            raise
+        except BelvedereError as err:
+            if self.node.on_crash is None:
+                raise
+            self.node.on_crash(err)
         except Exception:  # a user callback bug must not kill the graph
             logger.exception("callback of %s on %s failed", self.node.name, self.topic.name)
         if pending:
@@ -325,6 +327,9 @@ class Node:
         """Its log: each message on ``/rosout`` and on the terminal, as a ROS node's."""
         self.closed = False
         """Shut down: off the graph, its publishers silent, its callbacks never called."""
+        self.on_crash: Callable[[Exception], None] | None = None
+        """Called instead of raising when one of its timers (or a subscription, with a
+        belvedere error) raises: the node dies alone, as a process of a launch does."""
 
     @property
     def full_name(self) -> str:
@@ -393,9 +398,21 @@ class Node:
     def timer(
         self, period: float, callback: Callable[[], object], *, oneshot: bool = False
     ) -> Timer:
-        timer = self.graph.executor.add_timer(period, callback, oneshot=oneshot)
+        timer = self.graph.executor.add_timer(period, self._guarded(callback), oneshot=oneshot)
         self.timers.append(timer)
         return timer
+
+    def _guarded(self, callback: Callable[[], object]) -> Callable[[], object]:
+        def run() -> object:
+            try:
+                return callback()
+            except Exception as err:
+                if self.on_crash is None:
+                    raise
+                self.on_crash(err)
+                return None
+
+        return run
 
     def now_ns(self) -> int:
         return self.graph.now_ns()

@@ -449,6 +449,10 @@ class _Loader:
             self.config.warnings.append(
                 f"{el.loc}: note: machine={el.attrs['machine']!r}: the node runs on this machine"
             )
+        respawn = self.boolean(el, "respawn", scope, False)
+        if respawn and not test and self.boolean(el, "required", scope, False):
+            msg = "Invalid <node> tag: respawn and required cannot both be set to true"
+            raise LaunchError(msg, el.loc, hint="a required node ends the launch when it exits")
         (self.config.tests if test else self.config.nodes).append(
             LaunchNode(
                 pkg=pkg,
@@ -457,7 +461,7 @@ class _Loader:
                 namespace=canonical(ns),
                 args=self.attr(el, "args", scope, "") or "",
                 output=self.attr(el, "output", scope, "log") or "log",
-                respawn=self.boolean(el, "respawn", scope, False),
+                respawn=respawn,
                 respawn_delay=typed_value(
                     self.attr(el, "respawn_delay", scope, "0") or "0", "double", el.loc
                 ),

@@ -24,6 +24,7 @@ from belvedere.description.urdf import RobotModel
 from belvedere.errors import BelvedereError, SourceLocation
 from belvedere.fileio import FileWriteError, write_file
 from belvedere.graph import Graph, Node, ZenohTransport
+from belvedere.launch._lifecycle import LaunchProcess, ProcessMonitor
 from belvedere.launch._listing import process_name
 from belvedere.launch._model import LaunchConfig, LaunchError, LaunchNode
 from belvedere.launch._names import canonical
@@ -100,12 +101,19 @@ class LaunchRuntime:
     """Say each process started, as roslaunch does (rosrun does not)."""
     started: int = 0
     """Processes started so far (roslaunch numbers them: ``process[name-N]``)."""
+    lifecycle: bool = False
+    """Nodes live and die as roslaunch's processes (:mod:`belvedere.launch._lifecycle`): one
+    that fails dies alone, with roslaunch's line, rather than failing the launch."""
+    joined: bool = False
+    """The launch joined a running graph (as roslaunch uses a running master)."""
+    monitor: ProcessMonitor | None = None
 
     def param_source(self, name: str) -> SourceLocation | None:
         param = self.config.params.get(canonical(name))
         return None if param is None else param.source
 
     def start(self) -> None:
+        self._begin_lifecycle()
         params = self.graph.params
         for ns in self.config.clear:
             if params.has(ns):
@@ -168,11 +176,17 @@ class LaunchRuntime:
                     self._started(spec, f"with pid [{self.processes[-1][1].pid}]")
                 return
             self.missing.append(f"{spec.pkg}/{spec.type} ({spec.full_name}, {spec.source})")
+            if self.lifecycle:
+                self.started += 1  # roslaunch numbers a node it cannot find too
             return
         node = self.graph.create_node(
             spec.name, namespace=spec.namespace, remappings=dict(spec.remappings)
         )
         self.in_process.append((spec, node))
+        if self.lifecycle:
+            self._started(spec, "in this process")
+            self._start_in_process(spec, node, process_name(spec, self.started))
+            return
         self._call(lambda: starter(self, spec, node))
         self._started(spec, "in this process")
 
@@ -217,6 +231,8 @@ class LaunchRuntime:
             if spec.namespace != "/":
                 argv.append(f"__ns:={spec.namespace}")
             argv += [f"{a}:={b}" for a, b in spec.remappings]
+        if self.lifecycle:
+            return self._run_script_process(spec, script, command, argv, env)
         output = None if spec.output == "screen" else subprocess.DEVNULL
         process = subprocess.Popen(
             [*command, *argv], env=env, cwd=spec.cwd, stdout=output, stderr=output
@@ -224,6 +240,128 @@ class LaunchRuntime:
         self.processes.append((spec, process))
         self.script_argv[id(process)] = argv
         return True
+
+    # --- roslaunch's process lifecycle (see belvedere.launch._lifecycle) ------------------------
+    def _begin_lifecycle(self) -> None:
+        if not self.lifecycle:
+            return
+        self.monitor = ProcessMonitor(joined=self.joined)
+        if not self.joined:
+            self.started = 1  # roslaunch's own roscore: its rosout is process 1
+
+    def _start_in_process(self, spec: LaunchNode, node: Node, name: str) -> None:
+        """A node of this process, as a process of the launch: its start raising is its
+        death (exit code 1), not the launch's failure; so is an action it left for later
+        (spawn_model's spawn) raising, or one of its timers."""
+        assert self.monitor is not None
+        try:
+            words = shlex.split(spec.args)
+        except ValueError:
+            words = [spec.args]
+        cmd = [f"{spec.pkg}/{spec.type}", *words, *(f"{a}:={b}" for a, b in spec.remappings)]
+        cmd += [f"__name:={spec.name}", f"__log:={self.monitor.log_file(name)}"]
+        process = LaunchProcess(
+            spec, name, cmd, os.getpid(), node=node, finished=lambda: self.finished.get(full)
+        )
+        full = node.full_name
+        process.start = lambda: self._restart_in_process(process)
+        self.monitor.add(process)
+        self._run_in_process(process)
+
+    def _crash(self, process: LaunchProcess) -> Callable[[Exception], None]:
+        def crashed(err: Exception) -> None:
+            assert self.monitor is not None
+            self.monitor.failed(process, err)
+
+        return crashed
+
+    def _run_in_process(self, process: LaunchProcess) -> None:
+        assert self.monitor is not None
+        assert process.node is not None
+        spec = process.spec
+        starter = nodes.find(spec.pkg, spec.type)
+        assert starter is not None
+        process.node.on_crash = self._crash(process)  # its run raising is its death too
+        deferred, controllers = len(self.deferred), len(self.controllers)
+        try:
+            starter(self, spec, process.node)
+        except Exception as err:  # noqa: BLE001 (a node's crash is its process's death)
+            del self.deferred[deferred:], self.controllers[controllers:]
+            self.monitor.failed(process, err)
+            return
+        for actions, first in ((self.deferred, deferred), (self.controllers, controllers)):
+            actions[first:] = [self._guarded(process, a) for a in actions[first:]]
+
+    def _guarded(self, process: LaunchProcess, action: Callable[[], None]) -> Callable[[], None]:
+        def run() -> None:
+            assert self.monitor is not None
+            if process.exit_code is not None:
+                return  # the node died before its turn came
+            try:
+                action()
+            except Exception as err:  # noqa: BLE001 (a node's crash is its process's death)
+                self.monitor.failed(process, err)
+
+        return run
+
+    def _restart_in_process(self, process: LaunchProcess) -> None:
+        """respawn: a new node of the same name, started as the first was; what it leaves
+        for later runs now (everything else exists by now)."""
+        spec, old = process.spec, process.node
+        if old is not None and not old.closed:
+            old.shutdown()
+        self.finished.pop(spec.full_name, None)
+        node = self.graph.create_node(
+            spec.name, namespace=spec.namespace, remappings=dict(spec.remappings)
+        )
+        self.in_process = [(s, n) for s, n in self.in_process if n is not old] + [(spec, node)]
+        process.node = node
+        if self.announce:
+            logger.info("process[%s]: started in this process", process.name)
+        deferred, controllers = len(self.deferred), len(self.controllers)
+        self._run_in_process(process)
+        later = [*self.deferred[deferred:], *self.controllers[controllers:]]
+        del self.deferred[deferred:], self.controllers[controllers:]
+        for action in later:
+            action()
+
+    def _run_script_process(
+        self,
+        spec: LaunchNode,
+        script: Path,
+        command: list[str],
+        argv: list[str],
+        env: dict[str, str],
+    ) -> bool:
+        """A script as roslaunch runs it: ``__log:=`` its log file, stdout to that log
+        unless ``output="screen"``, stderr on the terminal."""
+        assert self.monitor is not None
+        name = process_name(spec, self.started + 1)  # the number _started gives it
+        argv = [*argv, f"__log:={self.monitor.log_file(name)}"]
+        process = LaunchProcess(spec, name, [str(script), *argv], 0)
+        process.start = lambda: self._popen_script(process, [*command, *argv], env)
+        self._popen_script(process, [*command, *argv], env, first=True)
+        self.monitor.add(process)
+        return True
+
+    def _popen_script(
+        self, process: LaunchProcess, words: list[str], env: dict[str, str], *, first: bool = False
+    ) -> None:
+        assert self.monitor is not None
+        spec = process.spec
+        log = None
+        if spec.output != "screen":
+            log = self.monitor.stdout_for(process.name, append=spec.respawn and not first)
+        stdout: Any = None if spec.output == "screen" else (log or subprocess.DEVNULL)
+        try:
+            popen = subprocess.Popen(words, env=env, cwd=spec.cwd, stdout=stdout)
+        finally:
+            if log is not None:
+                log.close()
+        process.popen, process.pid = popen, popen.pid
+        self.processes.append((spec, popen))
+        if self.announce and not first:
+            logger.info("process[%s]: started with pid [%d]", process.name, popen.pid)
 
     def _started(self, spec: LaunchNode, how: str) -> None:
         """roslaunch's line for each process it starts (an in-process node counts as one)."""
@@ -233,6 +371,8 @@ class LaunchRuntime:
 
     def ended_in_process(self) -> LaunchNode | None:
         """A required in-process node that has ended (the launch then ends), if any."""
+        if self.monitor is not None:
+            return None  # poll_processes looks at every process
         for spec, node in self.in_process:
             if node.closed and spec.required:
                 return spec
@@ -252,7 +392,12 @@ class LaunchRuntime:
 
     def poll_processes(self) -> LaunchNode | None:
         """A required node that has exited (the launch then ends), if any; nodes with
-        ``respawn`` that exited are started again after their ``respawn_delay``."""
+        ``respawn`` that exited are started again after their ``respawn_delay``. With
+        :attr:`lifecycle`: every process, as roslaunch's monitor looks at them (the node
+        whose end ends the launch, if one did)."""
+        if self.monitor is not None:
+            ended = self.monitor.poll()
+            return None if ended is None else ended.spec
         now = time.monotonic()
         for i, (spec, process) in enumerate(list(self.processes)):
             if process.poll() is None:
@@ -305,6 +450,8 @@ class LaunchRuntime:
     def _close_rest(self) -> None:
         if self.viewer is not None:
             self.viewer.close()
+        if self.monitor is not None:
+            self.monitor.stopping()
         for _, process in self.processes:
             if process.poll() is None:
                 process.terminate()
@@ -312,3 +459,5 @@ class LaunchRuntime:
                     process.wait(timeout=5)
                 except subprocess.TimeoutExpired:
                     process.kill()
+        if self.monitor is not None:
+            self.monitor.stopped()

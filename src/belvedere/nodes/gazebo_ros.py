@@ -83,6 +83,7 @@ def _spawn_model(session: Session, spec: NodeSpec, node: Node) -> None:
         _check_spawn_name(session, spec, name)
         spawn_model(node, words)
         session.spawned[name] = spec
+        end_node(session, node, 0)  # spawn_model exits once the model is in
 
     session.deferred.append(spawn)
 
@@ -106,26 +107,29 @@ def _spawn_elsewhere(session: Session, spec: NodeSpec, node: Node, words: list[s
 
 def _check_spawn_name(session: Session, spec: NodeSpec, name: str) -> None:
     """Gazebo refuses to spawn a model under a name the world already has (a world saved
-    with the robot in it, then launched with its spawner): one error naming both places."""
+    with the robot in it, then launched with its spawner): its words, and both places."""
+    from belvedere.sim.physics import name_taken
+
     earlier = session.spawned.get(name)
     if earlier is not None:
         msg = (
-            f"spawn_model -model {name}: {earlier.full_name} (at {earlier.source}) already "
-            "spawned a model of that name; Gazebo refuses a second one"
+            f"spawn_model -model {name}: {name_taken(name)} ({earlier.full_name}, at "
+            f"{earlier.source}, spawned a model of that name)"
         )
         raise StartError(msg, spec.source, hint="give each spawn_model its own -model name")
-    entry = session.sim.world.model(name)
+    entry = session.sim.world_entry(name)
     if entry is not None:
         where = entry.source or session.sim.world.path or "the world"
         msg = (
-            f"spawn_model -model {name}: the world already has a model named {name!r} "
-            f"(at {where}); Gazebo refuses to spawn it again"
+            f"spawn_model -model {name}: {name_taken(name)} (the world already has a model "
+            f"named {name!r}, at {where})"
         )
         raise StartError(
             msg,
             spec.source,
-            hint="remove that <model> from the world file (a world saved while the robot was "
-            "in it keeps a copy), or spawn under another -model name",
+            hint="a world saved while the robot was in it keeps the robot, and it runs as it "
+            "did: drop this spawner, or that <model> from the world file, or spawn under "
+            "another -model name",
         )
 
 

@@ -46,6 +46,7 @@ from belvedere.world._model import (
     WorldModelEntry,
 )
 from belvedere.world._paths import BUILTIN_MODELS, ModelPaths, model_sdf_file
+from belvedere.world._robot import saved_robot
 from belvedere.world._sdf import (
     SDFError,
     empty_world,
@@ -96,6 +97,7 @@ __all__ = [
     "read_world",
     "read_world_string",
     "robot_entry",
+    "saved_robot",
     "simple_shape",
     "snap",
     "world_sdf",

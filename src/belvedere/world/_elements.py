@@ -6,10 +6,42 @@ import math
 import sys
 
 from belvedere.description.gazebo_materials import gazebo_material_colours
+from belvedere.description.urdf import GazeboPlugin, Source, XmlData
 from belvedere.world._model import RGBA, Material, SDFError, Surface
-from belvedere.xmldom import Element
+from belvedere.xmldom import CData, Element, Text
 
-__all__ = ["child", "flag", "floats", "number", "positive", "read_material", "read_surface"]
+__all__ = [
+    "child",
+    "flag",
+    "floats",
+    "number",
+    "plugin",
+    "positive",
+    "read_material",
+    "read_surface",
+    "xml_data",
+]
+
+
+def xml_data(el: Element) -> XmlData:
+    """An element kept as data (a sensor, a plugin's parameters), with its line."""
+    return XmlData(
+        el.tag,
+        tuple(el.attrs.items()),
+        "".join(c.data for c in el.children() if isinstance(c, Text | CData)),
+        tuple(xml_data(c) for c in el.elements()),
+        Source(el.loc),
+    )
+
+
+def plugin(el: Element) -> GazeboPlugin:
+    """A ``<plugin filename=… name=…>`` and its parameters."""
+    return GazeboPlugin(
+        el.attrs.get("name", ""),
+        el.attrs.get("filename", ""),
+        tuple(xml_data(c) for c in el.elements()),
+        Source(el.loc),
+    )
 
 
 def floats(el: Element, count: int | None = None) -> tuple[float, ...]:

@@ -8,7 +8,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from belvedere.description.urdf import Box, Cylinder, Inertial, Mesh, Pose, Sphere, Vec3
+from belvedere.description.urdf import (
+    Box,
+    Cylinder,
+    GazeboPlugin,
+    Inertial,
+    Mesh,
+    Pose,
+    Sphere,
+    Vec3,
+    XmlData,
+)
 from belvedere.errors import ParseError, SourceLocation
 
 __all__ = [
@@ -107,6 +117,9 @@ class WorldLink:
     gravity: bool = True
     kinematic: bool = False
     source: SourceLocation | None = field(default=None, compare=False)
+    sensors: tuple[XmlData, ...] = ()
+    """Its ``<sensor>``s as written (each ``<pose>`` in the link's frame): a robot saved in
+    the world keeps its laser and cameras, with their plugins."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -125,6 +138,9 @@ class WorldJoint:
     damping: float = 0.0
     friction: float = 0.0
     source: SourceLocation | None = field(default=None, compare=False)
+    effort: float | None = None
+    """``<limit><effort>`` (None: not written; SDF's default, -1, is no limit)."""
+    velocity: float | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -157,6 +173,14 @@ class WorldModelEntry:
     canonical_link: str | None = None
     """The link the model frame is attached to (SDF 1.7 ``canonical_link``; by default the
     first link, or a nested model's canonical link)."""
+    plugins: tuple[GazeboPlugin, ...] = ()
+    """Its model plugins as written (a robot saved in the world keeps its diff drive)."""
+
+    @property
+    def robot(self) -> bool:
+        """A robot, as a saved world keeps one: plugins or sensors of its own (the
+        simulation spawns it as a robot, its joints moving)."""
+        return bool(self.plugins) or any(link.sensors for link in self.links)
 
     def link(self, name: str) -> WorldLink | None:
         return next((link for link in self.links if link.name == name), None)

@@ -8,7 +8,8 @@ scope's frame graph (:mod:`belvedere.world._frames`: SDF 1.7's ``relative_to``,
 fixed rules and the ``frame`` attribute); ``<include>`` of ``model://`` (with ``<name>``,
 ``<pose>``, ``<static>``, ``<placement_frame>``); world ``<frame>``s; the ``<state>`` block
 Gazebo writes when it saves a world; lights. What is not simulated (actors, populations,
-heightmaps, world plugins) is a warning naming its line.
+heightmaps, world plugins) is a warning naming its line. A model's plugins and its links'
+sensors are kept as written: a robot saved in the world runs them again.
 """
 
 from __future__ import annotations
@@ -29,8 +30,9 @@ from belvedere.world._elements import child as _child
 from belvedere.world._elements import flag as _flag
 from belvedere.world._elements import floats as _floats
 from belvedere.world._elements import number as _number
+from belvedere.world._elements import plugin as _plugin
 from belvedere.world._elements import positive as _positive
-from belvedere.world._elements import read_colour, read_material, read_surface
+from belvedere.world._elements import read_colour, read_material, read_surface, xml_data
 from belvedere.world._frames import FrameGraph, Matrix4
 from belvedere.world._model import (
     Attenuation,
@@ -525,6 +527,7 @@ class _Reader:
         parts: list[tuple[Element, _ModelRead | None]] = []  # own links, nested models in order
         joint_els: list[Element] = []
         nested: list[_ModelRead] = []
+        plugin_els: list[Element] = []
         for child in el.elements():
             if child.tag == "link":
                 link_name = self.name(child, "link")
@@ -570,11 +573,7 @@ class _Reader:
                     nested.append(inner)
                     parts.append((child, inner))
             elif child.tag == "plugin":
-                self.warn(
-                    child.loc,
-                    f"model plugin {child.attrs.get('filename', '?')!r} in {name!r} "
-                    "is not supported; ignored",
-                )
+                plugin_els.append(child)  # a saved robot's: the simulation runs it
         canonical = self._canonical(el, graph, nested)
         graph.attach_root(None if static else canonical)
         for joint_el in joint_els:
@@ -614,6 +613,7 @@ class _Reader:
             source=el.loc,
             frames=self._frames(graph),
             canonical_link=canonical,
+            plugins=tuple(_plugin(p) for p in plugin_els),
         )
         return _ModelRead(entry, graph, matrix, rel, _pose_at(el))
 
@@ -665,9 +665,6 @@ class _Reader:
             if c.tag == "visual"
             if (s := self.shape(c, graph, name)) is not None
         )
-        for c in el.elements():
-            if c.tag == "sensor":
-                self.warn(c.loc, f"sensor {c.attrs.get('name', '?')!r} of a world model ignored")
         return WorldLink(
             name=name,
             pose=graph.pose(name),
@@ -677,6 +674,7 @@ class _Reader:
             gravity=_flag(el, "gravity", True),
             kinematic=_flag(el, "kinematic", False),
             source=el.loc,
+            sensors=tuple(xml_data(c) for c in el.elements() if c.tag == "sensor"),
         )
 
     def in_link(self, el: Element, graph: FrameGraph, link: str, what: str) -> Pose:
@@ -801,7 +799,7 @@ class _Reader:
         child_from_model = np.linalg.inv(graph.in_root(child))
         axis_el = _child(el, "axis")
         axis = (0.0, 0.0, 1.0)
-        lower = upper = None
+        lower = upper = effort = velocity = None
         damping = friction = 0.0
         if axis_el is not None:
             xyz_el = _child(axis_el, "xyz")
@@ -817,13 +815,29 @@ class _Reader:
             limit = _child(axis_el, "limit")
             if limit is not None and kind in ("revolute", "prismatic"):
                 lower, upper = _number(limit, "lower", -1e16), _number(limit, "upper", 1e16)
+            if limit is not None:
+                given = {c.tag for c in limit.elements()}
+                effort = _number(limit, "effort", -1.0) if "effort" in given else None
+                velocity = _number(limit, "velocity", -1.0) if "velocity" in given else None
             dynamics = _child(axis_el, "dynamics")
             if dynamics is not None:
                 damping = _number(dynamics, "damping", 0.0)
                 friction = _number(dynamics, "friction", 0.0)
         pose = graph.between(child, model_from_joint)
         return WorldJoint(
-            name, kind, parent, child, pose, axis, lower, upper, damping, friction, el.loc
+            name,
+            kind,
+            parent,
+            child,
+            pose,
+            axis,
+            lower,
+            upper,
+            damping,
+            friction,
+            el.loc,
+            effort=effort,
+            velocity=velocity,
         )
 
     def _axis_frame(self, axis_el: Element, xyz_el: Element) -> str | None:

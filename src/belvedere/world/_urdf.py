@@ -5,14 +5,16 @@ As in Gazebo, links joined by fixed joints become one link (the first of them), 
 inertias combined about the common centre of mass and their shapes renamed
 ``LINK_fixed_joint_lump__CHILD_…``; the ``world`` link is dropped and what is fixed to it is
 joined to ``world``. ``<gazebo reference>`` friction, contact stiffness, material and gravity
-go to the links they name. Meshes are written with the file they resolve to, so the world
-reads back from any directory.
+go to the links they name, and so do their sensors (a lumped link's posed in the link it
+joins); the robot's own ``<gazebo>`` plugins go to the model. Meshes are written with the
+file they resolve to, so the world reads back from any directory.
 """
 
 from __future__ import annotations
 
 import logging
 from collections.abc import Callable, Mapping
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -30,6 +32,7 @@ from belvedere.description.urdf import (
     Pose,
     RobotModel,
     Sphere,
+    XmlData,
     transform,
 )
 from belvedere.errors import SourceLocation
@@ -44,7 +47,7 @@ from belvedere.world._model import (
 )
 from belvedere.world._poses import from_matrix
 
-__all__ = ["MeshPath", "robot_entry"]
+__all__ = ["MeshPath", "placed_sensor", "robot_entry"]
 
 logger = logging.getLogger(__name__)
 
@@ -97,6 +100,7 @@ def robot_entry(
         links=tuple(links),
         joints=tuple(joints),
         canonical_link=links[0].name if links else None,
+        plugins=tuple(p for g in model.gazebo_for(None) for p in g.plugins),
     )
 
 
@@ -155,6 +159,12 @@ class _Converter:
             visuals=_unique(visuals),
             gravity=gravity,
             source=self.model.link(start).source.best,
+            sensors=tuple(
+                placed_sensor(sensor, offset)
+                for name, offset in members
+                for ext in self.model.gazebo_for(name)
+                for sensor in ext.sensors
+            ),
         )
 
     def collisions(self, start: str, link: Link, offset: Matrix4) -> list[Shape]:
@@ -224,9 +234,11 @@ class _Converter:
                 self.model.name,
                 kind,
             )
-        lower = upper = None
+        lower = upper = effort = velocity = None
         if kind in ("revolute", "prismatic") and joint.limit is not None:
             lower, upper = joint.limit.lower, joint.limit.upper
+        if joint.limit is not None and sdf_kind != "fixed":
+            effort, velocity = joint.limit.effort, joint.limit.velocity
         dynamics = joint.dynamics
         return WorldJoint(
             name=name,
@@ -239,7 +251,25 @@ class _Converter:
             damping=dynamics.damping if dynamics else 0.0,
             friction=dynamics.friction if dynamics else 0.0,
             source=joint.source.best,
+            effort=effort,
+            velocity=velocity,
         )
+
+
+def placed_sensor(sensor: XmlData, offset: Matrix4) -> XmlData:
+    """A sensor of a link lumped into another, posed in that one's frame (as sdformat moves
+    it); as written if it cannot say where it is (its spawn said why)."""
+    if np.array_equal(offset, np.eye(4)):
+        return sensor
+    written = (sensor.child_text("pose") or "0 0 0 0 0 0").split()
+    try:
+        x, y, z, roll, pitch, yaw = (float(v) for v in written)
+    except ValueError:
+        return sensor
+    placed = from_matrix(offset @ transform(Pose((x, y, z), (roll, pitch, yaw))))
+    text = " ".join(repr(round(v, 12) + 0.0) for v in (*placed.xyz, *placed.rpy))
+    rest = tuple(c for c in sensor.children if c.tag != "pose")
+    return replace(sensor, children=(XmlData("pose", text=text), *rest))
 
 
 def _shape_name(start: str, link: str, given: str | None, kind: str) -> str:

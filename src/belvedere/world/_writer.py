@@ -2,9 +2,10 @@
 
 A model that came from the model path is an ``<include>`` of its ``model://`` URI (with its
 ``<name>``, ``<pose>`` and ``<static>``); any other is written out in full (links, inertials,
-collisions, visuals, joints). Lights, physics and scene follow, the elements the world kept as
-written (its ``<gui>`` camera, solver settings, plugins) as they were, and, given a
-:class:`WorldState`, Gazebo's ``<state>`` block: the time, and where every model and link is.
+collisions, visuals, sensors, joints, plugins). Lights, physics and scene follow, the
+elements the world kept as written (its ``<gui>`` camera, solver settings, plugins) as they
+were, and, given a :class:`WorldState`, Gazebo's ``<state>`` block: the time, and where every
+model and link is.
 Numbers are written in full (the shortest text that reads back as the same double), poses
 rounded to 1e-12.
 """
@@ -20,7 +21,16 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from belvedere.description.urdf import Box, Cylinder, Inertial, Mesh, Pose, Sphere
+from belvedere.description.urdf import (
+    Box,
+    Cylinder,
+    GazeboPlugin,
+    Inertial,
+    Mesh,
+    Pose,
+    Sphere,
+    xml_element,
+)
 from belvedere.fileio import write_file
 from belvedere.world._model import (
     RGBA,
@@ -196,6 +206,15 @@ def _model(model: WorldModelEntry) -> Element:
         el.append(_link(link))
     for joint in model.joints:
         el.append(_joint(joint))
+    for plugin in model.plugins:
+        el.append(_plugin(plugin))
+    return el
+
+
+def _plugin(plugin: GazeboPlugin) -> Element:
+    el = Element("plugin", {"name": plugin.name, "filename": plugin.filename})
+    for param in plugin.params:
+        el.append(xml_element(param))
     return el
 
 
@@ -212,6 +231,8 @@ def _link(link: WorldLink) -> Element:
         el.append(_shape("collision", shape))
     for shape in link.visuals:
         el.append(_shape("visual", shape))
+    for sensor in link.sensors:
+        el.append(xml_element(sensor))
     return el
 
 
@@ -322,10 +343,15 @@ def _joint(joint: WorldJoint) -> Element:
     rotation = matrix(joint.pose)[:3, :3]
     axis = rotation.T @ np.asarray(joint.axis, dtype=np.float64)
     _add(axis_el, "xyz", _nums(float(v) for v in axis))
+    limits: list[tuple[str, float | None]] = []
     if joint.lower is not None and joint.upper is not None:
+        limits += [("lower", joint.lower), ("upper", joint.upper)]
+    limits += [("effort", joint.effort), ("velocity", joint.velocity)]
+    if any(value is not None for _, value in limits):
         limit = _add(axis_el, "limit")
-        _add(limit, "lower", _num(joint.lower))
-        _add(limit, "upper", _num(joint.upper))
+        for tag, value in limits:
+            if value is not None:
+                _add(limit, tag, _num(value))
     if joint.damping or joint.friction:
         dynamics = _add(axis_el, "dynamics")
         _add(dynamics, "damping", _num(joint.damping))

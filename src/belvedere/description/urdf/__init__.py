@@ -41,6 +41,7 @@ from belvedere.description.urdf._robot import (
     rpy_to_matrix,
     transform,
 )
+from belvedere.description.urdf._write import xml_element
 
 __all__ = [
     "Actuator",
@@ -77,4 +78,5 @@ __all__ = [
     "parse_robot",
     "rpy_to_matrix",
     "transform",
+    "xml_element",
 ]

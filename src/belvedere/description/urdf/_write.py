@@ -23,7 +23,7 @@ from belvedere.description.urdf._model import (
 )
 from belvedere.xmldom import Document, Element, Text, write_pretty
 
-__all__ = ["write_urdf"]
+__all__ = ["write_urdf", "xml_element"]
 
 
 def _num(x: float) -> str:
@@ -220,12 +220,13 @@ def _transmission(t: Transmission) -> Element:
     return el
 
 
-def _data(d: XmlData) -> Element:
+def xml_element(d: XmlData) -> Element:
+    """XML kept as data (a sensor, a plugin's parameter) as an element again."""
     el = _el(d.tag, dict(d.attrs))
     if d.text.strip() and not d.children:
         el.append(Text(d.text))
     for c in d.children:
-        el.append(_data(c))
+        el.append(xml_element(c))
     return el
 
 
@@ -236,10 +237,10 @@ def _gazebo(g: GazeboExtension) -> Element:
     for p in g.plugins:
         plugin = _el("plugin", {"name": p.name, "filename": p.filename})
         for param in p.params:
-            plugin.append(_data(param))
+            plugin.append(xml_element(param))
         el.append(plugin)
     for d in (*g.sensors, *g.other):
-        el.append(_data(d))
+        el.append(xml_element(d))
     return el
 
 

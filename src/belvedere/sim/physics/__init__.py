@@ -12,6 +12,7 @@ from belvedere.sim.physics._gazebo_ros import (
     SAVE_WORLD,
     SAVE_WORLD_TYPE,
     GazeboRos,
+    name_taken,
     parse_spawn_args,
     spawn_model,
 )
@@ -39,6 +40,7 @@ __all__ = [
     "WorldSnapshot",
     "add_robot",
     "add_world",
+    "name_taken",
     "new_spec",
     "parse_spawn_args",
     "save_world",

@@ -29,9 +29,21 @@ from belvedere.tf import quat_xyzw_from_rpy
 from belvedere.world import read_world_string
 from belvedere.world._poses import quat_xyzw_to_rpy
 
-__all__ = ["SAVE_WORLD", "SAVE_WORLD_TYPE", "GazeboRos", "parse_spawn_args", "spawn_model"]
+__all__ = [
+    "SAVE_WORLD",
+    "SAVE_WORLD_TYPE",
+    "GazeboRos",
+    "name_taken",
+    "parse_spawn_args",
+    "spawn_model",
+]
 
 logger = logging.getLogger("belvedere.physics")
+
+
+def name_taken(name: str) -> str:
+    """Gazebo's words when asked to spawn a model under a name the world has."""
+    return f"SpawnModel: Failure - model name {name} already exist."
 
 
 def _pose_data(m: Any) -> dict[str, Any]:
@@ -114,6 +126,8 @@ class GazeboRos:
 
     # --- services --------------------------------------------------------------------------------
     def _spawn_urdf(self, req: Any) -> dict[str, Any]:
+        if req.model_name in self.sim.model_names():
+            return {"success": False, "status_message": name_taken(req.model_name)}
         try:
             model = RobotModel.from_string(req.model_xml, path=f"<{req.model_name}>")
             self.sim.spawn(
@@ -127,6 +141,8 @@ class GazeboRos:
         return {"success": True, "status_message": "SpawnModel: Successfully spawned entity"}
 
     def _spawn_sdf(self, req: Any) -> dict[str, Any]:
+        if req.model_name in self.sim.model_names():
+            return {"success": False, "status_message": name_taken(req.model_name)}
         try:
             world = read_world_string(req.model_xml, f"<{req.model_name}>", packages=self.packages)
             if len(world.models) != 1:

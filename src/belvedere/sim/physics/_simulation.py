@@ -33,7 +33,7 @@ from belvedere.sim.physics._ros_control import RosControl
 from belvedere.sim.physics._sensors import CameraSensor, DepthCamera, ImuSensor, LaserSensor
 from belvedere.sim.physics._skid_steer import SkidSteer
 from belvedere.tf import Transform
-from belvedere.world import WorldModel, WorldModelEntry, empty_world
+from belvedere.world import SDFError, WorldModel, WorldModelEntry, empty_world, saved_robot
 
 __all__ = ["PLUGINS", "PhysicsSimulation", "SpawnedRobot"]
 
@@ -83,6 +83,29 @@ class SpawnedRobot:
         return {j for p in self.plugins for j in p.joint_names()}
 
 
+def _saved_robots(world: WorldModel) -> list[tuple[WorldModelEntry, RobotModel, Pose]]:
+    """The world's models that are robots (saved with their plugins and sensors), each as
+    the robot to spawn where it stands; one that cannot be a robot stays a model of the
+    world (rigid), with a warning."""
+    out = []
+    for entry in world.models:
+        if not entry.robot:
+            continue
+        try:
+            robot, pose = saved_robot(entry)
+        except SDFError as err:
+            logger.warning(
+                "%s: warning: model %r has plugins and sensors but cannot run as a robot (%s):"
+                " it is one rigid body, without them",
+                err.location or entry.source,
+                entry.name,
+                err.message,
+            )
+            continue
+        out.append((entry, robot, pose))
+    return out
+
+
 class PhysicsSimulation:
     """A world (default: the empty world, a ground plane and the sun) and the robots in it,
     stepped on ``graph``'s executor."""
@@ -97,7 +120,13 @@ class PhysicsSimulation:
     ) -> None:
         """``node``: the simulation's node (default: a new one named ``gazebo``)."""
         self.graph = graph
-        self.world = world or empty_world()
+        world = world or empty_world()
+        saved = _saved_robots(world)
+        self.saved: dict[str, WorldModelEntry] = {entry.name: entry for entry, _, _ in saved}
+        """The robots the world file holds (a world saved with them), as it wrote them."""
+        self.world = replace(
+            world, models=tuple(m for m in world.models if m.name not in self.saved)
+        )
         self.engine = Engine(self.world.physics)
         self.world_roots: dict[str, str] = {}
         self._build_world()  # first: a world MuJoCo refuses leaves nothing on the graph
@@ -113,6 +142,12 @@ class PhysicsSimulation:
         """Whether an ``after_step`` hook wants to run after every step now (no batching)."""
         self.engine.on_recompile.append(self._bind_all)
         self.timer = self.node.timer(self.engine.physics.max_step_size, self.physics_step)
+        for entry, robot, pose in saved:
+            self.spawn(robot, name=entry.name, pose=pose)
+
+    def world_entry(self, name: str) -> WorldModelEntry | None:
+        """The model of that name the world file holds (a robot saved in it too), if any."""
+        return self.world.model(name) or self.saved.get(name)
 
     def _build_world(self) -> None:
         try:
@@ -408,12 +443,18 @@ class PhysicsSimulation:
     ) -> None:
         """Add an SDF model to the world (spawn_sdf_model). ``origin``: the ``model://NAME``
         it came from, if it came from the model path (a saved world includes it from
-        there); by default the entry's own ``uri``."""
+        there); by default the entry's own ``uri``. A model with plugins or sensors is a
+        robot, spawned as one (its plugins and sensors run)."""
         name = name or entry.name
         if name in self.robots or name in self.world_roots:
             msg = f"a model named {name!r} already exists in the simulation"
             raise ModelError(msg)
         placed = replace(entry, name=name, pose=pose, uri=origin or entry.uri)
+        robots = _saved_robots(WorldModel(models=(placed,)))
+        if robots:
+            _, robot, at = robots[0]
+            self.spawn(robot, name=name, pose=at)
+            return
         try:
             roots = add_world(
                 self.engine.spec, WorldModel(models=(placed,)), scene=self.world.scene
