@@ -19,13 +19,13 @@ import re
 import signal
 import sys
 import threading
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from typing import NoReturn, TextIO
 
 from belvedere import __version__
 from belvedere.errors import BelvedereError
 
-__all__ = ["console", "main"]
+__all__ = ["console", "hand_over", "main"]
 
 _VERBS = (
     "xacro",
@@ -175,6 +175,24 @@ def _verb_of(argv: list[str]) -> str | None:
     return first if first in _VERBS else None
 
 
+_handover: list[Callable[[], NoReturn]] = []
+"""What takes the ``belvedere`` command's process over once :func:`main` has returned."""
+_in_command = False
+"""Whether :func:`main` runs as the ``belvedere`` command (:func:`console`)."""
+
+
+def hand_over(action: Callable[[], NoReturn]) -> bool:
+    """Have ``action`` take this process over once the verb has returned and the command
+    line's set-up is undone (its logging, its Ctrl-C handler): ``belvedere run SCRIPT``
+    runs the script in the command's own process, as ``python3 script.py`` would, rather
+    than starting a second Python. True if it will; False when :func:`main` is called some
+    other way (a test, a program), whose process is not the verb's to give."""
+    if not _in_command or _handover:
+        return False
+    _handover.append(action)
+    return True
+
+
 def console() -> NoReturn:
     """The ``belvedere`` command: :func:`main`, then exit as Python exits (threads joined,
     exit handlers run) but without the interpreter's finalization.
@@ -184,8 +202,13 @@ def console() -> NoReturn:
     freeing the process at once), and a Zenoh thread still delivering a sample (another
     graph's ``/clock``) when it starts aborts the process ("FATAL: exception not
     rethrown")."""
+    global _in_command
     signal.signal(signal.SIGINT, _interrupted)
+    _in_command = True
     code = main()
+    if _handover:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+        _handover[0]()
     gc.freeze()
     # Nothing hangs: a thread that does not end is named (its stack) and the process ends.
     faulthandler.dump_traceback_later(SHUTDOWN_S, exit=True)
