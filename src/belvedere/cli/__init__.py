@@ -73,14 +73,18 @@ class _Formatter(logging.Formatter):
 class _StderrHandler(logging.StreamHandler):  # type: ignore[type-arg]
     """Writes to whatever ``sys.stderr`` is when a record comes, never to a stream that was
     replaced (and perhaps closed) since, as a test's capture is. A node's INFO and DEBUG go
-    to stdout, as a ROS node prints them."""
+    to stdout, as a ROS node prints them, unless ``--echo`` has stdout to itself."""
 
     _to_stdout = False
+
+    def __init__(self, *, node_logs_on_stdout: bool = True) -> None:
+        super().__init__()
+        self.node_logs_on_stdout = node_logs_on_stdout
 
     def emit(self, record: logging.LogRecord) -> None:
         # (called with the handler's lock held)
         node_log = getattr(record, "ros_line", None) is not None
-        self._to_stdout = node_log and record.levelno < logging.WARNING
+        self._to_stdout = self.node_logs_on_stdout and node_log and record.levelno < logging.WARNING
         super().emit(record)
 
     @property
@@ -97,12 +101,14 @@ _LEVELS = {-2: logging.ERROR, -1: logging.WARNING, 0: logging.INFO, 1: logging.D
 
 
 @contextlib.contextmanager
-def _logging_to_stderr(verbosity: int) -> Iterator[None]:
+def _logging_to_stderr(verbosity: int, *, node_logs_on_stdout: bool = True) -> Iterator[None]:
     """The library's records on stderr while a command runs; as before once it returns
     (``main()`` is called in-process too, by tests and scripts). ``-q`` hides notices
-    (info), ``-qq`` warnings too, ``-v`` shows debug records (see :mod:`._report`)."""
+    (info), ``-qq`` warnings too, ``-v`` shows debug records (see :mod:`._report`). Nodes'
+    INFO and DEBUG lines go to stdout, as ROS nodes print them, unless not
+    ``node_logs_on_stdout``."""
     level = _LEVELS[max(min(_LEVELS), min(verbosity, max(_LEVELS)))]
-    handler = _StderrHandler()
+    handler = _StderrHandler(node_logs_on_stdout=node_logs_on_stdout)
     handler.setFormatter(_Formatter())
     root = logging.getLogger("belvedere")
     handlers, old_level, propagate = root.handlers[:], root.level, root.propagate
@@ -239,7 +245,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SystemExit as exc:  # argparse: --help/--version exit 0, usage errors exit 2
         return int(exc.code or 0)
     args.extra = extra
-    with _logging_to_stderr(args.verbose - args.quiet):
+    # --echo has stdout to itself (a stream of YAML documents): nodes' lines go to stderr
+    echo = bool(getattr(args, "echo", None))
+    with _logging_to_stderr(args.verbose - args.quiet, node_logs_on_stdout=not echo):
         try:
             code: int = args.run(args)
             return code

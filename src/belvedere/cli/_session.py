@@ -55,6 +55,7 @@ def run_session(
         packages,
         headless=args.headless,
         announce=announce,
+        screen_stdout=2 if getattr(args, "echo", None) else None,  # --echo's is stdout
         viewer_options={
             "host": args.host,
             "port": args.port,

@@ -100,6 +100,9 @@ class LaunchRuntime:
     """Say each process started, as roslaunch does (rosrun does not)."""
     started: int = 0
     """Processes started so far (roslaunch numbers them: ``process[name-N]``)."""
+    screen_stdout: int | None = None
+    """Where scripts with ``output="screen"`` print their standard output: this process's
+    (None), or another file descriptor (``--echo`` keeps stdout to itself: 2, stderr)."""
 
     def param_source(self, name: str) -> SourceLocation | None:
         param = self.config.params.get(canonical(name))
@@ -219,7 +222,11 @@ class LaunchRuntime:
             argv += [f"{a}:={b}" for a, b in spec.remappings]
         output = None if spec.output == "screen" else subprocess.DEVNULL
         process = subprocess.Popen(
-            [*command, *argv], env=env, cwd=spec.cwd, stdout=output, stderr=output
+            [*command, *argv],
+            env=env,
+            cwd=spec.cwd,
+            stdout=self.screen_stdout if output is None else output,
+            stderr=output,
         )
         self.processes.append((spec, process))
         self.script_argv[id(process)] = argv
