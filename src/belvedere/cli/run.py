@@ -43,7 +43,9 @@ def add_parser(
         description="belvedere run [options] PKG EXECUTABLE [args…] or belvedere run "
         "[options] SCRIPT [args…]; from:=to remaps, _param:=value, __name:=NAME, __ns:=NS as "
         "with rosrun. belvedere's options come first: everything after the executable is "
-        "its own.",
+        "its own. A Python script runs as python3 runs it (its __file__ an absolute path): "
+        "beside a running graph, in this very process; with none, this provides one (the "
+        "parameter server, as roscore) and runs the script beside it.",
     )
     p.add_argument("target", metavar="PKG|SCRIPT", help="a package, or a script's path")
     p.add_argument("words", nargs=argparse.REMAINDER, metavar="ARGS", help="the executable…")
