@@ -665,12 +665,13 @@ class ZenohTransport:
         # Each new subscription gets the last latched messages of other processes, also when
         # the topic has subscribers here already (rospy gives every new subscriber those);
         # asked for once Zenoh delivers the topic's samples here, so none falls in between.
+        if topic.name not in self._subscribers:
+            # Ready to read the first message before anyone can send it (not when it comes).
+            types().prepare(topic.type)
         with self._lock:
             if topic.name in self._subscribers:
                 self._ask_latched(topic, subscription)
                 return
-            # Ready to read the first message before anyone can send it (not when it comes).
-            types().prepare(topic.type)
 
             seen = self._latched_seen
 
