@@ -13,8 +13,11 @@ import hashlib
 import logging
 import os
 import sys
+from collections.abc import Sequence
+from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
-from typing import Final
+from typing import Final, NoReturn
 
 from belvedere import bounded
 from belvedere.bounded import (
@@ -27,65 +30,19 @@ from belvedere.bounded import (
 from belvedere.errors import ParseError, SourceLocation
 from belvedere.fileio import write_file
 
-__all__ = ["SITE", "ScriptError", "cache_dir", "script_command"]
+__all__ = ["SITE", "Script", "ScriptError", "cache_dir", "prepare_script", "script_command"]
 
 logger = logging.getLogger("belvedere.scripts")
 
 _BOOT: Final = """\
-import os, sys
-original, runnable, site = sys.argv[1:4]
-sys.argv = [original, *sys.argv[4:]]
-sys.path[0] = os.path.dirname(os.path.abspath(original))
-sys.path.insert(1, site)
-
-
-class BelvedereMessages:
-    busy = False
-
-    def find_spec(self, name, path, target=None):
-        if self.busy:
-            return None
-        self.busy = True
-        try:
-            from belvedere.ros1._finder import install
-        except ImportError:
-            return None  # belvedere.ros1 itself is loading: its misses are not messages
-        finally:
-            self.busy = False
-        sys.meta_path.remove(self)
-        return install().find_spec(name, path, target)
-
-
-sys.meta_path.append(BelvedereMessages())
-with open(runnable, encoding="utf-8") as f:
-    code = compile(f.read(), original, "exec")
-namespace = {"__name__": "__main__", "__file__": original, "__builtins__": __builtins__}
-status = 0
-try:
-    exec(code, namespace)
-except SystemExit as end:
-    if end.code is None or isinstance(end.code, int):
-        status = end.code or 0
-    else:
-        print(end.code, file=sys.stderr)
-        status = 1
-except BaseException:
-    sys.excepthook(*sys.exc_info())
-    status = 1
-import atexit, threading
-threading._shutdown()
-atexit._run_exitfuncs()
-sys.stdout.flush()
-sys.stderr.flush()
-os._exit(status)
+import sys
+here = sys.path.pop(0)  # the working directory: never where belvedere itself comes from
+from belvedere._scriptmain import run_as_main
+sys.path.insert(0, here)
+run_as_main(*sys.argv[1:5], sys.argv[5:])
 """
-"""Runs a script (or its translation) as if it were the original file (argv, __file__,
-sys.path[0], and tracebacks name the original's lines, which a translation keeps), with
-belvedere's ROS modules (``rospy``, ``tf``, …: :data:`SITE`) next on the path and the
-message modules (``std_msgs.msg``…) found by :func:`belvedere.ros1.install` — whose type
-store loads only when an import finds nothing else. The script's end is Python's (its
-threads joined, its exit functions run, its status), then the process leaves without the
-interpreter's finalization, where Zenoh's threads, still delivering, would abort it."""
+"""A script's process starts here: :func:`belvedere._scriptmain.run_as_main` with the
+script's ``argv[0]``, its file, what runs (the file or its translation) and :data:`SITE`."""
 
 SITE: Final = Path(__file__).parent / "ros1" / "site"
 """belvedere's ``rospy``, ``tf``, ``tf2_ros``, ``actionlib``, ``roslib``, ``rospkg``: only the
@@ -189,8 +146,40 @@ def _translate(text: str, path: Path) -> str:
     raise ScriptError(msg, at)
 
 
+@dataclass(frozen=True)
+class Script:
+    """A user's script, ready to run (see :func:`prepare_script`)."""
+
+    argv0: str
+    """Its ``sys.argv[0]``: the path as the user typed it (``belvedere run ./probe.py``), or
+    the absolute path rosrun and roslaunch pass."""
+    file: str
+    """Its ``__file__`` and the name tracebacks give: its absolute path, as Python 3.9+ and
+    rosrun give it, so ``os.path.dirname(__file__)`` finds the script's files after a ``cd``."""
+    runnable: str
+    """What runs: :attr:`file`, or its Python 3 form (cached)."""
+
+    def command(self, python: str = sys.executable) -> list[str]:
+        """The command that runs the script in a process of its own (before its arguments)."""
+        return [python, "-c", _BOOT, self.argv0, self.file, self.runnable, str(SITE)]
+
+    def run_here(self, args: Sequence[str]) -> NoReturn:
+        """Run the script as this process's main program, with ``args``; the process ends
+        with it (its exit status). Only for a process that has nothing else to do."""
+        from belvedere._scriptmain import run_as_main
+
+        run_as_main(self.argv0, self.file, self.runnable, str(SITE), args)
+
+
 def script_command(path: Path, python: str = sys.executable) -> list[str]:
-    """The command that runs ``path`` (before its own arguments).
+    """The command that runs ``path`` (before its own arguments), as roslaunch runs a node's
+    script: see :func:`prepare_script`."""
+    return prepare_script(path).command(python)
+
+
+def prepare_script(path: Path | str, *, argv0: str | None = None) -> Script:
+    """``path`` checked and, if need be, translated (``argv0``: its ``sys.argv[0]``, by
+    default its absolute path).
 
     Only a regular file is read. A script of at most :data:`~belvedere.bounded.SCRIPT_BYTES`
     is checked (compiled) and, if need be, translated; a larger one runs as it is, unchecked
@@ -201,6 +190,9 @@ def script_command(path: Path, python: str = sys.executable) -> list[str]:
         ScriptError: the script cannot be read, or compiles neither as Python 3 nor as
             translated Python 2 (at its line), or nests too deeply to compile or translate.
     """
+    file = os.path.abspath(path)
+    ready = partial(Script, file if argv0 is None else argv0, file)
+    path = Path(path)
     try:
         # any size: only what is checked is read (a larger script is Python's to read)
         with open_regular(path, limit=DATA_FILE_BYTES, what="", name="the script") as f:
@@ -214,14 +206,14 @@ def script_command(path: Path, python: str = sys.executable) -> list[str]:
             path,
             describe_size(SCRIPT_BYTES),
         )
-        return _boot(python, path, path)
+        return ready(file)
     text = _decode(data)
     crlf = "\r\n" in text
     if crlf:
         text = text.replace("\r\n", "\n")
     problem = _compiles(text, path)
     if problem is None and not crlf:
-        return _boot(python, path, path)
+        return ready(file)
     what = "Windows line ends"
     if problem is not None:
         translated = _translate(text, path)
@@ -242,8 +234,4 @@ def script_command(path: Path, python: str = sys.executable) -> list[str]:
         "a Python 2 script" if what == "Python 2" else "Windows line ends",
         runnable,
     )
-    return _boot(python, path, runnable)
-
-
-def _boot(python: str, original: Path, runnable: Path) -> list[str]:
-    return [python, "-c", _BOOT, str(original), str(runnable), str(SITE)]
+    return ready(str(runnable))

@@ -168,9 +168,12 @@ def test_example_talker_reaches_other_processes(endpoint: str) -> None:
     )
     try:
         echo = run("topic", "echo", "/chatter", "-n", "1", "--timeout", WAIT)
+        assert talker.stdout is not None
+        # (the echo can be done before the talker has logged what it said)
+        out = talker.stdout.readline()
     finally:
         talker.terminate()
-        out, _ = talker.communicate(timeout=DEADLINE)
+        talker.communicate(timeout=DEADLINE)
     assert echo.returncode == 0, echo.stderr
     assert echo.stdout.startswith('data: "hello world ')
     # its node.logger.info, as a ROS node prints it

@@ -59,12 +59,10 @@ def test_rbx1_fake_turtlebot_in_one_command(
     states = [yaml.safe_load(b) for b in blocks if b.startswith("# /joint_states")]
     assert len(odom) == 10
     assert odom[-1]["pose"]["pose"]["position"]["x"] == pytest.approx(0.1)
-    # joint_states from the driver (20 Hz, placeholders) and joint_state_publisher (10 Hz).
+    # joint_states from the driver (20 Hz: its wheels, which are the model's drive joints, as
+    # in rbx1's TurtleBot) and joint_state_publisher (10 Hz: no joint left for it).
     names = {tuple(s["name"]) for s in states}
-    assert names == {
-        ("base_l_wheel_joint", "base_r_wheel_joint"),
-        ("left_wheel_joint", "right_wheel_joint"),
-    }
+    assert names == {("base_l_wheel_joint", "base_r_wheel_joint"), ()}
     assert len(states) == 20 + 10
 
 

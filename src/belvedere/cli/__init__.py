@@ -19,13 +19,13 @@ import re
 import signal
 import sys
 import threading
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from typing import NoReturn, TextIO
 
 from belvedere import __version__
 from belvedere.errors import BelvedereError
 
-__all__ = ["console", "main"]
+__all__ = ["console", "hand_over", "main"]
 
 _VERBS = (
     "xacro",
@@ -75,14 +75,18 @@ class _Formatter(logging.Formatter):
 class _StderrHandler(logging.StreamHandler):  # type: ignore[type-arg]
     """Writes to whatever ``sys.stderr`` is when a record comes, never to a stream that was
     replaced (and perhaps closed) since, as a test's capture is. A node's INFO and DEBUG go
-    to stdout, as a ROS node prints them."""
+    to stdout, as a ROS node prints them, unless ``--echo`` has stdout to itself."""
 
     _to_stdout = False
+
+    def __init__(self, *, node_logs_on_stdout: bool = True) -> None:
+        super().__init__()
+        self.node_logs_on_stdout = node_logs_on_stdout
 
     def emit(self, record: logging.LogRecord) -> None:
         # (called with the handler's lock held)
         node_log = getattr(record, "ros_line", None) is not None
-        self._to_stdout = node_log and record.levelno < logging.WARNING
+        self._to_stdout = self.node_logs_on_stdout and node_log and record.levelno < logging.WARNING
         super().emit(record)
 
     @property
@@ -99,12 +103,14 @@ _LEVELS = {-2: logging.ERROR, -1: logging.WARNING, 0: logging.INFO, 1: logging.D
 
 
 @contextlib.contextmanager
-def _logging_to_stderr(verbosity: int) -> Iterator[None]:
+def _logging_to_stderr(verbosity: int, *, node_logs_on_stdout: bool = True) -> Iterator[None]:
     """The library's records on stderr while a command runs; as before once it returns
     (``main()`` is called in-process too, by tests and scripts). ``-q`` hides notices
-    (info), ``-qq`` warnings too, ``-v`` shows debug records (see :mod:`._report`)."""
+    (info), ``-qq`` warnings too, ``-v`` shows debug records (see :mod:`._report`). Nodes'
+    INFO and DEBUG lines go to stdout, as ROS nodes print them, unless not
+    ``node_logs_on_stdout``."""
     level = _LEVELS[max(min(_LEVELS), min(verbosity, max(_LEVELS)))]
-    handler = _StderrHandler()
+    handler = _StderrHandler(node_logs_on_stdout=node_logs_on_stdout)
     handler.setFormatter(_Formatter())
     root = logging.getLogger("belvedere")
     handlers, old_level, propagate = root.handlers[:], root.level, root.propagate
@@ -177,6 +183,24 @@ def _verb_of(argv: list[str]) -> str | None:
     return first if first in _VERBS else None
 
 
+_handover: list[Callable[[], NoReturn]] = []
+"""What takes the ``belvedere`` command's process over once :func:`main` has returned."""
+_in_command = False
+"""Whether :func:`main` runs as the ``belvedere`` command (:func:`console`)."""
+
+
+def hand_over(action: Callable[[], NoReturn]) -> bool:
+    """Have ``action`` take this process over once the verb has returned and the command
+    line's set-up is undone (its logging, its Ctrl-C handler): ``belvedere run SCRIPT``
+    runs the script in the command's own process, as ``python3 script.py`` would, rather
+    than starting a second Python. True if it will; False when :func:`main` is called some
+    other way (a test, a program), whose process is not the verb's to give."""
+    if not _in_command or _handover:
+        return False
+    _handover.append(action)
+    return True
+
+
 def console() -> NoReturn:
     """The ``belvedere`` command: :func:`main`, then exit as Python exits (threads joined,
     exit handlers run) but without the interpreter's finalization.
@@ -186,8 +210,13 @@ def console() -> NoReturn:
     freeing the process at once), and a Zenoh thread still delivering a sample (another
     graph's ``/clock``) when it starts aborts the process ("FATAL: exception not
     rethrown")."""
+    global _in_command
     signal.signal(signal.SIGINT, _interrupted)
+    _in_command = True
     code = main()
+    if _handover:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+        _handover[0]()
     gc.freeze()
     # Nothing hangs: a thread that does not end is named (its stack) and the process ends.
     faulthandler.dump_traceback_later(SHUTDOWN_S, exit=True)
@@ -218,7 +247,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SystemExit as exc:  # argparse: --help/--version exit 0, usage errors exit 2
         return int(exc.code or 0)
     args.extra = extra
-    with _logging_to_stderr(args.verbose - args.quiet):
+    # --echo has stdout to itself (a stream of YAML documents): nodes' lines go to stderr
+    echo = bool(getattr(args, "echo", None))
+    with _logging_to_stderr(args.verbose - args.quiet, node_logs_on_stdout=not echo):
         try:
             code: int = args.run(args)
             return code

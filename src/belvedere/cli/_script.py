@@ -56,7 +56,9 @@ def add_script_options(p: argparse.ArgumentParser) -> None:
         action="append",
         default=[],
         metavar="TOPIC",
-        help="print the messages of TOPIC to stdout (repeatable)",
+        help="print the messages of TOPIC to stdout, as YAML documents ending '---' "
+        "(repeatable: each then starts '# TOPIC'); stdout is then the echo's alone: nodes' "
+        'log lines and scripts\' output (output="screen") go to stderr',
     )
 
 

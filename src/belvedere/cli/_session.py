@@ -69,6 +69,7 @@ def run_session(
         announce=announce,
         lifecycle=announce,
         joined=join,
+        screen_stdout=2 if getattr(args, "echo", None) else None,  # --echo's is stdout
         viewer_options={
             "host": args.host,
             "port": args.port,

@@ -16,20 +16,16 @@ import shlex
 import subprocess
 import time
 from pathlib import Path
+from typing import NoReturn
 
-import yaml
-
-from belvedere import nodes
+from belvedere.cli import hand_over
 from belvedere.cli._args import add_viewer_options
 from belvedere.cli._script import add_script_options
-from belvedere.cli._session import run_session
 from belvedere.cli._tool import add_graph_options, holds_parameters
 from belvedere.errors import BelvedereError, did_you_mean
 from belvedere.graph import graph_running
-from belvedere.launch import LaunchConfig, LaunchNode
-from belvedere.launch._runtime import find_script
 from belvedere.packages import PackageIndex, PackageNotFoundError, find_package_root
-from belvedere.pyscripts import script_command
+from belvedere.pyscripts import prepare_script
 
 __all__ = ["add_parser", "run"]
 
@@ -47,7 +43,9 @@ def add_parser(
         description="belvedere run [options] PKG EXECUTABLE [args…] or belvedere run "
         "[options] SCRIPT [args…]; from:=to remaps, _param:=value, __name:=NAME, __ns:=NS as "
         "with rosrun. belvedere's options come first: everything after the executable is "
-        "its own.",
+        "its own. A Python script runs as python3 runs it (its __file__ an absolute path): "
+        "beside a running graph, in this very process; with none, this provides one (the "
+        "parameter server, as roscore) and runs the script beside it.",
     )
     p.add_argument("target", metavar="PKG|SCRIPT", help="a package, or a script's path")
     p.add_argument("words", nargs=argparse.REMAINDER, metavar="ARGS", help="the executable…")
@@ -67,6 +65,8 @@ def split_ros_args(
     remaps: dict[str, str] = {}
     params: dict[str, object] = {}
     name = namespace = None
+    import yaml
+
     for word in words:
         key, sep, value = word.partition(":=")
         if not sep or not key:
@@ -90,8 +90,9 @@ def split_ros_args(
 def run(args: argparse.Namespace) -> int:
     target, words = args.target, list(args.words)
     script: Path | None = None
+    typed: str | None = None
     if os.path.isfile(target):
-        script = Path(target)
+        script, typed = Path(target), target
         root = find_package_root(script.resolve())
         package = root.name if root is not None else ""
         executable = script.name
@@ -107,6 +108,17 @@ def run(args: argparse.Namespace) -> int:
     packages = PackageIndex.from_environment(
         package_path=args.package_path, near=script if script is not None else None
     )
+    # A script gets its arguments as rosrun passes them (rospy reads its own remaps,
+    # _param:= and __name:=). Like rosrun it joins the graph that runs (this process
+    # imports no more than that needs); only when none does, this provides one as roscore
+    # would (also where only tools run): the parameter server, in wall time.
+    if script is not None and holds_parameters(args):
+        return run_alone(script, words, packages, args, argv0=typed)
+    from belvedere import nodes
+    from belvedere.cli._session import run_session
+    from belvedere.launch import LaunchConfig, LaunchNode
+    from belvedere.launch._runtime import find_script
+
     if script is None and nodes.find(package, executable) is None:
         have = nodes.executables(package)
         try:
@@ -150,10 +162,6 @@ def run(args: argparse.Namespace) -> int:
             args.endpoint, args.domain
         )
         return run_session(config, packages, args, quiet_end=True, join=join)
-    # A script gets its arguments as rosrun passes them (rospy reads its own remaps,
-    # _param:= and __name:=). Like rosrun it joins the graph that runs; only when none
-    # does (or only tools run), this provides one as roscore would: the parameter server,
-    # in wall time.
     if holds_parameters(args):
         return run_alone(script, words, packages, args)
     return run_session(
@@ -162,17 +170,31 @@ def run(args: argparse.Namespace) -> int:
 
 
 def run_alone(
-    script: Path, words: list[str], packages: PackageIndex, args: argparse.Namespace
+    script: Path,
+    words: list[str],
+    packages: PackageIndex,
+    args: argparse.Namespace,
+    *,
+    argv0: str | None = None,
 ) -> int:
-    """Run ``script`` on the graph that is running; its exit status is ours."""
-    command = script_command(script)
-    env = dict(os.environ)
-    env["ROS_PACKAGE_PATH"] = os.pathsep.join(str(p) for p in packages.search_path)
+    """Run ``script`` on the graph that is running; its exit status is ours. In the
+    ``belvedere`` command's own process, as ``python3 script.py`` runs it: one Python starts,
+    not two, so the script is on the graph as soon as under ROS (``argv0``: the script as
+    typed, its ``sys.argv[0]``; else the absolute path, as rosrun gives)."""
+    ready = prepare_script(script, argv0=argv0)
+    env = {"ROS_PACKAGE_PATH": os.pathsep.join(str(p) for p in packages.search_path)}
     if args.domain is not None:
         env["BELVEDERE_DOMAIN"] = str(args.domain)
     if args.endpoint:
         env["BELVEDERE_ENDPOINT"] = args.endpoint
-    process = subprocess.Popen([*command, *words], env=env)
+
+    def take_over() -> NoReturn:
+        os.environ.update(env)
+        ready.run_here(words)
+
+    if hand_over(take_over):
+        return 0
+    process = subprocess.Popen([*ready.command(), *words], env={**os.environ, **env})
     while True:
         try:
             return process.wait()

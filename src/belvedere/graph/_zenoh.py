@@ -184,6 +184,10 @@ class _LatchedSeen:
         return once.fresh(latch)
 
 
+def _prepare(type_name: str) -> None:
+    types().prepare(type_name)
+
+
 def _bulky(msg: Any) -> bool:
     """An image, point cloud or map: a ``data`` array of :data:`BULKY` bytes or more."""
     data = getattr(msg, "data", None)
@@ -552,6 +556,10 @@ class ZenohTransport:
                     first = bool(status.matching) and not topic.remote
                     topic.remote = bool(status.matching)
                     graph = self.graph
+                    if first and graph is not None:
+                        # The first message to go out is then sent at once: the serializer
+                        # is made now, in the executor's time between callbacks.
+                        graph.executor.post(partial(_prepare, topic.type))
                     if first and topic.latched and graph is not None:
                         # A subscriber elsewhere that was there before this publisher (its
                         # query at subscribing found nothing) gets the latched messages now;
@@ -562,6 +570,12 @@ class ZenohTransport:
                 # (zenoh's type stubs call this a bool; it is a MatchingStatus)
                 topic.remote = bool(cast(Any, zpub).matching_status.matching)
         if publisher.latch and topic.name not in self._latch_queryables:
+            graph = self.graph
+            if graph is not None:
+                # Asked for as soon as a subscriber elsewhere appears: ready to answer at
+                # once (made between callbacks, not in the one advertising: a node's first
+                # log line waits for no /rosout serializer).
+                graph.executor.post(partial(_prepare, topic.type))
 
             def latched(query: Any) -> None:
                 for pub in list(topic.latched):
@@ -651,12 +665,12 @@ class ZenohTransport:
         # Each new subscription gets the last latched messages of other processes, also when
         # the topic has subscribers here already (rospy gives every new subscriber those);
         # asked for once Zenoh delivers the topic's samples here, so none falls in between.
-        fetch = threading.Thread(
-            target=self._fetch_latched, args=(topic, subscription), daemon=True
-        )
+        if topic.name not in self._subscribers:
+            # Ready to read the first message before anyone can send it (not when it comes).
+            types().prepare(topic.type)
         with self._lock:
             if topic.name in self._subscribers:
-                fetch.start()
+                self._ask_latched(topic, subscription)
                 return
 
             seen = self._latched_seen
@@ -713,44 +727,50 @@ class ZenohTransport:
             self._subscribers[topic.name] = self.session.declare_subscriber(
                 self._key("t", topic.name), on_sample, allowed_origin=zenoh.Locality.REMOTE
             )
-        fetch.start()
+        self._ask_latched(topic, subscription)
 
-    def _fetch_latched(self, topic: Topic, subscription: Subscription) -> None:
+    def _ask_latched(self, topic: Topic, subscription: Subscription) -> None:
+        """Ask the latching publishers elsewhere for their last messages; each reply goes to
+        ``subscription`` as it comes (on Zenoh's thread: no thread to start, no wait for the
+        other replies), read on the executor's as samples are."""
         graph = self.graph
         assert graph is not None
-        try:
+
+        def on_reply(reply: Any) -> None:
+            if reply.ok is None:
+                return
+            attachment = reply.ok.attachment
+            sent_type, node, latch = _sender(
+                attachment.to_bytes().decode(errors="replace") if attachment is not None else ""
+            )
+            if sent_type and sent_type != topic.type:
+                self._mismatch(topic, sent_type, node)
+                return
+            data = reply.ok.payload.to_bytes()
+            graph.executor.post(partial(self._deliver_latched, topic, subscription, data, latch))
+
+        with contextlib.suppress(zenoh.ZError):
             # Every latching publisher replies under the same key: keep them all. This
             # process's own latched messages are delivered by the graph already.
-            replies = self.session.get(
+            self.session.get(
                 self._key("l", topic.name),
+                on_reply,
                 timeout=2.0,
                 consolidation=zenoh.ConsolidationMode.NONE,
                 allowed_destination=zenoh.Locality.REMOTE,  # ours came when it subscribed
             )
-            for reply in replies:
-                if reply.ok is None:
-                    continue
-                attachment = reply.ok.attachment
-                sent_type, node, latch = _sender(
-                    attachment.to_bytes().decode(errors="replace") if attachment is not None else ""
-                )
-                if sent_type and sent_type != topic.type:
-                    self._mismatch(topic, sent_type, node)
-                    continue
-                try:
-                    msg = types().deserialize(reply.ok.payload.to_bytes(), topic.type)
-                except Exception as err:  # noqa: BLE001 (a peer sent something else)
-                    self._mismatch(topic, None, None, str(err))
-                    continue
-                graph.executor.post(partial(self._deliver_latched, subscription, msg, latch))
-        except zenoh.ZError:
-            pass
 
     def _deliver_latched(
-        self, subscription: Subscription, msg: Any, latch: tuple[str, int] | None
+        self, topic: Topic, subscription: Subscription, data: bytes, latch: tuple[str, int] | None
     ) -> None:
-        if self._latched_seen.fresh(subscription, latch):
-            subscription.enqueue(msg)
+        if not self._latched_seen.fresh(subscription, latch):
+            return
+        try:
+            msg = types().deserialize(data, topic.type)
+        except Exception as err:  # noqa: BLE001 (a peer sent something else)
+            self._mismatch(topic, None, None, str(err))
+            return
+        subscription.enqueue(msg)
 
     def _mismatch(
         self, topic: Topic, sent_type: str | None, node: str | None, why: str = ""

@@ -107,6 +107,9 @@ class LaunchRuntime:
     joined: bool = False
     """The launch joined a running graph (as roslaunch uses a running master)."""
     monitor: ProcessMonitor | None = None
+    screen_stdout: int | None = None
+    """Where scripts with ``output="screen"`` print their standard output: this process's
+    (None), or another file descriptor (``--echo`` keeps stdout to itself: 2, stderr)."""
 
     def param_source(self, name: str) -> SourceLocation | None:
         param = self.config.params.get(canonical(name))
@@ -235,7 +238,11 @@ class LaunchRuntime:
             return self._run_script_process(spec, script, command, argv, env)
         output = None if spec.output == "screen" else subprocess.DEVNULL
         process = subprocess.Popen(
-            [*command, *argv], env=env, cwd=spec.cwd, stdout=output, stderr=output
+            [*command, *argv],
+            env=env,
+            cwd=spec.cwd,
+            stdout=self.screen_stdout if output is None else output,
+            stderr=output,
         )
         self.processes.append((spec, process))
         self.script_argv[id(process)] = argv

@@ -284,6 +284,14 @@ class TypeRegistry:
         self._tails[name] = tail
         return tail
 
+    def prepare(self, name: str) -> None:
+        """Make the serializers of message type ``name`` (and of the types in it) now: rosbags
+        generates them on first use, milliseconds of work (tens on a busy machine) that
+        would otherwise delay the first message sent or received."""
+        if name not in self.store.fielddefs:
+            name = self.resolve(name)
+        self.store.get_msgdef(name)
+
     def deserialize(self, data: bytes | memoryview, name: str) -> Any:
         if name not in self.store.fielddefs:  # canonical names (the usual case) skip this
             name = self.resolve(name)

@@ -164,9 +164,15 @@ class RobotModelDisplay(_Unstamped):
                 t = buffer.lookup_transform(fixed, frame)
             except TFError:
                 missing.append(link)
+                # Not drawn where it never was (the fixed frame's origin) or where it last
+                # was: rviz hides a link it has no transform for and says so.
+                if drawing.frame.visible:
+                    drawing.frame.visible = False
                 continue
             drawing.frame.position = t.translation
             drawing.frame.wxyz = wxyz_from_xyzw(t.quat_xyzw)
+            if not drawing.frame.visible:
+                drawing.frame.visible = True
         if missing:
             self.status.set(
                 "Transform",

@@ -86,7 +86,8 @@ class RobotDrawing:
         materials = {m.name: m for m in model.materials}
         self.links: dict[str, _LinkDrawing] = {}
         for link in model.links:
-            frame = scene.add_frame(f"{root}/{link.name}", show_axes=False)
+            # shown once placed (a link nothing places is not drawn at the origin)
+            frame = scene.add_frame(f"{root}/{link.name}", show_axes=False, visible=False)
             drawing = _LinkDrawing(frame)
             gazebo = next(
                 (
@@ -217,3 +218,4 @@ class RobotDrawing:
         if d is not None:
             d.frame.position = position
             d.frame.wxyz = wxyz_from_xyzw(quat_xyzw)
+            d.frame.visible = True

@@ -18,6 +18,7 @@ from typing import Any, TypeVar
 from belvedere.errors import BelvedereError
 from belvedere.graph import Publisher as GraphPublisher
 from belvedere.graph import Subscription
+from belvedere.msgs import types
 from belvedere.ros1._classes import from_store, to_store
 from belvedere.ros1._message import Message
 from belvedere.ros1.rospy import _state
@@ -146,6 +147,7 @@ class Publisher(_Topic):
     def _register(self, runtime: _state.Runtime) -> None:
         node = runtime.node
         self.resolved_name = self.name = node.resolve(self.given_name)
+        types().prepare(self.type)  # here, not on the executor, where it would hold others up
         self._impl = _registered(
             runtime,
             lambda: node.publisher(
@@ -246,6 +248,7 @@ class Subscriber(_Topic):
             self._thread.start()
         node = runtime.node
         depth = self.queue_size if self.queue_size and self.queue_size > 0 else 0
+        types().prepare(self.type)  # here, not on the executor, where it would hold others up
         self._impl = _registered(
             runtime,
             lambda: node.subscribe(self.resolved_name, self.type, self._arrived, queue_size=depth),

@@ -84,7 +84,12 @@ class KinematicSimulation:
         self.joint_state_publisher = JointStatePublisher(
             graph.create_node("joint_state_publisher", namespace=self.namespace),
             model,
-            exclude=set(self.driver.servos),
+            # what the driver reports: its servos and its controllers' joints (a
+            # diff_controller's base_l_wheel_joint and base_r_wheel_joint)
+            exclude={
+                *self.driver.servos,
+                *(n for c in self.driver.controllers for n in c.joint_names),
+            },
         )
 
     @property
