@@ -359,7 +359,7 @@ class LaunchRuntime:
         log = None
         if spec.output != "screen":
             log = self.monitor.stdout_for(process.name, append=spec.respawn and not first)
-        stdout: Any = None if spec.output == "screen" else (log or subprocess.DEVNULL)
+        stdout: Any = self.screen_stdout if spec.output == "screen" else (log or subprocess.DEVNULL)
         try:
             popen = subprocess.Popen(words, env=env, cwd=spec.cwd, stdout=stdout)
         finally:
