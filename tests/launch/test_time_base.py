@@ -21,6 +21,7 @@ from typing import Any
 
 from belvedere.bags import Decoder, open_bag
 from belvedere.graph import NS, Graph, ZenohTransport
+from belvedere.maps import OCCUPIED, load_map
 from tests.conftest import EXAMPLES
 from tests.waiting import DEADLINE, wait_until
 
@@ -341,3 +342,36 @@ def test_a_plain_launch_and_a_script_first_graph(endpoint: str, tmp_path: Path) 
         for topic, (count, least, most) in seen.items():
             assert count > 0
             assert -CLOCK_PERIOD <= least <= most <= DISPLAY_PERIOD, (simulated, topic, least, most)
+
+
+def test_mapping_while_navigating_in_three_terminals(endpoint: str, tmp_path: Path) -> None:
+    """The course's exploring_slam demo as the course runs it: the physics cloister with
+    the laser mbot in one terminal, slam_gmapping under move_base in a second, the rospy
+    goal script in a third, and map_saver in a fourth — all in the simulation's time."""
+    sim_words = ["launch", "--headless", "mbot_gazebo", "mbot_laser_nav_gazebo.launch"]
+    with (
+        probing(endpoint) as probe,
+        running([*BELVEDERE, *sim_words, "gui:=false"], tmp_path / "sim.log") as sim,
+    ):
+        wait_until(lambda: probe.odom or sim.poll() is not None, what="the simulation's /odom")
+        assert sim.poll() is None, (tmp_path / "sim.log").read_text()
+        slam = [*BELVEDERE, "launch", "--headless", "mbot_navigation", "exploring_slam_demo.launch"]
+        with running(slam, tmp_path / "slam.log") as second:
+            goals = subprocess.run(
+                [*BELVEDERE, "run", "mbot_navigation", "exploring_slam.py"],
+                capture_output=True,
+                text=True,
+                timeout=DEADLINE * 6,
+                check=False,
+            )
+            out = goals.stdout + goals.stderr
+            assert "Reached 2 of 2 goals" in out, out[-2000:]
+            saved = tool("run", "map_server", "map_saver", "-f", str(tmp_path / "explored"))
+            assert saved.returncode == 0, saved.stderr
+            assert second.poll() is None
+            assert sim.poll() is None
+    slam_log = (tmp_path / "slam.log").read_text()
+    assert "transform timeout" not in slam_log, slam_log[-2000:]
+    grid = load_map(tmp_path / "explored.yaml")
+    assert int((grid.data == OCCUPIED).sum()) > 100  # the cloister's walls, mapped
+    assert probe.worst_lag() <= ODOM_PERIOD + CLOCK_PERIOD
