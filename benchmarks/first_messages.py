@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import socket
 import statistics
 import subprocess
 import sys
@@ -23,6 +22,8 @@ import tempfile
 import time
 from pathlib import Path
 from typing import Any
+
+from debian_ros import DEBIAN_PYTHON, ROSCORE, free_port
 
 PROBE = """\
 import os, sys, threading, time
@@ -87,16 +88,6 @@ while not rospy.is_shutdown():
 """
 
 BURN = "while True:\n    pass\n"
-
-DEBIAN_PYTHON = "/usr/bin/python3"
-ROSCORE = "/usr/bin/roscore"
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port: int = s.getsockname()[1]
-        return port
 
 
 def probe(argv: list[str], env: dict[str, str], cwd: Path, runs: int) -> list[tuple[float, ...]]:

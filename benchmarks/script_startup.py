@@ -27,6 +27,7 @@ import time
 from pathlib import Path
 
 from belvedere.pyscripts import SITE
+from debian_ros import DEBIAN_PYTHON, ROSCORE, free_port
 
 PROBE = """\
 import os, sys, time
@@ -50,16 +51,6 @@ print("READY", flush=True)
 sys.stdin.read()
 g.shutdown()
 """
-
-DEBIAN_PYTHON = "/usr/bin/python3"
-ROSCORE = "/usr/bin/roscore"
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port: int = s.getsockname()[1]
-        return port
 
 
 def timed(argv: list[str], env: dict[str, str], cwd: Path) -> tuple[float, float]:

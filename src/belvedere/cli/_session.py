@@ -12,8 +12,7 @@ from pathlib import Path
 
 from belvedere.cli._foxglove import start_foxglove
 from belvedere.cli._script import ScriptOptions, install_script
-from belvedere.cli._tool import USE_SIM_TIME, join_graph, open_transport, refuse_second_clock
-from belvedere.errors import BelvedereError
+from belvedere.cli._tool import USE_SIM_TIME, join_graph, open_clock_transport
 from belvedere.graph import Graph, GraphError
 from belvedere.launch import LaunchConfig, LaunchNode
 from belvedere.launch._runtime import LaunchRuntime
@@ -52,13 +51,7 @@ def run_session(
         transport = graph.transport
         join = not getattr(transport, "serve_params", False)
     else:
-        transport = open_transport(args)
-        if sim_time:
-            try:
-                refuse_second_clock(transport)
-            except BelvedereError:
-                transport.close()
-                raise
+        transport = open_clock_transport(args, clock=sim_time)
         graph = Graph(sim_time=sim_time, seed=args.seed, transport=transport)
     _hold_time_base(config, graph)
     runtime = LaunchRuntime(

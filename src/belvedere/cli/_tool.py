@@ -31,6 +31,7 @@ __all__ = [
     "add_graph_options",
     "holds_parameters",
     "join_graph",
+    "open_clock_transport",
     "open_tool",
     "open_transport",
     "refuse_second_clock",
@@ -74,6 +75,21 @@ def open_transport(args: argparse.Namespace, **options: Any) -> ZenohTransport:
     )
     how = "listening" if transport.role == "listen" else "connected"
     logger.info("graph: domain %d (%s, %s)", transport.domain, transport.endpoint, how)
+    return transport
+
+
+def open_clock_transport(
+    args: argparse.Namespace, *, clock: bool = True, **options: Any
+) -> ZenohTransport:
+    """:func:`open_transport` for a process that will publish ``/clock`` (when ``clock``):
+    refused, and closed, where another process already does (:func:`refuse_second_clock`)."""
+    transport = open_transport(args, **options)
+    if clock:
+        try:
+            refuse_second_clock(transport)
+        except BelvedereError:
+            transport.close()
+            raise
     return transport
 
 

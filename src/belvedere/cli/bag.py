@@ -41,7 +41,7 @@ from belvedere.bags import (
     wants_progress,
 )
 from belvedere.cli._script import parse_rtf
-from belvedere.cli._tool import action_parsers, open_transport, refuse_second_clock
+from belvedere.cli._tool import action_parsers, open_clock_transport, open_transport
 from belvedere.errors import BelvedereError
 from belvedere.graph import Graph
 
@@ -193,13 +193,8 @@ def _play(args: argparse.Namespace) -> int:
 
 
 def _play_bags(args: argparse.Namespace, options: PlayOptions, bags: list[BagFile]) -> int:
-    transport = open_transport(args, serve_params=False)
-    if options.clock:
-        try:
-            refuse_second_clock(transport)  # --clock: the bag's time is the graph's one clock
-        except BelvedereError:
-            transport.close()
-            raise
+    # --clock: the bag's time is the graph's one clock
+    transport = open_clock_transport(args, clock=options.clock, serve_params=False)
     graph = Graph(
         sim_time=options.clock,
         transport=transport,

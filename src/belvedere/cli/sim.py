@@ -18,7 +18,7 @@ from belvedere.cli._args import add_viewer_options, mappings_only
 from belvedere.cli._foxglove import add_foxglove_options, start_foxglove
 from belvedere.cli._report import notice, report_diagnostics, report_lines
 from belvedere.cli._script import ScriptOptions, add_script_options, install_script
-from belvedere.cli._tool import add_graph_options, open_transport, refuse_second_clock
+from belvedere.cli._tool import add_graph_options, open_clock_transport
 from belvedere.description.urdf import Pose, RobotModel
 from belvedere.errors import BelvedereError, ParseError
 from belvedere.graph import Graph
@@ -146,12 +146,7 @@ def run(args: argparse.Namespace) -> int:
     model = RobotModel.from_path(args.input, mappings=mappings, packages=packages)
     report_diagnostics(model.warnings, source=args.input)
     world = _read_world(args, packages) if args.engine == "physics" else None
-    transport = open_transport(args)
-    try:
-        refuse_second_clock(transport)
-    except BelvedereError:
-        transport.close()
-        raise
+    transport = open_clock_transport(args)
     graph = Graph(sim_time=True, seed=args.seed, transport=transport)
     for param, value in (
         (MAX_SPEED_PARAM, args.max_speed),
