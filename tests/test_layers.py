@@ -35,6 +35,7 @@ LAYERS: tuple[tuple[str, frozenset[str]], ...] = (
                 "xmldom",
                 "yamlfile",
                 "packages",
+                "mappings",  # ROS's name:=value arguments (arrives with the runtime package)
             }
         ),
     ),
