@@ -3,8 +3,8 @@
 Users open bags, maps, worlds and launch files downloaded from the internet. Every
 allocation whose size such a file decides (bytes read, bytes inflated, pixels, grid cells,
 beams) is checked here against one of the caps below *before* it is made, and a refusal is
-one :class:`LimitError` that names the file, the place and the cap. The README's
-*Reliability* section lists these caps; change them here and there together.
+one :class:`LimitError` that names the file, the place and the cap. The caps
+table of ``docs/reliability.md`` lists them; change them here and there together.
 
 - :func:`open_regular` / :func:`read_regular` / :func:`read_regular_text`: a regular file
   only (a FIFO, a device such as ``/dev/zero`` or a directory is refused without blocking),
