@@ -22,7 +22,8 @@ from typing import TYPE_CHECKING, Any, Final
 from belvedere.msgs import message_from_data
 
 if TYPE_CHECKING:
-    from belvedere.graph._graph import Node, Publisher
+    from belvedere.graph._endpoints import Publisher
+    from belvedere.graph._graph import Node
 
 __all__ = [
     "DEBUG",

@@ -48,17 +48,9 @@ from typing import Any, Final, cast
 import zenoh
 
 from belvedere.errors import BelvedereError
-from belvedere.graph._graph import (
-    Graph,
-    GraphError,
-    Node,
-    Publisher,
-    ServiceFailedError,
-    ServiceServer,
-    ServiceUnavailableError,
-    Subscription,
-    Topic,
-)
+from belvedere.graph._endpoints import Publisher, ServiceServer, Subscription, Topic
+from belvedere.graph._errors import GraphError, ServiceFailedError, ServiceUnavailableError
+from belvedere.graph._graph import Graph, Node
 from belvedere.msgs import short, types
 
 __all__ = [
