@@ -15,14 +15,13 @@ from belvedere.graph._names import RosArgs, did_you_mean, parse_ros_args, resolv
 from belvedere.graph._names import validate as validate_name
 from belvedere.graph._params import ParamError, ParamTree
 from belvedere.graph._topics import GraphTopics
-from belvedere.graph._zenoh import (
+from belvedere.graph._zenoh import ZenohTransport
+from belvedere.graph._zenoh_discovery import GraphInfo
+from belvedere.graph._zenoh_latch import LatchedOnce, Sent
+from belvedere.graph._zenoh_session import (
     DEFAULT_ENDPOINT,
     MAX_DOMAIN,
-    GraphInfo,
-    LatchedOnce,
-    Sent,
     TransportError,
-    ZenohTransport,
     check_domain,
     domain_endpoint,
     graph_running,
