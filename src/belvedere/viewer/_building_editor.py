@@ -17,8 +17,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from belvedere.errors import BelvedereError
-from belvedere.viewer._viewer import floor_point
-from belvedere.viewer._views import ViewState
+from belvedere.viewer._views import ViewState, floor_point
 from belvedere.viewer._world import WorldDrawing
 from belvedere.world import (
     DOOR,

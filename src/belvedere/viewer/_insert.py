@@ -28,7 +28,7 @@ from belvedere.tf import (
     xyzw_from_wxyz,
 )
 from belvedere.viewer._panel import set_handle
-from belvedere.viewer._viewer import floor_point
+from belvedere.viewer._views import floor_point
 from belvedere.viewer._world import WorldDrawing
 from belvedere.world import (
     SHAPES,
