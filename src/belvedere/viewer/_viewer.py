@@ -29,6 +29,7 @@ from belvedere.viewer._access import ViewerError, guard_viser, viewer_access
 from belvedere.viewer._catalog import DISPLAYS
 from belvedere.viewer._display import Display, DisplayContext
 from belvedere.viewer._display_host import _DisplayHost
+from belvedere.viewer._insert import world_editing
 from belvedere.viewer._panel import DisplayPanel, set_handle
 from belvedere.viewer._rviz import RvizConfig
 from belvedere.viewer._status import Status
@@ -161,8 +162,6 @@ class Viewer(_DisplayHost):
         camera.fov = CAMERA_FOV
         self._build_gui(joint_publisher, sim)
         self._add_initial_displays(rviz)
-        from belvedere.viewer._insert import world_editing  # it builds on this module
-
         self.insert = world_editing(self, sim)
         self.server.on_client_connect(self._client_connected)
         self.server.on_client_disconnect(self._client_left)
