@@ -9,7 +9,8 @@ from typing import Any
 import pytest
 
 from belvedere.graph import Graph, GraphError, Sent, ZenohTransport
-from belvedere.graph._zenoh import _STAMP, open_session
+from belvedere.graph._zenoh_latch import _STAMP
+from belvedere.graph._zenoh_session import open_session
 from belvedere.msgs import message_from_data, types
 from tests.waiting import DEADLINE, wait_until
 

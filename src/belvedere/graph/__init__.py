@@ -6,35 +6,22 @@ as objects; a transport (Zenoh) carries them, CDR-encoded, to other processes.
 """
 
 from belvedere.graph._action import ActionClient, ActionServer, GoalHandle, GoalStatus
+from belvedere.graph._endpoints import Publisher, SeqRule, ServiceServer, Subscription, Topic
+from belvedere.graph._errors import GraphError, ServiceFailedError, ServiceUnavailableError
 from belvedere.graph._executor import NS, Executor, Timer
-from belvedere.graph._graph import (
-    Graph,
-    GraphError,
-    Node,
-    Publisher,
-    Rate,
-    SeqRule,
-    ServiceFailedError,
-    ServiceServer,
-    ServiceUnavailableError,
-    Subscription,
-    Topic,
-    Transport,
-    process_node_name,
-)
+from belvedere.graph._graph import Graph, Node, Rate, Transport, process_node_name
 from belvedere.graph._log import NodeLogger
 from belvedere.graph._names import RosArgs, did_you_mean, parse_ros_args, resolve_name
 from belvedere.graph._names import validate as validate_name
 from belvedere.graph._params import ParamError, ParamTree
 from belvedere.graph._topics import GraphTopics
-from belvedere.graph._zenoh import (
+from belvedere.graph._zenoh import ZenohTransport
+from belvedere.graph._zenoh_discovery import GraphInfo
+from belvedere.graph._zenoh_latch import LatchedOnce, Sent
+from belvedere.graph._zenoh_session import (
     DEFAULT_ENDPOINT,
     MAX_DOMAIN,
-    GraphInfo,
-    LatchedOnce,
-    Sent,
     TransportError,
-    ZenohTransport,
     check_domain,
     domain_endpoint,
     graph_running,

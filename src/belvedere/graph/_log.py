@@ -17,12 +17,11 @@ import threading
 import time
 import traceback
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any, Final
+from typing import Any, Final, Protocol
 
+from belvedere.graph._endpoints import Publisher, Subscription
+from belvedere.graph._executor import Executor
 from belvedere.msgs import message_from_data
-
-if TYPE_CHECKING:
-    from belvedere.graph._graph import Node, Publisher
 
 __all__ = [
     "DEBUG",
@@ -31,6 +30,7 @@ __all__ = [
     "INFO",
     "LEVEL_NAMES",
     "WARN",
+    "LoggedNode",
     "NodeLogger",
     "console_line",
     "log_message",
@@ -53,6 +53,38 @@ _BY_LOGGING: Final = (
     (logging.INFO, INFO),
 )
 _write_lock = threading.Lock()
+
+
+class _LoggedGraph(Protocol):
+    """What a node's logger uses of the node's graph."""
+
+    @property
+    def executor(self) -> Executor: ...
+    @property
+    def sim_time(self) -> bool: ...
+    def now_ns(self) -> int: ...
+    def on_executor_thread(self) -> bool: ...
+
+
+class LoggedNode(Protocol):
+    """What a :class:`NodeLogger` uses of its node (a :class:`belvedere.graph.Node`, which
+    makes its logger: the logger is handed the node, it does not import the graph)."""
+
+    @property
+    def name(self) -> str: ...
+    @property
+    def full_name(self) -> str: ...
+    @property
+    def closed(self) -> bool: ...
+    @property
+    def graph(self) -> _LoggedGraph: ...
+    @property
+    def publishers(self) -> list[Publisher]: ...
+    @property
+    def subscriptions(self) -> list[Subscription]: ...
+    def publisher(
+        self, topic: str, msg_type: str, *, queue_size: int = ..., latch: bool = ...
+    ) -> Publisher: ...
 
 
 def ros_level(levelno: int) -> int:
@@ -116,7 +148,7 @@ class NodeLogger:
     in ROS's format (see the module). Messages below the node's level are dropped: INFO unless
     :meth:`setLevel` says otherwise, or what the application set Python's logging to."""
 
-    def __init__(self, node: Node) -> None:
+    def __init__(self, node: LoggedNode) -> None:
         self.node = node
         self.logger = logging.getLogger(f"belvedere.node.{node.name}")
         """The Python logger the records go through (when anything listens to it)."""
@@ -245,7 +277,7 @@ def _traceback(exc_info: Any) -> str:
     return "".join(lines).rstrip("\n")
 
 
-def _on_executor(node: Node, fn: Callable[[], None]) -> None:
+def _on_executor(node: LoggedNode, fn: Callable[[], None]) -> None:
     graph = node.graph
     if graph.on_executor_thread():
         fn()

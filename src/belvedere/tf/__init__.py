@@ -2,14 +2,13 @@
 and the standard TF nodes (robot_state_publisher, joint_state_publisher,
 static_transform_publisher, a listener)."""
 
-from belvedere.tf._buffer import (
-    TFBuffer,
+from belvedere.tf._buffer import TFBuffer, Transformed
+from belvedere.tf._errors import (
     TFConnectivityError,
     TFError,
     TFExtrapolationError,
     TFInvalidArgumentError,
     TFLookupError,
-    Transformed,
 )
 from belvedere.tf._math import (
     Transform,

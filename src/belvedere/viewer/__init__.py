@@ -13,7 +13,8 @@ from belvedere.viewer._rviz import (
     read_rviz,
     write_rviz,
 )
-from belvedere.viewer._viewer import SimControls, Viewer, floor_point
+from belvedere.viewer._viewer import SimControls, Viewer
+from belvedere.viewer._views import floor_point
 
 __all__ = [
     "DISPLAYS",

@@ -14,11 +14,11 @@ import logging
 import os
 from dataclasses import replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
+from belvedere.description.urdf import Pose
 from belvedere.errors import BelvedereError
-from belvedere.viewer._viewer import floor_point
-from belvedere.viewer._views import ViewState
+from belvedere.viewer._views import ViewState, floor_point
 from belvedere.viewer._world import WorldDrawing
 from belvedere.world import (
     DOOR,
@@ -36,9 +36,9 @@ from belvedere.world import (
 )
 
 if TYPE_CHECKING:
-    from belvedere.viewer._insert import InsertPanel
+    import viser
 
-__all__ = ["BuildingEditor"]
+__all__ = ["BuildingEditor", "EditorPanel", "EditorViewer"]
 
 logger = logging.getLogger(__name__)
 
@@ -48,10 +48,40 @@ TOP_VIEW_SCALE = 50.0
 """Pixels per metre of the editor's top view."""
 
 
+class EditorViewer(Protocol):
+    """What the building editor uses of the viewer (a :class:`~belvedere.viewer.Viewer`,
+    handed to it through the Insert panel): its scene and panel, its active tool, and each
+    tab's view."""
+
+    @property
+    def scene(self) -> viser.SceneApi: ...
+    @property
+    def gui(self) -> viser.GuiApi: ...
+
+    tool: str | None
+
+    @property
+    def views(self) -> dict[int, tuple[Any, ViewState]]: ...
+
+
+class EditorPanel(Protocol):
+    """What the building editor uses of the Insert panel it inserts through."""
+
+    @property
+    def viewer(self) -> EditorViewer: ...
+
+    armed: str | None
+
+    @property
+    def paths(self) -> ModelPaths: ...
+    def insert_entry(self, entry: WorldModelEntry, pose: Pose) -> str: ...
+    def refresh_library(self) -> None: ...
+
+
 class BuildingEditor:
     """The Building Editor folder of the viewer's panel, inserting through ``panel``."""
 
-    def __init__(self, panel: InsertPanel) -> None:
+    def __init__(self, panel: EditorPanel) -> None:
         self.panel = panel
         self.viewer = panel.viewer
         self.building = Building("building")

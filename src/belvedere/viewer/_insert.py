@@ -16,10 +16,11 @@ import math
 import sys
 import threading
 from collections.abc import Callable, Mapping
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 from belvedere.description.urdf import Pose
 from belvedere.errors import BelvedereError
+from belvedere.graph import Graph
 from belvedere.tf import (
     Transform,
     quat_xyzw_from_rpy,
@@ -27,8 +28,10 @@ from belvedere.tf import (
     wxyz_from_xyzw,
     xyzw_from_wxyz,
 )
+from belvedere.viewer._building_editor import BuildingEditor, EditorViewer
+from belvedere.viewer._display import DisplayContext
 from belvedere.viewer._panel import set_handle
-from belvedere.viewer._viewer import floor_point
+from belvedere.viewer._views import floor_point
 from belvedere.viewer._world import WorldDrawing
 from belvedere.world import (
     SHAPES,
@@ -43,14 +46,26 @@ from belvedere.world import (
 
 if TYPE_CHECKING:
     from belvedere.sim.physics import PhysicsSimulation
-    from belvedere.viewer._building_editor import BuildingEditor
-    from belvedere.viewer._viewer import Viewer
 
-__all__ = ["InsertPanel", "world_editing"]
+__all__ = ["InsertPanel", "InsertViewer", "world_editing"]
 
 logger = logging.getLogger(__name__)
 
 NONE = "(none)"
+
+
+class InsertViewer(EditorViewer, Protocol):
+    """What the Insert panel uses of the viewer (a :class:`~belvedere.viewer.Viewer`): the
+    building editor's part, and its display context, world drawing and poses, and graph."""
+
+    @property
+    def ctx(self) -> DisplayContext: ...
+
+    world: WorldDrawing | None
+    world_poses: Callable[[], Mapping[str, Transform]] | None
+
+    @property
+    def graph(self) -> Graph: ...
 
 
 def _pose_of(t: Transform) -> Pose:
@@ -63,7 +78,7 @@ class InsertPanel:
 
     def __init__(
         self,
-        viewer: Viewer,
+        viewer: InsertViewer,
         sim: PhysicsSimulation,
         *,
         model_paths: ModelPaths | None = None,
@@ -355,7 +370,7 @@ class InsertPanel:
         return poses
 
 
-def world_editing(viewer: Viewer, sim: object) -> InsertPanel | None:
+def world_editing(viewer: InsertViewer, sim: object) -> InsertPanel | None:
     """The Insert panel and the building editor, when ``sim`` is a physics simulation."""
     if "belvedere.sim.physics" not in sys.modules:
         return None  # no physics simulation was ever made (and mujoco stays unloaded)
@@ -363,8 +378,6 @@ def world_editing(viewer: Viewer, sim: object) -> InsertPanel | None:
 
     if not isinstance(sim, PhysicsSimulation):
         return None
-    from belvedere.viewer._building_editor import BuildingEditor
-
     panel = InsertPanel(viewer, sim)
     panel.editor = BuildingEditor(panel)
     return panel

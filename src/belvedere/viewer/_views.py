@@ -26,6 +26,7 @@ __all__ = [
     "VIEW_TYPES",
     "ViewState",
     "camera_pose",
+    "floor_point",
 ]
 
 VIEW_TYPES = ("rviz/Orbit", "rviz/XYOrbit", "rviz/ThirdPersonFollower", "rviz/TopDownOrtho")
@@ -229,3 +230,15 @@ class ViewState:
             }
         )
         return props
+
+
+def floor_point(
+    origin: tuple[float, float, float], direction: tuple[float, float, float]
+) -> tuple[float, float] | None:
+    """Where a click ray meets the floor (z = 0), or None if it points away."""
+    if abs(direction[2]) < 1e-9:
+        return None
+    t = -origin[2] / direction[2]
+    if t < 0:
+        return None
+    return (origin[0] + t * direction[0], origin[1] + t * direction[1])
