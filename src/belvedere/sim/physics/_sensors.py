@@ -20,9 +20,9 @@ import numpy.typing as npt
 
 from belvedere.description.urdf import Pose, XmlData, transform
 from belvedere.msgs import build, types
-from belvedere.sim.physics._builder import COLLISION_GROUP, VISUAL_GROUP, ModelError
 from belvedere.sim.physics._engine import quat_xyzw
 from belvedere.sim.physics._plugin import IDLE, Plugin, PluginContext, RateGate
+from belvedere.sim.physics._spec import COLLISION_GROUP, VISUAL_GROUP, ModelError
 
 __all__ = [
     "IMAGE_FORMATS",

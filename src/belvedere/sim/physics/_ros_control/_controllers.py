@@ -11,9 +11,9 @@ from typing import TYPE_CHECKING, Any
 from belvedere.graph import NS, ActionServer, GoalHandle
 from belvedere.msgs import build, message_from_data
 from belvedere.sim._commands import CommandGate
-from belvedere.sim.physics._builder import ModelError
 from belvedere.sim.physics._plugin import RateGate
 from belvedere.sim.physics._ros_control._hardware import JointHandle, Pid
+from belvedere.sim.physics._spec import ModelError
 
 if TYPE_CHECKING:
     from belvedere.sim.physics._ros_control._manager import ControllerManager

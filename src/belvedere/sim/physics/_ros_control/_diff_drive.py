@@ -9,9 +9,9 @@ from typing import TYPE_CHECKING, Any
 from belvedere.graph import NS
 from belvedere.msgs import build
 from belvedere.sim._commands import CommandGate
-from belvedere.sim.physics._builder import ModelError
 from belvedere.sim.physics._plugin import RateGate
 from belvedere.sim.physics._ros_control._controllers import Controller
+from belvedere.sim.physics._spec import ModelError
 from belvedere.tf import TransformBroadcaster
 
 if TYPE_CHECKING:

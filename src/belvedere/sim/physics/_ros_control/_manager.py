@@ -9,7 +9,6 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from belvedere.graph import Node
-from belvedere.sim.physics._builder import ModelError
 from belvedere.sim.physics._ros_control._controllers import (
     Controller,
     EffortPid,
@@ -19,6 +18,7 @@ from belvedere.sim.physics._ros_control._controllers import (
 )
 from belvedere.sim.physics._ros_control._diff_drive import DiffDriveController
 from belvedere.sim.physics._ros_control._hardware import JointHandle
+from belvedere.sim.physics._spec import ModelError
 
 if TYPE_CHECKING:
     from belvedere.sim.physics._ros_control._robot_hw import RosControl

@@ -9,11 +9,11 @@ import math
 import mujoco
 
 from belvedere.graph import NS
-from belvedere.sim.physics._builder import ModelError
 from belvedere.sim.physics._motor import VelocityMotor
 from belvedere.sim.physics._plugin import Plugin, PluginContext
 from belvedere.sim.physics._ros_control._hardware import JointHandle, Pid
 from belvedere.sim.physics._ros_control._manager import ControllerManager
+from belvedere.sim.physics._spec import ModelError
 
 __all__ = ["RosControl"]
 
