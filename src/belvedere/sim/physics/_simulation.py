@@ -24,13 +24,14 @@ from belvedere.errors import SourceLocation
 from belvedere.graph import Graph, Node
 from belvedere.packages import PackageIndex
 from belvedere.sim.physics._builder import RobotBuild, add_robot
+from belvedere.sim.physics._cameras import CameraSensor, DepthCamera
 from belvedere.sim.physics._diff_drive import DiffDrive
 from belvedere.sim.physics._engine import Engine
 from belvedere.sim.physics._lighting import add_scene
 from belvedere.sim.physics._model_plugins import GroundTruth, JointStates, PlanarMove
 from belvedere.sim.physics._plugin import Plugin, PluginContext
 from belvedere.sim.physics._ros_control import RosControl
-from belvedere.sim.physics._sensors import CameraSensor, DepthCamera, ImuSensor, LaserSensor
+from belvedere.sim.physics._sensors import ImuSensor, LaserSensor
 from belvedere.sim.physics._skid_steer import SkidSteer
 from belvedere.sim.physics._spec import ModelError
 from belvedere.sim.physics._world_build import add_world
