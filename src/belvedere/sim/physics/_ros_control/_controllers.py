@@ -6,17 +6,14 @@ from __future__ import annotations
 import itertools
 import logging
 import math
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from belvedere.graph import NS, ActionServer, GoalHandle
 from belvedere.msgs import build, message_from_data
 from belvedere.sim._commands import CommandGate
 from belvedere.sim.physics._plugin import RateGate
-from belvedere.sim.physics._ros_control._hardware import JointHandle, Pid
+from belvedere.sim.physics._ros_control._hardware import ControllerHost, JointHandle, Pid
 from belvedere.sim.physics._spec import ModelError
-
-if TYPE_CHECKING:
-    from belvedere.sim.physics._ros_control._manager import ControllerManager
 
 __all__ = [
     "Controller",
@@ -34,7 +31,7 @@ class Controller:
 
     interface: str | None = None
 
-    def __init__(self, manager: ControllerManager, name: str, params: dict[str, Any]) -> None:
+    def __init__(self, manager: ControllerHost, name: str, params: dict[str, Any]) -> None:
         self.manager = manager
         self.name = name
         self.params = params
@@ -70,7 +67,7 @@ class Controller:
 class JointStateController(Controller):
     """joint_state_controller/JointStateController: every joint on ``joint_states``."""
 
-    def __init__(self, manager: ControllerManager, name: str, params: dict[str, Any]) -> None:
+    def __init__(self, manager: ControllerHost, name: str, params: dict[str, Any]) -> None:
         super().__init__(manager, name, params)
         rate = float(params.get("publish_rate", 50.0))
         self.publish_gate = RateGate(rate, manager.graph.now_ns(), strict=False, immediate=True)
@@ -95,7 +92,7 @@ class ForwardCommand(Controller):
     """{position,velocity,effort}_controllers/Joint*Controller: ``command`` (Float64) is
     passed to the joint's interface."""
 
-    def __init__(self, manager: ControllerManager, name: str, params: dict[str, Any]) -> None:
+    def __init__(self, manager: ControllerHost, name: str, params: dict[str, Any]) -> None:
         super().__init__(manager, name, params)
         self.joint = _joint_param(name, params)
         self.target: float | None = None
@@ -129,7 +126,7 @@ class EffortPid(ForwardCommand):
     interface = "effort"
 
     def __init__(
-        self, manager: ControllerManager, name: str, params: dict[str, Any], *, on: str
+        self, manager: ControllerHost, name: str, params: dict[str, Any], *, on: str
     ) -> None:
         super().__init__(manager, name, params)
         self.on = on
@@ -169,7 +166,7 @@ class TrajectoryController(Controller):
     ``gains/<joint>`` for effort joints."""
 
     def __init__(
-        self, manager: ControllerManager, name: str, params: dict[str, Any], *, interface: str
+        self, manager: ControllerHost, name: str, params: dict[str, Any], *, interface: str
     ) -> None:
         super().__init__(manager, name, params)
         self.interface = interface

@@ -4,18 +4,16 @@ from __future__ import annotations
 
 import logging
 import math
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from belvedere.graph import NS
 from belvedere.msgs import build
 from belvedere.sim._commands import CommandGate
 from belvedere.sim.physics._plugin import RateGate
 from belvedere.sim.physics._ros_control._controllers import Controller
+from belvedere.sim.physics._ros_control._hardware import ControllerHost
 from belvedere.sim.physics._spec import ModelError
 from belvedere.tf import TransformBroadcaster
-
-if TYPE_CHECKING:
-    from belvedere.sim.physics._ros_control._manager import ControllerManager
 
 __all__ = ["DiffDriveController"]
 
@@ -28,7 +26,7 @@ class DiffDriveController(Controller):
 
     interface = "velocity"
 
-    def __init__(self, manager: ControllerManager, name: str, params: dict[str, Any]) -> None:
+    def __init__(self, manager: ControllerHost, name: str, params: dict[str, Any]) -> None:
         super().__init__(manager, name, params)
         self.left = _names(params.get("left_wheel"), name, "left_wheel")
         self.right = _names(params.get("right_wheel"), name, "right_wheel")

@@ -4,12 +4,14 @@ joint's interface, and control_toolbox's PID."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Protocol
 
+from belvedere.graph import Graph, Node
 from belvedere.sim.physics._engine import JointRef
 from belvedere.sim.physics._motor import VelocityMotor
+from belvedere.sim.physics._plugin import PluginContext
 
-__all__ = ["JointHandle", "Pid"]
+__all__ = ["ControllerHost", "JointHandle", "Pid", "RobotHardware"]
 
 
 @dataclass
@@ -70,3 +72,29 @@ class JointHandle:
     velocity: float = 0.0
     effort: float = 0.0
     claimed_by: str | None = None
+
+
+class RobotHardware(Protocol):
+    """What the controller manager uses of the plugin that holds it (``RosControl``); named
+    here so that the manager's module need not import the plugin's, which imports it."""
+
+    @property
+    def ctx(self) -> PluginContext: ...
+
+    def wheel_geometry(self, left: str, right: str) -> tuple[float, float]: ...
+
+
+class ControllerHost(Protocol):
+    """What a controller uses of its controller manager (``ControllerManager``); named here
+    so that the controllers' modules need not import the manager's, which imports them."""
+
+    @property
+    def graph(self) -> Graph: ...
+    @property
+    def namespace(self) -> str: ...
+    @property
+    def node(self) -> Node: ...
+    @property
+    def handles(self) -> dict[str, JointHandle]: ...
+
+    def wheel_geometry(self, left: str, right: str) -> tuple[float, float]: ...

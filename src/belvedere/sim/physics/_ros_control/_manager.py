@@ -6,7 +6,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from belvedere.graph import Node
 from belvedere.sim.physics._ros_control._controllers import (
@@ -17,11 +17,8 @@ from belvedere.sim.physics._ros_control._controllers import (
     TrajectoryController,
 )
 from belvedere.sim.physics._ros_control._diff_drive import DiffDriveController
-from belvedere.sim.physics._ros_control._hardware import JointHandle
+from belvedere.sim.physics._ros_control._hardware import JointHandle, RobotHardware
 from belvedere.sim.physics._spec import ModelError
-
-if TYPE_CHECKING:
-    from belvedere.sim.physics._ros_control._robot_hw import RosControl
 
 __all__ = ["CONTROLLER_TYPES", "ControllerManager", "spawner"]
 
@@ -61,7 +58,7 @@ CONTROLLER_TYPES: dict[str, Callable[[ControllerManager, str, dict[str, Any]], C
 class ControllerManager:
     """The controllers of one robot, and the services that load, start and stop them."""
 
-    plugin: RosControl
+    plugin: RobotHardware
     namespace: str
     handles: dict[str, JointHandle]
     controllers: dict[str, Controller] = field(default_factory=dict)
