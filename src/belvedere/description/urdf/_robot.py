@@ -24,6 +24,7 @@ from belvedere.description.urdf._model import (
     Vec3,
 )
 from belvedere.description.urdf._parse import Diagnostic, ParsedRobot, parse_robot
+from belvedere.description.urdf._write import write_urdf
 from belvedere.errors import ParseError
 from belvedere.xmldom import Element, check_depth, parse_file, parse_string
 
@@ -133,9 +134,14 @@ class RobotModel:
 
     def to_urdf(self) -> str:
         """URDF text for this model (parsing it gives an equal model)."""
-        from belvedere.description.urdf._write import write_urdf
-
-        return write_urdf(self)
+        return write_urdf(
+            self.name,
+            materials=self.materials,
+            links=self.links,
+            joints=self.joints,
+            transmissions=self.transmissions,
+            gazebo=self.gazebo,
+        )
 
     # --- lookups -------------------------------------------------------------------------------
     @cached_property

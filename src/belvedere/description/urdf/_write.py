@@ -244,22 +244,28 @@ def _gazebo(g: GazeboExtension) -> Element:
     return el
 
 
-def write_urdf(model: object) -> str:
-    """URDF text for a :class:`RobotModel`."""
-    from belvedere.description.urdf._robot import RobotModel
-
-    assert isinstance(model, RobotModel)
+def write_urdf(
+    name: str,
+    *,
+    materials: Iterable[Material],
+    links: Iterable[Link],
+    joints: Iterable[Joint],
+    transmissions: Iterable[Transmission],
+    gazebo: Iterable[GazeboExtension],
+) -> str:
+    """URDF text for a robot: its name and its parts, written in this order (a
+    :class:`RobotModel` hands over its own; see ``RobotModel.to_urdf``)."""
     doc = Document("<urdf>")
-    robot = _el("robot", {"name": model.name})
+    robot = _el("robot", {"name": name})
     doc.append(robot)
-    for m in model.materials:
+    for m in materials:
         robot.append(_material(m))
-    for link in model.links:
+    for link in links:
         robot.append(_link(link))
-    for j in model.joints:
+    for j in joints:
         robot.append(_joint(j))
-    for t in model.transmissions:
+    for t in transmissions:
         robot.append(_transmission(t))
-    for g in model.gazebo:
+    for g in gazebo:
         robot.append(_gazebo(g))
     return write_pretty(doc)

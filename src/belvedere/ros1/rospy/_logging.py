@@ -14,6 +14,7 @@ from belvedere.graph._log import (
     INFO,
     WARN,
     console_line,
+    log_message,
     write_console,
 )
 from belvedere.ros1.rospy import _state
@@ -74,9 +75,27 @@ def publish_rosout(level: int, text: str, file: str, line: int, function: str) -
     runtime = _state.current()
     if runtime is None or _state.is_shutdown():
         return
-    from belvedere.ros1.rospy import _topics
+    rosout(runtime, level, text, file, line, function)
 
-    _topics.rosout(runtime, level, text, file, line, function)
+
+def rosout(runtime: _state.Runtime, level: int, text: str, file: str, line: int, fn: str) -> None:
+    """Publish one ``rosgraph_msgs/Log`` on ``/rosout`` (latched, as rospy's)."""
+    node = runtime.node
+    pub = getattr(runtime, "rosout", None)
+    if pub is None:
+        return
+    topics = {p.topic.name for p in node.publishers} | {s.name for s in node.subscriptions}
+    msg = log_message(
+        level,
+        text,
+        node=node.full_name,
+        stamp_ns=runtime.now_ns(),
+        file=file,
+        line=line,
+        function=fn,
+        topics=sorted(topics),
+    )
+    pub.publish(msg)
 
 
 def log_throttle(period: float, level: int, msg: Any, args: tuple[Any, ...]) -> None:

@@ -35,7 +35,6 @@ __all__ = [
     "SubscribeListener",
     "Subscriber",
     "args_kwds_to_message",
-    "rosout",
     "wait_for_message",
 ]
 
@@ -360,25 +359,3 @@ def wait_for_message(topic: str, topic_type: type[Message], timeout: Any = None)
         msg = "rospy shutdown"
         raise ROSInterruptException(msg)
     return got[0]
-
-
-def rosout(runtime: _state.Runtime, level: int, text: str, file: str, line: int, fn: str) -> None:
-    """Publish one ``rosgraph_msgs/Log`` on ``/rosout`` (latched, as rospy's)."""
-    node = runtime.node
-    pub = getattr(runtime, "rosout", None)
-    if pub is None:
-        return
-    from belvedere.graph._log import log_message
-
-    topics = {p.topic.name for p in node.publishers} | {s.name for s in node.subscriptions}
-    msg = log_message(
-        level,
-        text,
-        node=node.full_name,
-        stamp_ns=runtime.now_ns(),
-        file=file,
-        line=line,
-        function=fn,
-        topics=sorted(topics),
-    )
-    pub.publish(msg)

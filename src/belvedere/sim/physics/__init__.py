@@ -6,7 +6,8 @@ import os
 # Cameras render offscreen; without a display, Mesa's EGL (llvmpipe) is the way.
 os.environ.setdefault("MUJOCO_GL", "egl")
 
-from belvedere.sim.physics._builder import ModelError, RobotBuild, add_robot, add_world, new_spec
+from belvedere.sim.physics._builder import RobotBuild, add_robot
+from belvedere.sim.physics._cameras import CameraSensor, DepthCamera
 from belvedere.sim.physics._engine import Engine
 from belvedere.sim.physics._gazebo_ros import (
     SAVE_WORLD,
@@ -18,8 +19,10 @@ from belvedere.sim.physics._gazebo_ros import (
 )
 from belvedere.sim.physics._ros_control import CONTROLLER_TYPES, RosControl, spawner
 from belvedere.sim.physics._save import WorldSnapshot, save_world, snapshot
-from belvedere.sim.physics._sensors import CameraSensor, DepthCamera, ImuSensor, LaserSensor
+from belvedere.sim.physics._sensors import ImuSensor, LaserSensor
 from belvedere.sim.physics._simulation import PLUGINS, PhysicsSimulation, SpawnedRobot
+from belvedere.sim.physics._spec import ModelError, new_spec
+from belvedere.sim.physics._world_build import add_world
 
 __all__ = [
     "CONTROLLER_TYPES",

@@ -1,6 +1,7 @@
-"""Building the MuJoCo model with ``MjSpec`` from a :class:`RobotModel` and a
-:class:`WorldModel` — not through MuJoCo's URDF importer, which welds the base, drops
-``<gazebo>`` tags and cannot read ``.dae`` meshes.
+"""Building a robot's part of the MuJoCo model with ``MjSpec`` from a :class:`RobotModel`
+(a :class:`WorldModel`'s part: :mod:`._world_build`; what both use: :mod:`._spec`) — not
+through MuJoCo's URDF importer, which welds the base, drops ``<gazebo>`` tags and cannot
+read ``.dae`` meshes.
 
 As Gazebo does, links joined by fixed joints are lumped into one body (masses, centres and
 inertias combined), so a massless ``base_footprint`` rides on ``base_link``; every URDF link
@@ -12,19 +13,15 @@ the two surfaces; a ground plane's mu of 100 never decides), and caster spheres 
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import mujoco
 import numpy as np
-import numpy.typing as npt
 
 from belvedere.description.gazebo_materials import gazebo_material_colours
-from belvedere.description.meshes import load_mesh, resolve_mesh_path
+from belvedere.description.meshes import resolve_mesh_path
 from belvedere.description.urdf import (
-    Box,
-    Cylinder,
     Geometry,
     Inertial,
     Joint,
@@ -35,59 +32,27 @@ from belvedere.description.urdf import (
     Sphere,
     transform,
 )
-from belvedere.errors import ParseError, SourceLocation
+from belvedere.errors import SourceLocation
 from belvedere.packages import PackageIndex
 from belvedere.sim.physics._lighting import apply_material
-from belvedere.world import (
-    Material,
-    Physics,
-    Plane,
-    Polyline,
-    Scene,
-    Shape,
-    WorldGeometry,
-    WorldModel,
+from belvedere.sim.physics._spec import (
+    Matrix4,
+    ModelError,
+    _as_collision,
+    _as_visual,
+    _check_physical,
+    _place,
+    _tensor_in,
+    add_geom,
 )
+from belvedere.world import Material, Scene
 
-__all__ = ["ModelError", "RobotBuild", "add_robot", "add_world", "new_spec"]
+__all__ = ["RobotBuild", "add_robot"]
 
 logger = logging.getLogger("belvedere.physics")
 
-Matrix4 = npt.NDArray[np.float64]
-
-VISUAL_GROUP = 1
-COLLISION_GROUP = 3
-"""Collision geoms: hit by rays, hidden from cameras (which show VISUAL_GROUP only)."""
 MIN_MASS = 1e-3
 """A moving body with no mass gets this (Gazebo would refuse it less clearly)."""
-
-
-class ModelError(ParseError):
-    """A robot or world the physics engine cannot simulate."""
-
-
-def _quat_wxyz(m: Matrix4) -> list[float]:
-    q = np.zeros(4)
-    mujoco.mju_mat2Quat(q, np.ascontiguousarray(m[:3, :3]).reshape(9))
-    return [float(v) for v in q]
-
-
-def _place(element: object, m: Matrix4) -> None:
-    element.pos = [float(v) for v in m[:3, 3]]  # type: ignore[attr-defined]
-    element.quat = _quat_wxyz(m)  # type: ignore[attr-defined]
-
-
-def new_spec(physics: Physics, *, name: str = "belvedere") -> mujoco.MjSpec:
-    spec = mujoco.MjSpec()
-    spec.modelname = name
-    spec.option.timestep = physics.max_step_size
-    spec.option.gravity = list(physics.gravity)
-    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    # ODE's default friction model is a pyramid too; MuJoCo's pyramid solves ~1.7x faster
-    spec.option.cone = mujoco.mjtCone.mjCONE_PYRAMIDAL
-    spec.compiler.autolimits = True
-    spec.compiler.degree = False  # joint ranges in radians, as URDF has them
-    return spec
 
 
 @dataclass
@@ -395,98 +360,11 @@ class _RobotBuilder:
         )
 
 
-def _as_collision(
-    geom: mujoco.MjsGeom,
-    *,
-    mu: float,
-    kp: float | None = None,
-    kd: float | None = None,
-    priority: int = 0,
-    rolling: bool = True,
-) -> None:
-    """A geom that touches things: collision group, friction ``mu`` (with MuJoCo's default
-    torsional and rolling friction unless ``rolling`` is off), ODE's kp/kd as a direct
-    solref. Not fully transparent: MuJoCo's rays skip geoms with alpha 0."""
-    geom.group = COLLISION_GROUP
-    geom.rgba = [0.5, 0.5, 0.5, 0.5]
-    geom.priority = priority
-    geom.friction = [mu, 0.005, 0.0001] if rolling else [mu, 0.0, 0.0]
-    # Frictionless: a normal force only. (With friction 0 a pyramidal cone's edges coincide
-    # and the contact is degenerate; it is also the cheapest contact.)
-    geom.condim = 1 if mu <= 0 else 3
-    if kp is not None and kp > 0:
-        geom.solref = [-kp, -(kd if kd is not None and kd > 0 else 1.0)]
-
-
-def _as_visual(geom: mujoco.MjsGeom) -> None:
-    """A geom only cameras see: visual group, no contacts, no mass."""
-    geom.group = VISUAL_GROUP
-    geom.contype = 0
-    geom.conaffinity = 0
-    geom.mass = 0.0
-
-
 def _is_caster(link: Link, mu1: float | None, mu2: float | None) -> bool:
     """A caster: spheres only, and called one or given (almost) no friction."""
     spheres = link.collisions and all(isinstance(c.geometry, Sphere) for c in link.collisions)
     frictionless = mu1 is not None and mu2 is not None and max(mu1, mu2) <= 0.01
     return bool(spheres) and ("caster" in link.name.lower() or frictionless)
-
-
-def add_geom(
-    spec: mujoco.MjSpec,
-    body: mujoco.MjsBody,
-    name: str,
-    geometry: Geometry | WorldGeometry,
-    frame: Matrix4,
-    at: SourceLocation | None,
-    mesh_file: Callable[[Mesh, SourceLocation | None], Path],
-) -> mujoco.MjsGeom | None:
-    """One geom for a URDF or SDF geometry (None for what MuJoCo cannot hold)."""
-    geom = body.add_geom(name=name)
-    _place(geom, frame)
-    if isinstance(geometry, Box):
-        geom.type = mujoco.mjtGeom.mjGEOM_BOX
-        geom.size = [max(s, 1e-6) / 2 for s in geometry.size]
-    elif isinstance(geometry, Cylinder):
-        geom.type = mujoco.mjtGeom.mjGEOM_CYLINDER
-        geom.size = [max(geometry.radius, 1e-6), max(geometry.length, 1e-6) / 2, 0.0]
-    elif isinstance(geometry, Sphere):
-        geom.type = mujoco.mjtGeom.mjGEOM_SPHERE
-        geom.size = [max(geometry.radius, 1e-6), 0.0, 0.0]
-    elif isinstance(geometry, Plane):
-        geom.type = mujoco.mjtGeom.mjGEOM_PLANE
-        geom.size = [geometry.size[0] / 2, geometry.size[1] / 2, 0.1]
-        normal = np.asarray(geometry.normal, dtype=float)
-        if np.linalg.norm(normal - [0, 0, 1]) > 1e-9:
-            rot = np.eye(4)
-            q = np.zeros(4)
-            mujoco.mju_quatZ2Vec(q, normal / np.linalg.norm(normal))
-            mat = np.zeros(9)
-            mujoco.mju_quat2Mat(mat, q)
-            rot[:3, :3] = mat.reshape(3, 3)
-            _place(geom, frame @ rot)
-    elif isinstance(geometry, Polyline):
-        vertices = [(x, y, z) for z in (0.0, geometry.height) for x, y in geometry.points]
-        mesh_name = f"{name}/polyline"
-        spec.add_mesh(name=mesh_name, uservert=[c for v in vertices for c in v])
-        geom.type = mujoco.mjtGeom.mjGEOM_MESH
-        geom.meshname = mesh_name
-    elif isinstance(geometry, Mesh):
-        path = mesh_file(geometry, at)
-        triangles = load_mesh(path, scale=geometry.scale, requested_at=at)
-        mesh_name = f"{name}/mesh"
-        spec.add_mesh(
-            name=mesh_name,
-            uservert=[float(v) for v in triangles.vertices.reshape(-1)],
-            userface=[int(f) for f in triangles.faces.reshape(-1)],
-        )
-        geom.type = mujoco.mjtGeom.mjGEOM_MESH
-        geom.meshname = mesh_name
-    else:  # pragma: no cover - the geometry union is closed
-        spec.delete(geom)
-        return None
-    return geom
 
 
 def add_robot(
@@ -520,137 +398,3 @@ def _prop(model: RobotModel, link: str, key: str) -> str | None:
         if value is not None:
             return value.strip()
     return None
-
-
-def add_world(
-    spec: mujoco.MjSpec, world: WorldModel, *, scene: Scene | None = None
-) -> dict[str, str]:
-    """Every model of the world: static ones welded to the world body, others one free rigid
-    body per model (its first link, the others fixed to it). Returns model → root body.
-    Visuals are lit as in ``scene`` (default: the world's)."""
-    scene = scene or world.scene
-    roots: dict[str, str] = {}
-    for model in world.models:
-        if model.joints:
-            logger.warning(
-                "model %r: its %d joints are simulated as rigid (joints between the links of "
-                "world models are not supported yet)",
-                model.name,
-                len(model.joints),
-            )
-        root: mujoco.MjsBody | None = None
-        root_from_model = np.eye(4)
-        for link in model.links:
-            model_from_link = transform(link.pose)
-            if model.static:
-                body = spec.worldbody
-                frame = transform(model.pose) @ model_from_link
-            elif root is None:
-                root = body = spec.worldbody.add_body(name=f"{model.name}/{link.name}")
-                _place(body, transform(model.pose) @ model_from_link)
-                body.add_freejoint(name=f"{model.name}/free")
-                root_from_model = np.asarray(np.linalg.inv(model_from_link), dtype=np.float64)
-                frame = np.eye(4)
-            else:
-                body = root.add_body(name=f"{model.name}/{link.name}")
-                _place(body, root_from_model @ model_from_link)
-                frame = np.eye(4)
-            if not model.static:
-                what = f"link {link.name!r} of model {model.name!r}"
-                _world_inertia(body, link.inertial, what, link.source)
-                if not link.gravity:
-                    body.gravcomp = 1.0
-            roots.setdefault(
-                model.name, "world" if model.static else str(root.name if root else "")
-            )
-            for kind, shapes in (("collision", link.collisions), ("visual", link.visuals)):
-                for i, shape in enumerate(shapes):
-                    name = f"{model.name}/{link.name}/{kind}_{i}"
-                    _world_shape(
-                        spec, body, name, shape, frame, visual=kind == "visual", scene=scene
-                    )
-    return roots
-
-
-def _check_physical(
-    tensor: npt.NDArray[np.float64], what: str, source: SourceLocation | None
-) -> None:
-    """MuJoCo refuses (or diverges on) principal moments no body has."""
-    if not np.all(np.isfinite(tensor)):
-        msg = f"the inertia of {what} overflows a double"
-        raise ModelError(msg, source, hint="check its <mass> and <inertia> values")
-    eigen = np.linalg.eigvalsh(tensor)
-    if eigen[0] <= 0 or eigen[0] + eigen[1] < eigen[2] * (1 - 1e-6):
-        msg = (
-            f"the inertia of {what} is not physical: principal moments "
-            f"{', '.join(f'{e:.6g}' for e in eigen)} must be positive and no one larger than "
-            "the sum of the other two"
-        )
-        raise ModelError(msg, source, hint="check its <inertia> ixx/iyy/izz values")
-
-
-def _tensor_in(inertial: Inertial, rotation: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
-    """The inertia tensor about the centre of mass, in the frame ``rotation`` maps from."""
-    local = np.array(
-        [
-            [inertial.ixx, inertial.ixy, inertial.ixz],
-            [inertial.ixy, inertial.iyy, inertial.iyz],
-            [inertial.ixz, inertial.iyz, inertial.izz],
-        ]
-    )
-    result: npt.NDArray[np.float64] = rotation @ local @ rotation.T
-    return result
-
-
-def _world_inertia(
-    body: mujoco.MjsBody, inertial: Inertial | None, what: str, source: SourceLocation | None
-) -> None:
-    body.explicitinertial = True
-    if inertial is None:
-        body.mass = 1.0
-        body.fullinertia = [0.01, 0.01, 0.01, 0.0, 0.0, 0.0]
-        return
-    o = transform(inertial.origin)
-    body.mass = inertial.mass
-    body.ipos = [float(v) for v in o[:3, 3]]
-    t = _tensor_in(inertial, o[:3, :3])
-    _check_physical(t, what, source)
-    body.fullinertia = [t[0, 0], t[1, 1], t[2, 2], t[0, 1], t[0, 2], t[1, 2]]
-
-
-def _world_shape(
-    spec: mujoco.MjSpec,
-    body: mujoco.MjsBody,
-    name: str,
-    shape: Shape,
-    frame: Matrix4,
-    *,
-    visual: bool,
-    scene: Scene,
-) -> None:
-    def mesh_file(mesh: Mesh, at: SourceLocation | None) -> Path:
-        return Path(mesh.filename)
-
-    geom = add_geom(
-        spec, body, name, shape.geometry, frame @ transform(shape.pose), shape.source, mesh_file
-    )
-    if geom is None:
-        return
-    geom.typeinertia = mujoco.mjtGeomInertia.mjINERTIA_VOLUME
-    if visual:
-        _as_visual(geom)
-        material = shape.material
-        if material is None:
-            rgba = shape.rgba or (0.75, 0.75, 0.75, 1.0)
-            material = Material(rgba, rgba)
-        apply_material(spec, geom, material, scene=scene)
-        return
-    # A moving model's own friction decides against the static world (the ground's mu 100
-    # would otherwise win: MuJoCo takes the larger of two equal-priority geoms', ODE the smaller)
-    priority = 0 if body.name == "world" else 1
-    surface = shape.surface
-    if surface is None:
-        _as_collision(geom, mu=1.0, priority=priority)
-    else:
-        mu = min(surface.mu, surface.mu2)
-        _as_collision(geom, mu=mu, kp=surface.kp, kd=surface.kd, priority=priority)

@@ -17,7 +17,8 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
-from belvedere.sim.physics._builder import RobotBuild, new_spec
+from belvedere.sim.physics._builder import RobotBuild
+from belvedere.sim.physics._spec import new_spec
 from belvedere.world import Physics
 
 __all__ = ["DivergenceError", "Engine", "JointRef", "MujocoWarning"]

@@ -11,9 +11,9 @@ import numpy as np
 
 from belvedere.msgs import build
 from belvedere.sim._commands import CommandGate
-from belvedere.sim.physics._builder import ModelError
 from belvedere.sim.physics._engine import quat_xyzw, yaw_of
 from belvedere.sim.physics._plugin import IDLE, Plugin, PluginContext, RateGate
+from belvedere.sim.physics._spec import ModelError
 from belvedere.tf import TransformBroadcaster
 
 __all__ = ["GroundTruth", "JointStates", "PlanarMove"]

@@ -19,8 +19,9 @@ import numpy as np
 from belvedere.description.urdf import GazeboPlugin, XmlData
 from belvedere.errors import SourceLocation
 from belvedere.graph import NS, Graph, Node
-from belvedere.sim.physics._builder import ModelError, RobotBuild
+from belvedere.sim.physics._builder import RobotBuild
 from belvedere.sim.physics._engine import Engine
+from belvedere.sim.physics._spec import ModelError
 
 __all__ = ["IDLE", "Plugin", "PluginContext", "RateGate"]
 

@@ -23,15 +23,18 @@ from belvedere.description.urdf import GazeboPlugin, Pose, RobotModel, XmlData, 
 from belvedere.errors import SourceLocation
 from belvedere.graph import Graph, Node
 from belvedere.packages import PackageIndex
-from belvedere.sim.physics._builder import ModelError, RobotBuild, add_robot, add_world
+from belvedere.sim.physics._builder import RobotBuild, add_robot
+from belvedere.sim.physics._cameras import CameraSensor, DepthCamera
 from belvedere.sim.physics._diff_drive import DiffDrive
 from belvedere.sim.physics._engine import Engine
 from belvedere.sim.physics._lighting import add_scene
 from belvedere.sim.physics._model_plugins import GroundTruth, JointStates, PlanarMove
 from belvedere.sim.physics._plugin import Plugin, PluginContext
 from belvedere.sim.physics._ros_control import RosControl
-from belvedere.sim.physics._sensors import CameraSensor, DepthCamera, ImuSensor, LaserSensor
+from belvedere.sim.physics._sensors import ImuSensor, LaserSensor
 from belvedere.sim.physics._skid_steer import SkidSteer
+from belvedere.sim.physics._spec import ModelError
+from belvedere.sim.physics._world_build import add_world
 from belvedere.tf import Transform
 from belvedere.world import SDFError, WorldModel, WorldModelEntry, empty_world, saved_robot
 

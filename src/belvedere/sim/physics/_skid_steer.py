@@ -16,10 +16,10 @@ import math
 import numpy as np
 
 from belvedere.msgs import build
-from belvedere.sim.physics._builder import ModelError
 from belvedere.sim.physics._engine import quat_xyzw, yaw_of
 from belvedere.sim.physics._motor import MotorDrive, VelocityMotor
 from belvedere.sim.physics._plugin import PluginContext, RateGate
+from belvedere.sim.physics._spec import ModelError
 from belvedere.tf import TransformBroadcaster
 
 __all__ = ["SkidSteer"]
