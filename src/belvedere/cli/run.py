@@ -24,6 +24,7 @@ from belvedere.cli._script import add_script_options
 from belvedere.cli._tool import add_graph_options, holds_parameters
 from belvedere.errors import BelvedereError, did_you_mean
 from belvedere.graph import graph_running
+from belvedere.mappings import split_ros_args
 from belvedere.packages import PackageIndex, PackageNotFoundError, find_package_root
 from belvedere.pyscripts import prepare_script
 
@@ -55,36 +56,6 @@ def add_parser(
     add_script_options(p)
     add_graph_options(p)
     p.set_defaults(run=run)
-
-
-def split_ros_args(
-    words: list[str],
-) -> tuple[list[str], dict[str, str], dict[str, object], str | None, str | None]:
-    """rosrun's arguments: (plain arguments, remaps, private parameters, __name, __ns)."""
-    plain: list[str] = []
-    remaps: dict[str, str] = {}
-    params: dict[str, object] = {}
-    name = namespace = None
-    import yaml
-
-    for word in words:
-        key, sep, value = word.partition(":=")
-        if not sep or not key:
-            plain.append(word)
-        elif key == "__name":
-            name = value
-        elif key == "__ns":
-            namespace = value
-        elif key.startswith("__"):
-            continue  # __log:=, __ip:=, __hostname:=, __master:= mean nothing here
-        elif key.startswith("_"):
-            try:
-                params[key[1:]] = yaml.safe_load(value) if value else ""
-            except yaml.YAMLError:
-                params[key[1:]] = value
-        else:
-            remaps[key] = value
-    return plain, remaps, params, name, namespace
 
 
 def run(args: argparse.Namespace) -> int:
