@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from belvedere.cli import main
-from belvedere.cli.run import split_ros_args
+from belvedere.mappings import split_ros_args
 from tests.conftest import EXAMPLES
 
 BELVEDERE = [sys.executable, "-m", "belvedere"]

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from belvedere.errors import BelvedereError
+from belvedere.mappings import split_mappings
 
 __all__ = ["add_viewer_options", "mappings_only", "origin"]
 
@@ -42,8 +43,6 @@ def add_viewer_options(p: argparse.ArgumentParser) -> None:
 
 def mappings_only(extra: list[str]) -> dict[str, str]:
     """The ``name:=value`` arguments after the file; anything else is a usage error."""
-    from belvedere.description.xacro._command import split_mappings
-
     rest, mappings = split_mappings(extra)
     if rest:
         msg = f"unexpected arguments: {' '.join(rest)} (xacro args are written name:=value)"

@@ -1,24 +1,19 @@
-"""``--foxglove [PORT]``: the Foxglove bridge beside a verb's graph (display, sim, launch)."""
+"""``--foxglove [PORT]``: the Foxglove bridge beside a verb's graph (display, sim, launch);
+:func:`belvedere.runtime.start_bridge` starts it."""
 
 from __future__ import annotations
 
 import argparse
-import sys
-from typing import TYPE_CHECKING
 
-from belvedere.access import is_loopback
 from belvedere.cli._args import origin
-from belvedere.graph import Graph
-
-if TYPE_CHECKING:
-    from belvedere.foxglove import FoxgloveBridge
+from belvedere.runtime import BridgeOptions
 
 __all__ = [
     "DEFAULT_PORT",
     "add_foxglove_options",
     "add_origin_option",
+    "bridge_options",
     "port",
-    "start_foxglove",
 ]
 
 DEFAULT_PORT = 8765
@@ -74,26 +69,13 @@ def add_origin_option(p: argparse.ArgumentParser, flag: str) -> None:
     )
 
 
-def start_foxglove(
-    args: argparse.Namespace, graph: Graph, *, node_name: str = "foxglove_bridge"
-) -> FoxgloveBridge | None:
-    """The bridge ``--foxglove`` asks for (None without it), its URL said on stderr."""
+def bridge_options(args: argparse.Namespace) -> BridgeOptions | None:
+    """The bridge ``--foxglove`` asks for (None without it)."""
     wanted: int | None = getattr(args, "foxglove", None)
     if wanted is None:
         return None
-    from belvedere.foxglove import FoxgloveBridge
-
-    bridge = FoxgloveBridge(
-        graph,
-        host=args.foxglove_host,
+    return BridgeOptions(
         port=wanted,
-        node_name=node_name,
-        allow_origins=getattr(args, "foxglove_origins", ()),
+        host=args.foxglove_host,
+        allow_origins=tuple(getattr(args, "foxglove_origins", ())),
     )
-    if not is_loopback(bridge.host):
-        sys.stderr.write(
-            f"foxglove: serving beyond this machine on {bridge.host}: "
-            "clients need the token in this URL\n"
-        )
-    sys.stderr.write(f"foxglove: {bridge.url}\n")
-    return bridge

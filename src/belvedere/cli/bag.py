@@ -41,9 +41,10 @@ from belvedere.bags import (
     wants_progress,
 )
 from belvedere.cli._script import parse_rtf
-from belvedere.cli._tool import action_parsers, open_clock_transport, open_transport
+from belvedere.cli._tool import action_parsers, graph_address
 from belvedere.errors import BelvedereError
 from belvedere.graph import Graph
+from belvedere.runtime import open_clock_transport, open_transport
 
 __all__ = ["add_parser", "run"]
 
@@ -156,7 +157,7 @@ def _record(args: argparse.Namespace) -> int:
     recorder = Recorder(
         options, on_progress=(lambda s: bar.update(s, f"{s:.1f} s")) if bar.enabled else None
     )
-    transport = open_transport(args, serve_params=False)
+    transport = open_transport(graph_address(args), serve_params=False)
     stop = threading.Event()
     try:
         with _stop_on_signals(stop):
@@ -194,7 +195,7 @@ def _play(args: argparse.Namespace) -> int:
 
 def _play_bags(args: argparse.Namespace, options: PlayOptions, bags: list[BagFile]) -> int:
     # --clock: the bag's time is the graph's one clock
-    transport = open_clock_transport(args, clock=options.clock, serve_params=False)
+    transport = open_clock_transport(graph_address(args), clock=options.clock, serve_params=False)
     graph = Graph(
         sim_time=options.clock,
         transport=transport,

@@ -9,12 +9,13 @@ import time
 import webbrowser
 
 from belvedere.cli._args import add_viewer_options, mappings_only
-from belvedere.cli._foxglove import add_foxglove_options, start_foxglove
+from belvedere.cli._foxglove import add_foxglove_options, bridge_options
 from belvedere.cli._report import notice, report_diagnostics
-from belvedere.cli._tool import add_graph_options, open_transport
+from belvedere.cli._tool import add_graph_options, graph_address
 from belvedere.description.urdf import RobotModel
 from belvedere.graph import Graph
 from belvedere.packages import PackageIndex
+from belvedere.runtime import open_transport, start_bridge
 from belvedere.tf import JointStatePublisher, RobotStatePublisher
 
 __all__ = ["add_parser", "run"]
@@ -42,12 +43,12 @@ def run(args: argparse.Namespace) -> int:
     started = time.monotonic()
     model = RobotModel.from_path(args.input, mappings=mappings, packages=packages)
     report_diagnostics(model.warnings, source=args.input)
-    graph = Graph(sim_time=False, transport=open_transport(args))
+    graph = Graph(sim_time=False, transport=open_transport(graph_address(args)))
     graph.params.set("/robot_description", model.to_urdf())
     RobotStatePublisher(graph.create_node("robot_state_publisher"), model)
     jsp = JointStatePublisher(graph.create_node("joint_state_publisher"), model)
     rviz = read_rviz(args.rviz) if args.rviz else None
-    bridge = start_foxglove(args, graph)
+    bridge = start_bridge(graph, bridge_options(args))
     try:
         viewer = Viewer(
             graph,

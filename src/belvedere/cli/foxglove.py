@@ -11,10 +11,11 @@ from belvedere.cli._foxglove import (
     DEFAULT_PORT,
     HOST_HELP,
     add_origin_option,
+    bridge_options,
     port,
-    start_foxglove,
 )
-from belvedere.cli._tool import add_graph_options, join_graph
+from belvedere.cli._tool import add_graph_options, graph_address
+from belvedere.runtime import join_graph, start_bridge
 
 __all__ = ["add_parser", "run"]
 
@@ -44,9 +45,11 @@ def add_parser(
 
 
 def run(args: argparse.Namespace) -> int:
-    graph = join_graph(args)
+    graph = join_graph(graph_address(args))
     try:
-        bridge = start_foxglove(args, graph, node_name=f"foxglove_bridge_{os.getpid()}")
+        bridge = start_bridge(
+            graph, bridge_options(args), node_name=f"foxglove_bridge_{os.getpid()}"
+        )
         assert bridge is not None
         graph.start(rtf=None)
         try:

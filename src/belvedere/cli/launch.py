@@ -13,11 +13,10 @@ from belvedere import nodes
 from belvedere.cli._args import add_viewer_options, mappings_only
 from belvedere.cli._foxglove import add_foxglove_options
 from belvedere.cli._report import report_lines
-from belvedere.cli._script import ScriptOptions, add_script_options
-from belvedere.cli._session import run_session
+from belvedere.cli._script import add_script_options, script_options
+from belvedere.cli._session import session_options
 from belvedere.cli._tool import add_graph_options
 from belvedere.errors import BelvedereError, did_you_mean
-from belvedere.graph import graph_running
 from belvedere.launch import LaunchConfig, LaunchError, load_launch
 from belvedere.launch._listing import (
     dump_params,
@@ -28,6 +27,7 @@ from belvedere.launch._listing import (
     summary,
 )
 from belvedere.packages import PackageIndex
+from belvedere.runtime import run_launch
 
 __all__ = ["add_parser", "run"]
 
@@ -117,7 +117,7 @@ def run(args: argparse.Namespace) -> int:
     path = _launch_file(args, packages)
     packages = packages.with_workspace_of(path)
     mappings = mappings_only(list(args.extra))
-    ScriptOptions.from_args(args)  # bad --pub/--echo fail before anything starts
+    script_options(args)  # bad --pub/--echo fail before anything starts
     config = load_launch(path, args=mappings, packages=packages)
     report_lines(config.warnings)
     if args.dump_params:
@@ -133,21 +133,7 @@ def run(args: argparse.Namespace) -> int:
         sys.stdout.write(_node_args(config, args.node_args, packages) + "\n")
         return 0
     logger.info("%s", summary(config).rstrip("\n") + "\n")
-    return run_session(
-        config, packages, args, announce=True, join=_joins_running_graph(config, args)
-    )
-
-
-def _joins_running_graph(config: LaunchConfig, args: argparse.Namespace) -> bool:
-    """As roslaunch uses the master that runs: a launch of clients only (amcl, move_base,
-    rviz, scripts …) beside a running simulation joins its graph, with its parameters and
-    its clock. A launch that starts a simulator makes the graph and its clock, as before."""
-    if not graph_running(args.endpoint, args.domain):
-        return False
-    return all(
-        nodes.find(n.pkg, n.type) is None or nodes.joins_running_graph(n.pkg, n.type)
-        for n in config.nodes
-    )
+    return run_launch(config, packages, session_options(args))
 
 
 def _node_args(config: LaunchConfig, name: str, packages: PackageIndex) -> str:

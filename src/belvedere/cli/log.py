@@ -9,10 +9,11 @@ import sys
 import threading
 from typing import Any, Final
 
-from belvedere.cli._tool import Tool, add_graph_options, open_tool, wait_for_messages
+from belvedere.cli._tool import add_graph_options, graph_address
 from belvedere.errors import BelvedereError
 from belvedere.graph import did_you_mean, resolve_name
 from belvedere.graph._log import LEVEL_NAMES
+from belvedere.runtime import Tool, open_tool, wait_for_messages
 
 __all__ = ["add_parser", "format_log", "run"]
 
@@ -70,7 +71,7 @@ def format_log(msg: Any, *, verbose: bool = False, color: bool = False) -> str:
 def run(args: argparse.Namespace) -> int:
     least = LEVELS[args.level]
     nodes = {resolve_name(n) for n in args.node}
-    tool = open_tool(args, "log")
+    tool = open_tool(graph_address(args), "log")
     try:
         tool.graph.start(rtf=None)
         shown = threading.Semaphore(0)

@@ -5,10 +5,11 @@ from __future__ import annotations
 import argparse
 import sys
 
-from belvedere.cli._tool import action_parsers, open_tool
+from belvedere.cli._tool import action_parsers, graph_address
 from belvedere.errors import BelvedereError
 from belvedere.graph import did_you_mean, resolve_name
 from belvedere.msgs import short
+from belvedere.runtime import open_tool
 
 __all__ = ["add_parser", "run"]
 
@@ -24,7 +25,7 @@ def add_parser(
 
 
 def run(args: argparse.Namespace) -> int:
-    tool = open_tool(args, "node")
+    tool = open_tool(graph_address(args), "node")
     try:
         info = tool.info()
         own = tool.node.full_name

@@ -9,10 +9,11 @@ from pathlib import Path
 import yaml
 
 from belvedere.bounded import YAML_TEXT_BYTES, read_regular_text
-from belvedere.cli._tool import action_parsers, open_tool
+from belvedere.cli._tool import action_parsers, graph_address
 from belvedere.errors import BelvedereError
 from belvedere.fileio import write_file
 from belvedere.graph import resolve_name
+from belvedere.runtime import open_tool
 
 __all__ = ["add_parser", "run"]
 
@@ -39,7 +40,7 @@ def add_parser(
 
 
 def run(args: argparse.Namespace) -> int:
-    tool = open_tool(args, "param")
+    tool = open_tool(graph_address(args), "param")
     try:
         ask = tool.transport.param_request
         action = args.action

@@ -5,10 +5,11 @@ from __future__ import annotations
 import argparse
 import sys
 
-from belvedere.cli._tool import action_parsers, open_tool
+from belvedere.cli._tool import action_parsers, graph_address
 from belvedere.errors import BelvedereError
 from belvedere.graph import did_you_mean, resolve_name
 from belvedere.msgs import message_from_args, message_to_yaml, short
+from belvedere.runtime import open_tool
 
 __all__ = ["add_parser", "run"]
 
@@ -28,7 +29,7 @@ def add_parser(
 
 
 def run(args: argparse.Namespace) -> int:
-    tool = open_tool(args, "service")
+    tool = open_tool(graph_address(args), "service")
     try:
         info = tool.info()
         if args.action == "list":

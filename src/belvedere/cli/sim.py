@@ -15,14 +15,15 @@ import webbrowser
 from typing import TYPE_CHECKING
 
 from belvedere.cli._args import add_viewer_options, mappings_only
-from belvedere.cli._foxglove import add_foxglove_options, start_foxglove
+from belvedere.cli._foxglove import add_foxglove_options, bridge_options
 from belvedere.cli._report import notice, report_diagnostics, report_lines
-from belvedere.cli._script import ScriptOptions, add_script_options, install_script
-from belvedere.cli._tool import add_graph_options, open_clock_transport
+from belvedere.cli._script import add_script_options, script_options
+from belvedere.cli._tool import add_graph_options, graph_address
 from belvedere.description.urdf import Pose, RobotModel
 from belvedere.errors import BelvedereError, ParseError
 from belvedere.graph import Graph
 from belvedere.packages import PackageIndex
+from belvedere.runtime import install_script, open_clock_transport, start_bridge
 from belvedere.sim import (
     DEFAULT_MAX_SPEED,
     DEFAULT_MAX_TURN_RATE,
@@ -120,7 +121,7 @@ def load_config(path: str) -> tuple[ArbotixConfig, dict[str, object]]:
 
 def run(args: argparse.Namespace) -> int:
     mappings = mappings_only(list(args.extra))
-    script = ScriptOptions.from_args(args)
+    script = script_options(args)
     if args.engine is None:
         args.engine = "kinematic"
         implied = [o for o, given in (("--world", args.world), ("--paused", args.paused)) if given]
@@ -146,7 +147,7 @@ def run(args: argparse.Namespace) -> int:
     model = RobotModel.from_path(args.input, mappings=mappings, packages=packages)
     report_diagnostics(model.warnings, source=args.input)
     world = _read_world(args, packages) if args.engine == "physics" else None
-    transport = open_clock_transport(args)
+    transport = open_clock_transport(graph_address(args))
     graph = Graph(sim_time=True, seed=args.seed, transport=transport)
     for param, value in (
         (MAX_SPEED_PARAM, args.max_speed),
@@ -164,7 +165,7 @@ def run(args: argparse.Namespace) -> int:
         install_script(graph, script)
         if args.paused:
             graph.executor.pause(True)
-        bridge = start_foxglove(args, graph)
+        bridge = start_bridge(graph, bridge_options(args))
         if not args.headless:
             viewer = _open_viewer(args, graph, model, sim, packages, world)
         _run(graph, args)

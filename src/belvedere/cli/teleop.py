@@ -9,10 +9,11 @@ import sys
 import threading
 from types import FrameType
 
-from belvedere.cli._tool import add_graph_options, open_tool, wait_for
+from belvedere.cli._tool import add_graph_options, graph_address
 from belvedere.errors import BelvedereError
 from belvedere.graph import parse_ros_args
 from belvedere.msgs import types
+from belvedere.runtime import open_tool, wait_for
 from belvedere.teleop import LAYOUTS, Layout, MbotTeleop, TwistKeyboard, run_teleop
 
 __all__ = ["add_parser", "run"]
@@ -80,7 +81,7 @@ def run(args: argparse.Namespace) -> int:
         raise BelvedereError(msg)
     layout = _layout(args, ros.params)
     rate = _number(ros.params, "repeat_rate", args.repeat_rate) or 0.0
-    tool = open_tool(args, "teleop")
+    tool = open_tool(graph_address(args), "teleop")
     try:
         topic = tool.node.resolve(ros.remappings.get(args.topic, args.topic))
         pub = tool.node.publisher(topic, "geometry_msgs/Twist", queue_size=1)

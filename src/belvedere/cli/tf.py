@@ -7,9 +7,10 @@ import math
 import sys
 import time
 
-from belvedere.cli._tool import action_parsers, open_tool, wait_for
+from belvedere.cli._tool import action_parsers, graph_address
 from belvedere.errors import BelvedereError
 from belvedere.graph import NS
+from belvedere.runtime import open_tool, wait_for
 from belvedere.tf import TFBuffer, TFError, TransformListener, rpy_from_quat_xyzw
 
 __all__ = ["add_parser", "run"]
@@ -31,7 +32,7 @@ def add_parser(
 
 
 def run(args: argparse.Namespace) -> int:
-    tool = open_tool(args, "tf")
+    tool = open_tool(graph_address(args), "tf")
     try:
         buffer = TFBuffer()
         TransformListener(tool.node, buffer)

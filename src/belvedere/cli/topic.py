@@ -11,10 +11,11 @@ import time
 from collections import deque
 from typing import Any
 
-from belvedere.cli._tool import Tool, action_parsers, open_tool, wait_for, wait_for_messages
+from belvedere.cli._tool import action_parsers, graph_address
 from belvedere.errors import BelvedereError
 from belvedere.graph import NS, GraphInfo, did_you_mean, resolve_name
 from belvedere.msgs import message_from_args, message_to_yaml, short, types
+from belvedere.runtime import Tool, open_tool, wait_for, wait_for_messages
 
 __all__ = ["add_parser", "run"]
 
@@ -59,7 +60,7 @@ def add_parser(
 
 
 def run(args: argparse.Namespace) -> int:
-    tool = open_tool(args, "topic")
+    tool = open_tool(graph_address(args), "topic")
     try:
         action = {
             "list": _list,

@@ -12,8 +12,9 @@ import argparse
 import os
 import sys
 
-from belvedere.cli._tool import action_parsers, open_tool
+from belvedere.cli._tool import action_parsers, graph_address
 from belvedere.errors import BelvedereError
+from belvedere.runtime import open_tool
 from belvedere.sim import SAVE_WORLD, SAVE_WORLD_TYPE
 
 __all__ = ["add_parser", "run"]
@@ -38,7 +39,7 @@ def add_parser(
 
 def run(args: argparse.Namespace) -> int:
     path = os.path.abspath(os.path.expanduser(args.path))
-    tool = open_tool(args, "world")
+    tool = open_tool(graph_address(args), "world")
     try:
         offered = tool.info().services.get(SAVE_WORLD)
         if not offered:

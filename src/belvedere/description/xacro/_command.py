@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 from belvedere.description.xacro._dialects import Dialect
 from belvedere.description.xacro._errors import XacroError
+from belvedere.mappings import split_mappings
 
 __all__ = [
     "XacroCommand",
@@ -21,33 +22,11 @@ __all__ = [
     "is_xacro_program",
     "parse_xacro_argv",
     "parse_xacro_command",
-    "split_mappings",
 ]
 
 INORDER_NOTICE = (
     "xacro: in-order processing became default in ROS Melodic. You can drop the option."
 )
-
-
-def split_mappings(argv: list[str]) -> tuple[list[str], dict[str, str]]:
-    """Separate ``name:=value`` arguments (ROS remappings) from the rest.
-
-    Private-parameter assignments (``_name:=value``) are dropped, as rosgraph does.
-    """
-    rest: list[str] = []
-    mappings: dict[str, str] = {}
-    for arg in argv:
-        if ":=" not in arg:
-            rest.append(arg)
-            continue
-        src, _, dst = arg.partition(":=")
-        src, dst = src.strip(), dst.strip()
-        if not src:
-            continue
-        if len(src) > 1 and src[0] == "_" and src[1] != "_":
-            continue
-        mappings[src] = dst
-    return rest, mappings
 
 
 @dataclass
