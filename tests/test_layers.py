@@ -4,9 +4,9 @@ Every module under ``src/belvedere`` is parsed (not imported) and each of its im
 ``belvedere`` — at module level and inside functions, ``TYPE_CHECKING`` ones too — is mapped
 from the importing package to the imported one. A package may import the packages of the
 layers below its own; within its layer, only the imports listed in :data:`SAME_LAYER`, which
-the code already made when this table was written and which go one way (no circles, but for
-the one in :data:`KNOWN_CYCLES`). A package the table does not know fails too: a new package
-takes a deliberate place here and in ARCHITECTURE.md.
+the code already made when this table was written and which go one way (no circles). A
+package the table does not know fails too: a new package takes a deliberate place here and
+in ARCHITECTURE.md. Between modules, imports go one way too: no circles at all.
 """
 
 from __future__ import annotations
@@ -30,6 +30,7 @@ LAYERS: tuple[tuple[str, frozenset[str]], ...] = (
                 "belvedere",  # the package itself: __version__
                 "errors",
                 "bounded",
+                "locate",
                 "fileio",
                 "access",
                 "xmldom",
@@ -58,7 +59,8 @@ SAME_LAYER: frozenset[tuple[str, str]] = frozenset(
     {
         ("access", "errors"),
         ("bounded", "errors"),
-        ("errors", "bounded"),
+        ("locate", "errors"),
+        ("locate", "bounded"),
         ("fileio", "errors"),
         ("xmldom", "errors"),
         ("xmldom", "bounded"),
@@ -76,10 +78,6 @@ SAME_LAYER: frozenset[tuple[str, str]] = frozenset(
 )
 """(importer, imported) within one layer: the imports the code made when the table was
 written. Another is a decision: add it here only if it makes no circle."""
-
-KNOWN_CYCLES: frozenset[tuple[str, str]] = frozenset({("errors", "bounded")})
-"""The one circle: ``bounded`` raises ``errors``' types, and ``errors.pinpoint`` reads a
-file through ``bounded`` (inside the function, so the import order works)."""
 
 
 def layer_of(package: str) -> int:
@@ -204,10 +202,10 @@ def test_the_layers_are_disjoint() -> None:
             seen[package] = name
 
 
-def test_same_layer_imports_make_no_circle_but_the_known_one() -> None:
+def test_same_layer_imports_make_no_circle() -> None:
     for importer, imported in SAME_LAYER:
         assert layer_of(importer) == layer_of(imported), (importer, imported)
-    edges = SAME_LAYER - KNOWN_CYCLES
+    edges = SAME_LAYER
 
     def reaches(start: str, goal: str, seen: frozenset[str]) -> bool:
         return any(
@@ -262,3 +260,90 @@ def test_runtime_sits_between_launch_and_the_command_line() -> None:
     for name in ("launch", "nodes", "viewer"):
         user = SRC / name / "_probe.py"
         assert violations(package_imports({user: "from belvedere.runtime import x\n"}))
+
+
+def module_edges(modules: dict[Path, str]) -> dict[str, set[str]]:
+    """Module → the belvedere modules it imports, anywhere in it. ``from pkg import _sub``
+    names the submodule, not the package's face: that import does not run back up through
+    ``pkg/__init__``'s own imports."""
+    names = {".".join(module_name(path)) for path in modules}
+    edges: dict[str, set[str]] = {}
+    for path, text in modules.items():
+        importer = ".".join(module_name(path))
+        for node in ast.walk(ast.parse(text, str(path))):
+            if isinstance(node, ast.Import):
+                wanted = [alias.name for alias in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                base = next(name for _, name in imported_modules(path, ast.unparse(node)))
+                subs = [f"{base}.{alias.name}" for alias in node.names]
+                wanted = subs if all(s in names for s in subs) else [base, *subs]
+            else:
+                continue
+            for name in wanted:
+                parts = name.split(".")
+                while parts and ".".join(parts) not in names:
+                    parts.pop()
+                found = ".".join(parts)
+                if found and found != importer:
+                    edges.setdefault(importer, set()).add(found)
+    return edges
+
+
+def circles(edges: dict[str, set[str]]) -> list[list[str]]:
+    """The strongly connected groups of more than one module (Tarjan's walk, iteratively)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    found: list[list[str]] = []
+    for root in sorted(edges):
+        if root in index:
+            continue
+        work = [(root, iter(sorted(edges.get(root, ()))))]
+        index[root] = low[root] = len(index)
+        stack.append(root)
+        on_stack.add(root)
+        while work:
+            node, todo = work[-1]
+            step = next(todo, None)
+            if step is not None:
+                if step not in index:
+                    index[step] = low[step] = len(index)
+                    stack.append(step)
+                    on_stack.add(step)
+                    work.append((step, iter(sorted(edges.get(step, ())))))
+                elif step in on_stack:
+                    low[node] = min(low[node], index[step])
+                continue
+            work.pop()
+            if work:
+                low[work[-1][0]] = min(low[work[-1][0]], low[node])
+            if low[node] == index[node]:
+                group = []
+                while True:
+                    member = stack.pop()
+                    on_stack.discard(member)
+                    group.append(member)
+                    if member == node:
+                        break
+                if len(group) > 1:
+                    found.append(sorted(group))
+    return found
+
+
+def test_no_module_imports_itself_round_a_circle() -> None:
+    """Between modules too, imports go one way: a writer takes the data it writes, a logger
+    is handed its publisher, a panel gets the viewer's services through a Protocol."""
+    found = circles(module_edges(sources()))
+    assert not found, "import circles:\n" + "\n".join(" -> ".join(group) for group in found)
+
+
+def test_a_circle_is_found() -> None:
+    probe = {
+        SRC / "graph" / "_a_probe.py": "from belvedere.graph import _b_probe\n",
+        SRC / "graph" / "_b_probe.py": "def f():\n    from belvedere.graph._a_probe import x\n",
+        SRC / "graph" / "__init__.py": "from belvedere.graph._a_probe import x\n",
+    }
+    assert circles(module_edges(probe)) == [
+        ["belvedere.graph._a_probe", "belvedere.graph._b_probe"]
+    ]

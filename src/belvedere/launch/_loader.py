@@ -35,10 +35,11 @@ from belvedere.bounded import (
 from belvedere.description.xacro import XacroError
 from belvedere.description.xacro._interpreter import ExpressionError
 from belvedere.description.xacro._substitutions import Substitutions
-from belvedere.errors import BelvedereError, ParseError, SourceLocation, did_you_mean, pinpoint
+from belvedere.errors import BelvedereError, ParseError, SourceLocation, did_you_mean
 from belvedere.launch._model import LaunchConfig, LaunchError, LaunchFile, LaunchNode
 from belvedere.launch._names import canonical, child_namespace, global_ns, is_legal, ns_join
 from belvedere.launch._values import param_bool, param_command, typed_value
+from belvedere.locate import pinpoint
 from belvedere.packages import PackageIndex
 from belvedere.xmldom import Element, parse_file
 from belvedere.yamlfile import YamlDocument, load_yaml, load_yaml_file

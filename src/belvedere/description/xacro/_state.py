@@ -24,7 +24,8 @@ from belvedere.description.xacro._symbols import (
     make_global_symbols,
 )
 from belvedere.description.xacro._text import Part, program, programs, python2_str
-from belvedere.errors import SourceLocation, did_you_mean, pinpoint
+from belvedere.errors import SourceLocation, did_you_mean
+from belvedere.locate import pinpoint
 from belvedere.packages import PackageIndex
 from belvedere.xmldom import Comment, Element, Node, Text
 
