@@ -29,7 +29,7 @@ import lz4.frame
 
 from belvedere import __version__
 from belvedere.bags._chunked import ChunkWriter
-from belvedere.bags._input import Damaged
+from belvedere.bags._input import BagInput, Damaged, inflate_chunk
 from belvedere.bags._model import BagError, cdr_schema
 
 __all__ = ["MAGIC", "McapWriter"]
@@ -414,6 +414,33 @@ def _parse_chunk_header(body: bytes, base: int) -> tuple[int, int, int, int, str
         )
         raise Damaged(base + pos, text)
     return start, end, size, crc, compression, pos + 8, compressed
+
+
+def _inflated_chunk(body: bytes, pos: int) -> tuple[_ChunkRef, bytes]:
+    """The chunk record at ``pos`` whose ``body`` (all of it) was read: what it declares
+    and its data, inflated and checked against its CRC.
+
+    Raises:
+        Damaged: at ``pos`` (the CRC, the compression) or at the header field that is wrong.
+    """
+    start, end, size, crc, compression, at, compressed = _parse_chunk_header(body, pos + 9)
+    raw = inflate_chunk(compression, CODECS, body[at : at + compressed], size, pos)
+    if crc and zlib.crc32(raw) != crc:
+        raise Damaged(pos, "chunk: its data does not match its CRC")
+    return _ChunkRef(pos, start, end, compression, compressed, size), raw
+
+
+def _message_head(inp: BagInput, body: int, length: int) -> tuple[int, int]:
+    """(channel id, log time) of the message record whose body, ``length`` bytes, is at
+    file offset ``body`` (only its fixed fields are read).
+
+    Raises:
+        Damaged: the record is shorter than its fixed fields.
+    """
+    fixed = inp.read(body, min(length, _MESSAGE.size), "a message record")
+    _fixed(fixed, OP_MESSAGE, "a message", body)
+    cid, _, stamp, _ = _MESSAGE.unpack(fixed)
+    return cid, stamp
 
 
 def _parse_chunk_index(body: bytes, base: int) -> _ChunkRef:

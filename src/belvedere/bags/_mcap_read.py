@@ -14,19 +14,17 @@ against its CRC, and:
 from __future__ import annotations
 
 import functools
-import zlib
 from collections import defaultdict
 from collections.abc import Iterator
 from typing import Final
 
 from belvedere.bags._chunked import ChunkedBag, Timed
-from belvedere.bags._input import BagInput, Damaged, inflate_chunk
+from belvedere.bags._input import BagInput, Damaged
 from belvedere.bags._mcap import (
     _INVALID,
     _MESSAGE,
     _RECORD,
     _U64,
-    CODECS,
     MAGIC,
     OP_CHANNEL,
     OP_CHUNK,
@@ -40,9 +38,10 @@ from belvedere.bags._mcap import (
     _Channel,
     _ChunkRef,
     _fixed,
+    _inflated_chunk,
+    _message_head,
     _msgtype,
     _parse_channel,
-    _parse_chunk_header,
     _parse_chunk_index,
     _parse_schema,
     _parse_statistics,
@@ -153,9 +152,7 @@ class McapBag(ChunkedBag):
                 channel = _parse_channel(inp.read(body, length, "a channel record"), body)
                 self._channels[channel.id] = channel
             elif op == OP_MESSAGE:
-                fixed = inp.read(body, min(length, _MESSAGE.size), "a message record")
-                _fixed(fixed, OP_MESSAGE, "a message", body)
-                cid, _, stamp, _ = _MESSAGE.unpack(fixed)
+                cid, stamp = _message_head(inp, body, length)
                 self._loose.append((stamp, cid, body + _MESSAGE.size, length - _MESSAGE.size))
                 self.counts[cid] += 1
             elif op == OP_CHUNK:
@@ -203,12 +200,7 @@ class McapBag(ChunkedBag):
         if op != OP_CHUNK:
             text = f"chunk index: offset {pos:,} holds a record of kind {op:#04x}, not a chunk"
             raise Damaged(ref.at or pos, text)
-        body = inp.read(pos + 9, length, "a chunk record", end=self._data_end)
-        start, end, size, crc, compression, at, compressed = _parse_chunk_header(body, pos + 9)
-        raw = inflate_chunk(compression, CODECS, body[at : at + compressed], size, pos)
-        if crc and zlib.crc32(raw) != crc:
-            raise Damaged(pos, "chunk: its data does not match its CRC")
-        return _ChunkRef(pos, start, end, compression, compressed, size), raw
+        return _inflated_chunk(inp.read(pos + 9, length, "a chunk record", end=self._data_end), pos)
 
     # --- the common face ------------------------------------------------------------------
     @property
