@@ -16,6 +16,7 @@ from belvedere.description.urdf import RobotModel
 from belvedere.graph import Graph
 from belvedere.tf import JointStatePublisher, RobotStatePublisher, TransformListener
 from belvedere.viewer import Viewer
+from belvedere.viewer._chromium import launch_chromium
 from belvedere.viewer._views import CAMERA_FOV, CAMERA_LOOK_AT, CAMERA_POSITION
 from tests.conftest import EXAMPLES
 from tests.viewer.docs_screenshots import docs_screenshot
@@ -30,16 +31,6 @@ SOFTWARE_WEBGL_NOTICE = "webgl-software-rendering"
 """The id of viser's "Software WebGL rendering detected" notification."""
 VIEW: dict[str, float] = {"x": 0.0, "y": 0.0, "width": VIEWPORT[0], "height": VIEWPORT[1]}
 """The 3D view's box in the page, beside the docked panel: measured when a page opens."""
-CHROMIUM_ARGS = [
-    "--no-sandbox",
-    "--disable-gpu",
-    "--enable-unsafe-swiftshader",
-    "--use-angle=swiftshader",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--no-first-run",
-]
 
 
 BROWSER_DEADLINE = 120.0
@@ -124,9 +115,7 @@ def browser_page(url: str) -> Iterator[Any]:
         pytest.skip("Debian's chromium is not installed")
     playwright = pytest.importorskip("playwright.sync_api")
     with playwright.sync_playwright() as p:
-        browser = p.chromium.launch(
-            executable_path=shutil.which("chromium"), headless=True, args=CHROMIUM_ARGS
-        )
+        browser = launch_chromium(p, shutil.which("chromium"))
         try:
             page = browser.new_page(viewport={"width": VIEWPORT[0], "height": VIEWPORT[1]})
             page.set_default_timeout(BROWSER_DEADLINE * 1000)
