@@ -7,13 +7,15 @@ import math
 import shutil
 import socket
 from collections.abc import Callable, Iterator
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 import pytest
 
 from belvedere.description.urdf import RobotModel
-from belvedere.graph import Graph
+from belvedere.graph import Graph, Publisher
+from belvedere.sim.kinematic import DiffController, KinematicSimulation
 from belvedere.tf import JointStatePublisher, RobotStatePublisher, TransformListener
 from belvedere.viewer import Viewer
 from belvedere.viewer._chromium import launch_chromium
@@ -104,6 +106,35 @@ def scene() -> Iterator[Scene]:
     s = Scene()
     yield s
     s.close()
+
+
+@dataclass(frozen=True)
+class DrivenMbot:
+    graph: Graph
+    sim: KinematicSimulation
+    viewer: Viewer
+    cmd: Publisher
+    """/cmd_vel, to drive it."""
+    base: DiffController
+
+
+@contextlib.contextmanager
+def driven_mbot() -> Iterator[DrivenMbot]:
+    """The mbot in the kinematic simulation, running in real time, shown by a viewer; closed
+    after."""
+    model = RobotModel.from_path(MBOT)
+    graph = Graph()
+    sim = KinematicSimulation(graph, model)
+    viewer = Viewer(graph, model=model, port=free_port(), fixed_frame=sim.odom_frame, sim=sim)
+    cmd = graph.create_node("driver").publisher("/cmd_vel", "geometry_msgs/Twist")
+    graph.start(rtf=1.0)
+    base = sim.driver.base
+    assert base is not None
+    try:
+        yield DrivenMbot(graph, sim, viewer, cmd, base)
+    finally:
+        viewer.close()
+        graph.shutdown()
 
 
 @contextlib.contextmanager
