@@ -38,20 +38,11 @@ from belvedere.description.urdf import RobotModel
 from belvedere.graph import Graph
 from belvedere.sim.kinematic import KinematicSimulation
 from belvedere.viewer import Viewer
+from belvedere.viewer._chromium import launch_chromium
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 MBOT = EXAMPLES / "mbot_description/urdf/xacro/gazebo/mbot_gazebo.xacro"
 TARGET_HZ = 30.0
-CHROMIUM_ARGS = [  # as the browser tests run it: headless, software WebGL
-    "--no-sandbox",
-    "--disable-gpu",
-    "--enable-unsafe-swiftshader",
-    "--use-angle=swiftshader",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--no-first-run",
-]
 RENDERS = "() => window.__viserTestpoints.rendererInfo.render.frame"
 """The scene renders three.js has made (viser exposes its renderer's counters)."""
 VIEW = """() => {
@@ -106,7 +97,7 @@ def measure(seconds: float, settle: float, viewport: tuple[int, int]) -> None:
     graph.start(rtf=1.0)
     try:
         with sync_playwright() as p:
-            browser = p.chromium.launch(executable_path=chromium, headless=True, args=CHROMIUM_ARGS)
+            browser = launch_chromium(p, chromium)
             page = browser.new_page(viewport={"width": viewport[0], "height": viewport[1]})
             page.set_default_timeout(300_000)
             started = time.perf_counter()

@@ -6,9 +6,6 @@ the graph's time, ``bag play`` keeps rosbag's options, and a launch file that pl
 from __future__ import annotations
 
 import shutil
-import signal
-import subprocess
-import sys
 import tempfile
 import time
 from collections import Counter
@@ -40,35 +37,23 @@ from belvedere.tf import JointStatePublisher, RobotStatePublisher
 from belvedere.world import read_world
 from tests.bags._make import MS, write_sample
 from tests.conftest import EXAMPLES
+from tests.processes import BelvedereProcess
 from tests.waiting import DEADLINE, wait_until
 
 LASER_MBOT = EXAMPLES / "mbot_description/urdf/xacro/gazebo/mbot_with_laser_gazebo.xacro"
 PLAYGROUND = EXAMPLES / "mbot_gazebo/worlds/playground.world"
 
 
-class RecorderProcess:
+class RecorderProcess(BelvedereProcess):
     """``belvedere bag record …`` in a process of its own, on this test's graph."""
 
     def __init__(self, *args: str, cwd: Path) -> None:
-        self.proc = subprocess.Popen(
-            [sys.executable, "-m", "belvedere", "bag", "record", *args],
+        super().__init__(
+            ["bag", "record", *args],
+            ready="Recording to",
+            ended="the recorder ended before recording",
             cwd=cwd,
-            stderr=subprocess.PIPE,
-            text=True,
         )
-        self.lines: list[str] = []
-        assert self.proc.stderr is not None
-        while True:
-            line = self.proc.stderr.readline()
-            assert line, f"the recorder ended before recording: {''.join(self.lines)}"
-            self.lines.append(line)
-            if line.startswith("Recording to"):
-                break
-
-    def stop(self, sig: int = signal.SIGINT) -> str:
-        self.proc.send_signal(sig)
-        _, err = self.proc.communicate(timeout=DEADLINE)
-        return "".join(self.lines) + err
 
 
 def _counts(path: Path) -> Counter[str]:

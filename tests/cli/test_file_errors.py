@@ -111,17 +111,28 @@ def test_a_missing_file_is_named_as_missing(
     args: list[str],
     message: str,
 ) -> None:
-    names = {
-        k: tmp_path / f"nothere.{ext}"
-        for k, ext in zip("mlwyr", ("xacro", "launch", "world", "yaml", "rviz"), strict=True)
-    }
-    argv = [a.format(**names) for a in args]
-    if args[0] in ("sim", "display"):
-        argv += ["--duration", "0.1"]  # should it get that far
+    names = _files(tmp_path, "nothere")
+    argv = _argv(args, names)
     assert main(["-q", *argv]) == 1
     err = capsys.readouterr().err
     assert err.endswith(message.format(**names))
     assert "Traceback" not in err
+
+
+def _files(tmp_path: Path, stem: str) -> dict[str, Path]:
+    """The files a case's arguments name by letter: {m} a model, {l} a launch file, {w} a
+    world, {y} a YAML file, {r} an rviz config."""
+    return {
+        k: tmp_path / f"{stem}.{ext}"
+        for k, ext in zip("mlwyr", ("xacro", "launch", "world", "yaml", "rviz"), strict=True)
+    }
+
+
+def _argv(args: list[str], names: dict[str, Path]) -> list[str]:
+    argv = [a.format(**names) for a in args]
+    if args[0] in ("sim", "display"):
+        argv += ["--duration", "0.1"]  # should it get that far
+    return argv
 
 
 FIFO = ": it is a FIFO (named pipe), not a regular file\n"
@@ -158,15 +169,10 @@ def test_a_fifo_is_refused_not_waited_on(
     args: list[str],
     message: str,
 ) -> None:
-    names = {
-        k: tmp_path / f"fifo.{ext}"
-        for k, ext in zip("mlwyr", ("xacro", "launch", "world", "yaml", "rviz"), strict=True)
-    }
+    names = _files(tmp_path, "fifo")
     for path in names.values():
         os.mkfifo(path)
-    argv = [a.format(**names) for a in args]
-    if args[0] in ("sim", "display"):
-        argv += ["--duration", "0.1"]  # should it get that far
+    argv = _argv(args, names)
     with run_bounded(120):  # a reader that waits for a writer fails here, not the suite
         assert main(["-q", *argv]) == 1
     err = capsys.readouterr().err

@@ -3,10 +3,8 @@ graph, and their errors: a port taken, a bad port, a bad origin."""
 
 from __future__ import annotations
 
-import signal
 import socket
 import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -18,38 +16,24 @@ from belvedere.graph import Graph, ZenohTransport
 from tests.conftest import EXAMPLES
 from tests.foxglove.client import FoxgloveClient
 from tests.foxglove.test_bridge import plain, ros1_decoder
-from tests.waiting import DEADLINE
+from tests.processes import BelvedereProcess
 
 MBOT = str(EXAMPLES / "mbot_description/urdf/xacro/gazebo/mbot_gazebo.xacro")
 MBOT_YAML = str(EXAMPLES / "mbot_description/config/fake_mbot_arbotix.yaml")
 HOUR_NS = 3600 * 1_000_000_000
 
 
-class Served:
+class Served(BelvedereProcess):
     """``belvedere …`` in a process of its own, until it says where Foxglove connects."""
 
     def __init__(self, *args: str) -> None:
-        self.proc = subprocess.Popen(
-            [sys.executable, "-m", "belvedere", *args],
+        super().__init__(
+            list(args),
+            ready="foxglove: ",
+            ended="it ended before serving Foxglove",
             stdout=subprocess.DEVNULL,
-            stderr=subprocess.PIPE,
-            text=True,
         )
-        self.lines: list[str] = []
-        assert self.proc.stderr is not None
-        while True:
-            line = self.proc.stderr.readline()
-            assert line, f"it ended before serving Foxglove: {''.join(self.lines)}"
-            self.lines.append(line)
-            if line.startswith("foxglove: "):
-                self.url = line.removeprefix("foxglove: ").strip()
-                break
-
-    def stop(self) -> str:
-        if self.proc.poll() is None:
-            self.proc.send_signal(signal.SIGINT)
-        _, err = self.proc.communicate(timeout=DEADLINE)
-        return "".join(self.lines) + err
+        self.url = self.ready.removeprefix("foxglove: ").strip()
 
 
 @pytest.fixture

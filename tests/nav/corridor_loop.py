@@ -20,6 +20,7 @@ import numpy.typing as npt
 from belvedere.graph import NS
 from belvedere.msgs import message_from_data
 from tests.nav import simulated
+from tests.nav.raycast import cast
 from tests.nav.simulated import Recording
 
 Array = npt.NDArray[np.float64]
@@ -68,15 +69,7 @@ def ranges(pose: Array, rng: np.random.Generator) -> Array:
     """One scan from ``pose`` (x, y, yaw): the distance to the nearest wall along each beam,
     with noise; ``inf`` (no return) beyond the laser's range."""
     x, y, yaw = pose
-    d = np.stack([np.cos(ANGLES + yaw), np.sin(ANGLES + yaw)], axis=1)
-    a, e = WALLS[:, 0], WALLS[:, 1] - WALLS[:, 0]
-    den = d[:, None, 0] * e[None, :, 1] - d[:, None, 1] * e[None, :, 0]
-    den = np.where(den == 0, np.nan, den)
-    w = a[None, :, :] - np.array([x, y])[None, None, :]
-    t = (w[..., 0] * e[None, :, 1] - w[..., 1] * e[None, :, 0]) / den
-    u = (w[..., 0] * d[:, None, 1] - w[..., 1] * d[:, None, 0]) / den
-    t = np.where((u >= 0) & (u <= 1) & (t > 0), t, np.inf)
-    r = np.nanmin(t, axis=1) + rng.normal(0.0, 0.01, len(ANGLES))
+    r = cast(x, y, ANGLES + yaw, WALLS) + rng.normal(0.0, 0.01, len(ANGLES))
     return np.where((r >= RANGE[0]) & (r <= RANGE[1]), r, np.inf)
 
 

@@ -16,6 +16,7 @@ from belvedere.maps import OCCUPIED, load_map, read_tum
 from belvedere.msgs import message_from_data
 from belvedere.nav.slam import HectorParams, HectorSlam
 from tests.nav import simulated
+from tests.nav.raycast import cast
 from tests.nav.simulated import Recording
 
 Array = npt.NDArray[np.float64]
@@ -38,15 +39,7 @@ ANGLES = np.linspace(-math.pi, math.pi, 360, endpoint=False)
 def _scan(pose: tuple[float, float, float], max_range: float = 6.0) -> Array:
     """Ranges from ``pose`` to the walls (inf beyond ``max_range``)."""
     x, y, yaw = pose
-    d = np.stack([np.cos(ANGLES + yaw), np.sin(ANGLES + yaw)], axis=1)
-    a, e = WALLS[:, 0], WALLS[:, 1] - WALLS[:, 0]
-    den = d[:, None, 0] * e[None, :, 1] - d[:, None, 1] * e[None, :, 0]
-    den = np.where(den == 0, np.nan, den)
-    w = a[None, :, :] - np.array([x, y])[None, None, :]
-    t = (w[..., 0] * e[None, :, 1] - w[..., 1] * e[None, :, 0]) / den
-    u = (w[..., 0] * d[:, None, 1] - w[..., 1] * d[:, None, 0]) / den
-    t = np.where((u >= 0) & (u <= 1) & (t > 0), t, np.inf)
-    r = np.nanmin(t, axis=1)
+    r = cast(x, y, ANGLES + yaw, WALLS)
     return np.where(r < max_range, r, np.inf)
 
 

@@ -14,6 +14,10 @@ from typing import Any
 import numpy as np
 import pytest
 
+from tests.ros1.tf_steps import error
+
+__all__ = ["TfOracle", "encode", "error", "missing", "oracle_fixture", "same"]
+
 SYSTEM_PYTHON = Path("/usr/bin/python3")
 SCRIPT = Path(__file__).with_name("tf_oracle.py")
 
@@ -94,10 +98,6 @@ def encode(value: Any) -> Any:
     if value is None or isinstance(value, str):
         return value
     return {"repr": repr(value)}
-
-
-def error(err: BaseException) -> dict[str, Any]:
-    return {"error": [type(err).__name__, str(err)]}
 
 
 def same(ours: Any, theirs: Any, tol: float = 1e-12) -> bool:

@@ -17,9 +17,14 @@ import importlib
 import json
 import math
 import sys
+from pathlib import Path
 from typing import Any
 
 import numpy
+
+# The steps are run as belvedere's side runs them: its module, from this checkout.
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+from tests.ros1.tf_steps import Steps, error
 
 # Debian's modules, imported by name (mypy checks this file without them)
 rospy: Any = importlib.import_module("rospy")
@@ -59,10 +64,6 @@ def decode(value: Any) -> Any:
     return value
 
 
-def error(err: BaseException) -> dict[str, Any]:
-    return {"error": [type(err).__name__, str(err)]}
-
-
 def run_transformations(calls: list[Any]) -> list[Any]:
     out: list[Any] = []
     for name, args, kwargs in calls:
@@ -76,51 +77,12 @@ def run_transformations(calls: list[Any]) -> list[Any]:
     return out
 
 
-def message(spec: dict[str, Any]) -> Any:
-    """``{"msg": "pkg/Type", "fields": {...}}`` as a message of Debian's classes."""
-    pkg, name = spec["msg"].split("/")
-    msg = getattr(importlib.import_module(f"{pkg}.msg"), name)()
-    for field, value in spec["fields"].items():
-        setattr(msg, field, argument(value))
-    return msg
+def _message_class(name: str) -> Any:
+    pkg, type_name = name.split("/")
+    return getattr(importlib.import_module(f"{pkg}.msg"), type_name)
 
 
-def argument(value: Any) -> Any:
-    """A step's argument: times, durations and messages are tagged dictionaries."""
-    if isinstance(value, dict) and "time" in value:
-        return rospy.Time(*value["time"])
-    if isinstance(value, dict) and "duration" in value:
-        return rospy.Duration(*value["duration"])
-    if isinstance(value, dict) and "msg" in value:
-        return message(value)
-    if isinstance(value, list):
-        return [argument(v) for v in value]
-    return value
-
-
-def result(value: Any) -> Any:
-    """A step's result; messages field by field, times as [secs, nsecs]."""
-    if hasattr(value, "_type") and hasattr(value, "__slots__"):
-        return {
-            "msg": value._type,
-            "fields": {s: result(getattr(value, s)) for s in value.__slots__},
-        }
-    if hasattr(value, "secs") and hasattr(value, "nsecs"):
-        return {"time": [value.secs, value.nsecs]}
-    if isinstance(value, (list, tuple)) and not isinstance(value, str):
-        items = [result(v) for v in value]
-        return items if isinstance(value, list) else {"tuple": items}
-    return encode(value)
-
-
-def run_steps(target: Any, steps: list[Any]) -> list[Any]:
-    out = []
-    for name, *args in steps:
-        try:
-            out.append(result(getattr(target, name)(*[argument(a) for a in args])))
-        except Exception as err:  # noqa: BLE001 (reports whatever tf raises)
-            out.append(error(err))
-    return out
+STEPS = Steps(rospy, _message_class, encode)
 
 
 def run_scenarios(scenarios: list[Any], tf1: bool) -> list[Any]:
@@ -133,7 +95,7 @@ def run_scenarios(scenarios: list[Any], tf1: bool) -> list[Any]:
             target.setUsingDedicatedThread(True)
         else:
             target = tf2_ros.Buffer(cache_time, debug=False)
-        out.append(run_steps(target, s["steps"]))
+        out.append(STEPS.run(target, s["steps"]))
     return out
 
 

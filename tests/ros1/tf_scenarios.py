@@ -11,54 +11,16 @@ from typing import Any
 from hypothesis import strategies as st
 
 from belvedere.ros1 import message_class, rospy
-from tests.ros1.tf_client import encode, error
+from tests.ros1.tf_client import encode
+from tests.ros1.tf_steps import Steps
 
 Step = list[Any]
 
 FRAMES = ["a", "b", "c", "d", "e"]
 
 
-def message(spec: dict[str, Any]) -> Any:
-    msg = message_class(spec["msg"])()
-    for field, value in spec["fields"].items():
-        setattr(msg, field, argument(value))
-    return msg
-
-
-def argument(value: Any) -> Any:
-    if isinstance(value, dict) and "time" in value:
-        return rospy.Time(*value["time"])
-    if isinstance(value, dict) and "duration" in value:
-        return rospy.Duration(*value["duration"])
-    if isinstance(value, dict) and "msg" in value:
-        return message(value)
-    if isinstance(value, list):
-        return [argument(v) for v in value]
-    return value
-
-
-def result(value: Any) -> Any:
-    if hasattr(value, "_type") and hasattr(value, "__slots__"):
-        return {
-            "msg": value._type,
-            "fields": {s: result(getattr(value, s)) for s in value.__slots__},
-        }
-    if hasattr(value, "secs") and hasattr(value, "nsecs"):
-        return {"time": [value.secs, value.nsecs]}
-    if isinstance(value, list | tuple):
-        items = [result(v) for v in value]
-        return items if isinstance(value, list) else {"tuple": items}
-    return encode(value)
-
-
-def run_steps(target: Any, steps: list[Step]) -> list[Any]:
-    out = []
-    for name, *args in steps:
-        try:
-            out.append(result(getattr(target, name)(*[argument(a) for a in args])))
-        except Exception as err:  # noqa: BLE001 (compares whatever is raised)
-            out.append(error(err))
-    return out
+run_steps = Steps(rospy, message_class, encode).run
+"""A scenario's steps run on belvedere's classes, each step's result (or error) encoded."""
 
 
 # --- strategies ----------------------------------------------------------------------------

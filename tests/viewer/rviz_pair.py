@@ -28,10 +28,10 @@ from pathlib import Path
 from PIL import Image, ImageGrab
 
 from belvedere.graph import graph_running
+from belvedere.viewer._chromium import launch_chromium
 from tests.conftest import EXAMPLES
 from tests.debian_ros import ROS_PYTHON
 from tests.tf.ros1 import start_roscore
-from tests.viewer.test_browser import CHROMIUM_ARGS
 
 SIZE = (1000, 700)
 LAUNCH = EXAMPLES / "mbot_gazebo/launch/view_mbot_with_laser_gazebo.launch"
@@ -186,9 +186,7 @@ def _viewer_shot(config: Path, seconds: float, out: Path) -> None:
             if line.startswith("viewer: "):
                 url = line.removeprefix("viewer: ").strip()
         with sync_playwright() as p:
-            browser = p.chromium.launch(
-                executable_path=shutil.which("chromium"), headless=True, args=CHROMIUM_ARGS
-            )
+            browser = launch_chromium(p, shutil.which("chromium"))
             page = browser.new_page(viewport={"width": SIZE[0], "height": SIZE[1]})
             page.goto(url)
             page.wait_for_selector("canvas")

@@ -7,15 +7,18 @@ import math
 import shutil
 import socket
 from collections.abc import Callable, Iterator
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 import pytest
 
 from belvedere.description.urdf import RobotModel
-from belvedere.graph import Graph
+from belvedere.graph import Graph, Publisher
+from belvedere.sim.kinematic import DiffController, KinematicSimulation
 from belvedere.tf import JointStatePublisher, RobotStatePublisher, TransformListener
 from belvedere.viewer import Viewer
+from belvedere.viewer._chromium import launch_chromium
 from belvedere.viewer._views import CAMERA_FOV, CAMERA_LOOK_AT, CAMERA_POSITION
 from tests.conftest import EXAMPLES
 from tests.viewer.docs_screenshots import docs_screenshot
@@ -30,16 +33,6 @@ SOFTWARE_WEBGL_NOTICE = "webgl-software-rendering"
 """The id of viser's "Software WebGL rendering detected" notification."""
 VIEW: dict[str, float] = {"x": 0.0, "y": 0.0, "width": VIEWPORT[0], "height": VIEWPORT[1]}
 """The 3D view's box in the page, beside the docked panel: measured when a page opens."""
-CHROMIUM_ARGS = [
-    "--no-sandbox",
-    "--disable-gpu",
-    "--enable-unsafe-swiftshader",
-    "--use-angle=swiftshader",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--no-first-run",
-]
 
 
 BROWSER_DEADLINE = 120.0
@@ -115,6 +108,35 @@ def scene() -> Iterator[Scene]:
     s.close()
 
 
+@dataclass(frozen=True)
+class DrivenMbot:
+    graph: Graph
+    sim: KinematicSimulation
+    viewer: Viewer
+    cmd: Publisher
+    """/cmd_vel, to drive it."""
+    base: DiffController
+
+
+@contextlib.contextmanager
+def driven_mbot() -> Iterator[DrivenMbot]:
+    """The mbot in the kinematic simulation, running in real time, shown by a viewer; closed
+    after."""
+    model = RobotModel.from_path(MBOT)
+    graph = Graph()
+    sim = KinematicSimulation(graph, model)
+    viewer = Viewer(graph, model=model, port=free_port(), fixed_frame=sim.odom_frame, sim=sim)
+    cmd = graph.create_node("driver").publisher("/cmd_vel", "geometry_msgs/Twist")
+    graph.start(rtf=1.0)
+    base = sim.driver.base
+    assert base is not None
+    try:
+        yield DrivenMbot(graph, sim, viewer, cmd, base)
+    finally:
+        viewer.close()
+        graph.shutdown()
+
+
 @contextlib.contextmanager
 def browser_page(url: str) -> Iterator[Any]:
     """Debian's Chromium, headless, on ``url``, once the page shows the viewer's canvas.
@@ -124,9 +146,7 @@ def browser_page(url: str) -> Iterator[Any]:
         pytest.skip("Debian's chromium is not installed")
     playwright = pytest.importorskip("playwright.sync_api")
     with playwright.sync_playwright() as p:
-        browser = p.chromium.launch(
-            executable_path=shutil.which("chromium"), headless=True, args=CHROMIUM_ARGS
-        )
+        browser = launch_chromium(p, shutil.which("chromium"))
         try:
             page = browser.new_page(viewport={"width": VIEWPORT[0], "height": VIEWPORT[1]})
             page.set_default_timeout(BROWSER_DEADLINE * 1000)

@@ -14,7 +14,6 @@ import pytest
 from belvedere.description.urdf import RobotModel
 from belvedere.graph import Graph
 from belvedere.packages import PackageIndex
-from belvedere.sim.kinematic import KinematicSimulation
 from belvedere.sim.physics import PhysicsSimulation
 from belvedere.tf import JointStatePublisher, RobotStatePublisher
 from belvedere.viewer import Viewer, read_rviz
@@ -23,6 +22,7 @@ from tests.viewer.test_browser import (
     BROWSER_DEADLINE,
     MBOT,
     browser_page,
+    driven_mbot,
     project_from,
     view_centre,
     wait_for_pixel,
@@ -152,46 +152,35 @@ def test_the_view_follows_its_target_frame() -> None:
     """An Orbit view with Target Frame base_footprint keeps a driving robot in the middle."""
     from belvedere.viewer._views import camera_pose
 
-    model = RobotModel.from_path(MBOT)
-    graph = Graph()
-    sim = KinematicSimulation(graph, model)
-    viewer = Viewer(graph, model=model, port=free_port(), fixed_frame=sim.odom_frame, sim=sim)
-    cmd = graph.create_node("driver").publisher("/cmd_vel", "geometry_msgs/Twist")
-    graph.start(rtf=1.0)
-    base = sim.driver.base
-    assert base is not None
-    try:
-        with browser_page(viewer.url) as page:
-            client = wait_until(
-                lambda: next(iter(viewer.server.get_clients().values()), None),
-                what="the browser to connect",
-                timeout=BROWSER_DEADLINE,
-            )
-            assert client is not None
-            # the tab's own Views panel is made as it connects: set the view after that
-            page.get_by_text("Views", exact=True).wait_for()
-            props = {"Distance": 3.0, "Pitch": 0.6, "Yaw": 3.5, "Target Frame": "base_footprint"}
-            from belvedere.viewer._views import ViewState
+    with driven_mbot() as mbot, browser_page(mbot.viewer.url) as page:
+        graph, viewer, cmd, base = mbot.graph, mbot.viewer, mbot.cmd, mbot.base
+        client = wait_until(
+            lambda: next(iter(viewer.server.get_clients().values()), None),
+            what="the browser to connect",
+            timeout=BROWSER_DEADLINE,
+        )
+        assert client is not None
+        # the tab's own Views panel is made as it connects: set the view after that
+        page.get_by_text("Views", exact=True).wait_for()
+        props = {"Distance": 3.0, "Pitch": 0.6, "Yaw": 3.5, "Target Frame": "base_footprint"}
+        from belvedere.viewer._views import ViewState
 
-            viewer.views[client.client_id] = (client, ViewState("rviz/Orbit", props))
-            eye, look_at, _, fov = camera_pose("rviz/Orbit", props, _identity())
-            middle = project_from(eye, look_at, fov, (0.0, 0.0, 0.19))
-            wait_for_pixel(page, middle, is_base, what="the base in the middle")
-            graph.executor.post(lambda: cmd.publish_data({"linear": {"x": 0.5}}))
-            wait_until(lambda: base.x > 1.5, what="the base past x = 1.5", detail=lambda: base.x)
-            graph.executor.post(lambda: cmd.publish_data({}))
-            wait_until(lambda: base.dx == 0.0, what="the base to stop")
-            wait_for_pixel(page, middle, is_base, what="the moved base still in the middle")
-            # the browser reports its camera back a frame or more after the last follow
-            wait_until(
-                lambda: abs(client.camera.look_at[0] - base.x) < 0.05,
-                what="the browser's camera to look at the stopped base",
-                detail=lambda: (client.camera.look_at[0], base.x),
-                timeout=BROWSER_DEADLINE,
-            )
-    finally:
-        viewer.close()
-        graph.shutdown()
+        viewer.views[client.client_id] = (client, ViewState("rviz/Orbit", props))
+        eye, look_at, _, fov = camera_pose("rviz/Orbit", props, _identity())
+        middle = project_from(eye, look_at, fov, (0.0, 0.0, 0.19))
+        wait_for_pixel(page, middle, is_base, what="the base in the middle")
+        graph.executor.post(lambda: cmd.publish_data({"linear": {"x": 0.5}}))
+        wait_until(lambda: base.x > 1.5, what="the base past x = 1.5", detail=lambda: base.x)
+        graph.executor.post(lambda: cmd.publish_data({}))
+        wait_until(lambda: base.dx == 0.0, what="the base to stop")
+        wait_for_pixel(page, middle, is_base, what="the moved base still in the middle")
+        # the browser reports its camera back a frame or more after the last follow
+        wait_until(
+            lambda: abs(client.camera.look_at[0] - base.x) < 0.05,
+            what="the browser's camera to look at the stopped base",
+            detail=lambda: (client.camera.look_at[0], base.x),
+            timeout=BROWSER_DEADLINE,
+        )
 
 
 def is_base(rgb: tuple[int, int, int]) -> bool:

@@ -16,7 +16,6 @@ from belvedere.graph import Graph, graph_running
 from belvedere.launch import load_launch
 from belvedere.launch._runtime import LaunchRuntime
 from belvedere.packages import PackageIndex
-from belvedere.sim.kinematic import KinematicSimulation
 from belvedere.sim.physics import PhysicsSimulation
 from belvedere.tf import JointStatePublisher, RobotStatePublisher
 from belvedere.viewer import Viewer
@@ -24,10 +23,10 @@ from belvedere.world import read_world
 from tests.conftest import EXAMPLES, free_port
 from tests.viewer.docs_screenshots import docs_screenshot
 from tests.viewer.test_browser import (
-    MBOT,
     RGB,
     _pixel,
     browser_page,
+    driven_mbot,
     is_base_yellow,
     project,
     wait_for_pixel,
@@ -40,33 +39,22 @@ BELVEDERE = [sys.executable, "-m", "belvedere"]
 
 
 def test_robot_drives_in_the_viewer_and_resets() -> None:
-    model = RobotModel.from_path(MBOT)
-    graph = Graph()
-    sim = KinematicSimulation(graph, model)
-    viewer = Viewer(graph, model=model, port=free_port(), fixed_frame=sim.odom_frame, sim=sim)
-    cmd = graph.create_node("driver").publisher("/cmd_vel", "geometry_msgs/Twist")
-    graph.start(rtf=1.0)
-    base = sim.driver.base
-    assert base is not None
-    try:
-        with browser_page(viewer.url) as page:
-            top = 0.19  # the top of the base above base_footprint
-            wait_for_pixel(page, project((0.0, 0.0, top)), is_base_yellow, what="the base")
-            # Backwards: away from the GUI panel on the right of the page.
-            cmd.publish_data({"linear": {"x": -0.5}})
-            wait_until(lambda: base.x < -0.6, what="the base past x = -0.6", detail=lambda: base.x)
-            cmd.publish_data({})  # a zero Twist stops a fake ArbotiX base
-            wait_until(lambda: base.dx == 0.0, what="the base to take the stop command")
-            x = base.x  # the graph's thread moves it no further
-            wait_for_pixel(page, project((x, 0.0, top)), is_base_yellow, what="the moved base")
-            docs_screenshot(page, "arbotix")
-            assert not is_base_yellow(_pixel(page, project((0.0, 0.0, top))))
-            page.get_by_role("button", name="Reset").click()
-            wait_until(lambda: base.x == 0.0, what="the base reset to x = 0", detail=lambda: base.x)
-            wait_for_pixel(page, project((0.0, 0.0, top)), is_base_yellow, what="the reset base")
-    finally:
-        viewer.close()
-        graph.shutdown()
+    with driven_mbot() as mbot, browser_page(mbot.viewer.url) as page:
+        cmd, base = mbot.cmd, mbot.base
+        top = 0.19  # the top of the base above base_footprint
+        wait_for_pixel(page, project((0.0, 0.0, top)), is_base_yellow, what="the base")
+        # Backwards: away from the GUI panel on the right of the page.
+        cmd.publish_data({"linear": {"x": -0.5}})
+        wait_until(lambda: base.x < -0.6, what="the base past x = -0.6", detail=lambda: base.x)
+        cmd.publish_data({})  # a zero Twist stops a fake ArbotiX base
+        wait_until(lambda: base.dx == 0.0, what="the base to take the stop command")
+        x = base.x  # the graph's thread moves it no further
+        wait_for_pixel(page, project((x, 0.0, top)), is_base_yellow, what="the moved base")
+        docs_screenshot(page, "arbotix")
+        assert not is_base_yellow(_pixel(page, project((0.0, 0.0, top))))
+        page.get_by_role("button", name="Reset").click()
+        wait_until(lambda: base.x == 0.0, what="the base reset to x = 0", detail=lambda: base.x)
+        wait_for_pixel(page, project((0.0, 0.0, top)), is_base_yellow, what="the reset base")
 
 
 def test_physics_world_and_robot_in_the_viewer() -> None:

@@ -28,7 +28,8 @@ from typing import Any, BinaryIO, Final
 import lz4.frame
 
 from belvedere import __version__
-from belvedere.bags._input import Damaged
+from belvedere.bags._chunked import ChunkWriter
+from belvedere.bags._input import BagInput, Damaged, inflate_chunk
 from belvedere.bags._model import BagError, cdr_schema
 
 __all__ = ["MAGIC", "McapWriter"]
@@ -229,7 +230,7 @@ def _zstd() -> Any:
 # --- writing ---------------------------------------------------------------------------------
 
 
-class McapWriter:
+class McapWriter(ChunkWriter):
     """Writes an MCAP file (ros2 profile, CDR), a chunk at least every :meth:`flush`."""
 
     encoding: Final = "cdr"
@@ -240,27 +241,14 @@ class McapWriter:
         if compression == "bz2":
             msg = "MCAP has no bz2 compression: use --lz4 (or a .bag file)"
             raise BagError(msg)
-        self.path = path
-        try:
-            self._f: BinaryIO = path.open("wb")
-        except OSError as err:
-            msg = f"cannot write {path}: {err.strerror or err}"
-            raise BagError(msg) from None
+        super().__init__(path, chunk_size)
         self._f.write(MAGIC)
         self._f.write(_record(OP_HEADER, _string("ros2") + _string(f"belvedere {__version__}")))
         self._compression = "" if compression == "none" else compression
         self._compress = _compressor(self._compression)
-        self._chunk_size = chunk_size
         self._summary = _Summary()
         self._schema_ids: dict[str, int] = {}
         self._seq: dict[int, int] = {}
-        self._new_chunk()
-
-    def _new_chunk(self) -> None:
-        self._buf = bytearray()
-        self._index: dict[int, list[tuple[int, int]]] = defaultdict(list)
-        self._start = 2**64 - 1
-        self._end = 0
 
     def add_connection(
         self, topic: str, msgtype: str, *, callerid: str | None, latching: bool
@@ -289,20 +277,14 @@ class McapWriter:
     def write(self, channel: int, stamp_ns: int, data: bytes) -> None:
         seq = self._seq[channel] + 1
         self._seq[channel] = seq
+        self._indexed(channel, stamp_ns)
         buf = self._buf
-        self._index[channel].append((stamp_ns, len(buf)))
         buf += _RECORD.pack(OP_MESSAGE, _MESSAGE.size + len(data))
         buf += _MESSAGE.pack(channel, seq & 0xFFFFFFFF, stamp_ns, stamp_ns)
         buf += data
-        self._start = min(self._start, stamp_ns)
-        self._end = max(self._end, stamp_ns)
         self._summary.add_message(channel, stamp_ns)
         if len(buf) >= self._chunk_size:
             self._write_chunk()
-
-    @property
-    def size(self) -> int:
-        return self._f.tell() + len(self._buf)
 
     def _write_chunk(self) -> None:
         if not self._index:
@@ -322,10 +304,6 @@ class McapWriter:
             )
         )
         self._new_chunk()
-
-    def flush(self) -> None:
-        self._write_chunk()
-        self._f.flush()
 
     def close(self) -> None:
         self._write_chunk()
@@ -436,6 +414,33 @@ def _parse_chunk_header(body: bytes, base: int) -> tuple[int, int, int, int, str
         )
         raise Damaged(base + pos, text)
     return start, end, size, crc, compression, pos + 8, compressed
+
+
+def _inflated_chunk(body: bytes, pos: int) -> tuple[_ChunkRef, bytes]:
+    """The chunk record at ``pos`` whose ``body`` (all of it) was read: what it declares
+    and its data, inflated and checked against its CRC.
+
+    Raises:
+        Damaged: at ``pos`` (the CRC, the compression) or at the header field that is wrong.
+    """
+    start, end, size, crc, compression, at, compressed = _parse_chunk_header(body, pos + 9)
+    raw = inflate_chunk(compression, CODECS, body[at : at + compressed], size, pos)
+    if crc and zlib.crc32(raw) != crc:
+        raise Damaged(pos, "chunk: its data does not match its CRC")
+    return _ChunkRef(pos, start, end, compression, compressed, size), raw
+
+
+def _message_head(inp: BagInput, body: int, length: int) -> tuple[int, int]:
+    """(channel id, log time) of the message record whose body, ``length`` bytes, is at
+    file offset ``body`` (only its fixed fields are read).
+
+    Raises:
+        Damaged: the record is shorter than its fixed fields.
+    """
+    fixed = inp.read(body, min(length, _MESSAGE.size), "a message record")
+    _fixed(fixed, OP_MESSAGE, "a message", body)
+    cid, _, stamp, _ = _MESSAGE.unpack(fixed)
+    return cid, stamp
 
 
 def _parse_chunk_index(body: bytes, base: int) -> _ChunkRef:

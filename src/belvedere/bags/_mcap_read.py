@@ -13,19 +13,18 @@ against its CRC, and:
 
 from __future__ import annotations
 
-import heapq
-import zlib
+import functools
 from collections import defaultdict
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterator
 from typing import Final
 
-from belvedere.bags._input import BagInput, Damaged, Skipped, inflate_chunk
+from belvedere.bags._chunked import ChunkedBag, Timed
+from belvedere.bags._input import BagInput, Damaged
 from belvedere.bags._mcap import (
     _INVALID,
     _MESSAGE,
     _RECORD,
     _U64,
-    CODECS,
     MAGIC,
     OP_CHANNEL,
     OP_CHUNK,
@@ -39,9 +38,10 @@ from belvedere.bags._mcap import (
     _Channel,
     _ChunkRef,
     _fixed,
+    _inflated_chunk,
+    _message_head,
     _msgtype,
     _parse_channel,
-    _parse_chunk_header,
     _parse_chunk_index,
     _parse_schema,
     _parse_statistics,
@@ -58,7 +58,7 @@ _TAIL: Final = 9 + 20 + 8
 """The footer record and the closing magic."""
 
 
-class McapBag:
+class McapBag(ChunkedBag):
     """An MCAP file, open for reading (its summary, or a scan when it has none).
 
     Raises:
@@ -69,23 +69,14 @@ class McapBag:
     format: Final = "mcap"
 
     def __init__(self, inp: BagInput) -> None:
-        self.path = inp.path
-        self._in = inp
-        self.skipped = Skipped(inp.path)
+        super().__init__(inp)
         self._schemas: dict[int, _Schema] = {}
         self._channels: dict[int, _Channel] = {}
         self._chunks: list[_ChunkRef] = []
         self._loose: list[tuple[int, int, int, int]] = []
         """Messages outside chunks: (time, channel, data position, data length)."""
         self.counts: dict[int, int] = defaultdict(int)
-        try:
-            self._open()
-        except Damaged as err:
-            inp.close()
-            raise inp.error(err.at, err.text, hint=self._hint) from None
-        except BaseException:
-            inp.close()
-            raise
+        self._opened()
         self.start_ns = min((c.start for c in self._chunks), default=0)
         self.end_ns = max((c.end for c in self._chunks), default=0)
         if self._loose:
@@ -94,7 +85,6 @@ class McapBag:
 
     def _open(self) -> None:
         inp = self._in
-        self._hint: str | None = None
         inp.f.seek(len(MAGIC))
         head = inp.f.read(9)
         if len(head) < 9 or head[0] != OP_HEADER:
@@ -162,9 +152,7 @@ class McapBag:
                 channel = _parse_channel(inp.read(body, length, "a channel record"), body)
                 self._channels[channel.id] = channel
             elif op == OP_MESSAGE:
-                fixed = inp.read(body, min(length, _MESSAGE.size), "a message record")
-                _fixed(fixed, OP_MESSAGE, "a message", body)
-                cid, _, stamp, _ = _MESSAGE.unpack(fixed)
+                cid, stamp = _message_head(inp, body, length)
                 self._loose.append((stamp, cid, body + _MESSAGE.size, length - _MESSAGE.size))
                 self.counts[cid] += 1
             elif op == OP_CHUNK:
@@ -212,12 +200,7 @@ class McapBag:
         if op != OP_CHUNK:
             text = f"chunk index: offset {pos:,} holds a record of kind {op:#04x}, not a chunk"
             raise Damaged(ref.at or pos, text)
-        body = inp.read(pos + 9, length, "a chunk record", end=self._data_end)
-        start, end, size, crc, compression, at, compressed = _parse_chunk_header(body, pos + 9)
-        raw = inflate_chunk(compression, CODECS, body[at : at + compressed], size, pos)
-        if crc and zlib.crc32(raw) != crc:
-            raise Damaged(pos, "chunk: its data does not match its CRC")
-        return _ChunkRef(pos, start, end, compression, compressed, size), raw
+        return _inflated_chunk(inp.read(pos + 9, length, "a chunk record", end=self._data_end), pos)
 
     # --- the common face ------------------------------------------------------------------
     @property
@@ -245,62 +228,36 @@ class McapBag:
             )
         return out
 
-    @property
-    def size(self) -> int:
-        return self._in.size
-
     def chunks(self) -> list[ChunkStats]:
         return [
             ChunkStats(c.compression or "none", c.compressed, c.uncompressed) for c in self._chunks
         ]
 
-    def messages(
-        self,
-        connections: Iterable[Connection] | None = None,
-        start_ns: int | None = None,
-        stop_ns: int | None = None,
-    ) -> Iterator[BagMessage]:
-        conns = {c.id: c for c in self.connections}
-        if connections is not None:
-            wanted = {c.id for c in connections}
-            conns = {k: v for k, v in conns.items() if k in wanted}
-        if not conns:
-            return
-        lo = 0 if start_ns is None else start_ns
-        hi = 2**64 if stop_ns is None else stop_ns
+    def _by_id(self) -> dict[int, Connection]:
+        return {c.id: c for c in self.connections}
+
+    def _sources(self, conns: dict[int, Connection], lo: int, hi: int) -> list[Iterator[Timed]]:
         sources = [
-            self._chunk_messages(ref, conns, lo, hi)
+            self._chunk_messages(
+                ref.pos,
+                ref.start,
+                functools.partial(self._chunk_data, ref),
+                _parse_chunk,
+                conns,
+                lo,
+                hi,
+            )
             for ref in sorted(self._chunks, key=lambda r: (r.start, r.pos))
             if ref.end >= lo and ref.start < hi
         ]
         if self._loose:
             sources.append(self._loose_messages(conns, lo, hi))
-        for item in heapq.merge(*sources, key=lambda m: m[0]):
-            if item[1] is not None:
-                yield item[1]
+        return sources
 
-    def _chunk_messages(
-        self, ref: _ChunkRef, conns: dict[int, Connection], lo: int, hi: int
-    ) -> Iterator[tuple[int, BagMessage | None]]:
-        yield ref.start, None  # a chunk is read only when the merge reaches it
-        found: list[BagMessage] = []
-        try:
-            _, raw = self._chunk(ref)
-        except Damaged as err:
-            self.skipped.skip(ref.pos, err.at, f"{err.text}; skipping its messages")
-        else:
-            try:
-                _parse_chunk(raw, conns, lo, hi, found)
-            except Damaged as err:
-                text = f"chunk, at byte {err.at:,} of its data: {err.text}; skipping the rest"
-                self.skipped.skip(ref.pos, ref.pos, text)
-        found.sort(key=lambda m: m.stamp_ns)
-        for message in found:
-            yield message.stamp_ns, message
+    def _chunk_data(self, ref: _ChunkRef) -> bytes:
+        return self._chunk(ref)[1]
 
-    def _loose_messages(
-        self, conns: dict[int, Connection], lo: int, hi: int
-    ) -> Iterator[tuple[int, BagMessage | None]]:
+    def _loose_messages(self, conns: dict[int, Connection], lo: int, hi: int) -> Iterator[Timed]:
         for stamp, cid, pos, length in sorted(self._loose):
             conn = conns.get(cid)
             if conn is None or not lo <= stamp < hi:
@@ -311,10 +268,6 @@ class McapBag:
                 self.skipped.skip(pos, err.at, f"{err.text}; skipping it")
                 continue
             yield stamp, BagMessage(conn, stamp, data)
-
-    def close(self) -> None:
-        self._in.close()
-        self.skipped.summary()
 
 
 def _parse_chunk(

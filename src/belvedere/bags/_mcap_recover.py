@@ -4,17 +4,15 @@ short or damaged, and written again with its message indexes and a new summary."
 
 from __future__ import annotations
 
-import zlib
 from collections import defaultdict
 from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO
 
-from belvedere.bags._input import BagInput, Damaged, Repaired, inflate_chunk, replace_with
+from belvedere.bags._input import BagInput, Damaged, Repaired, replace_with
 from belvedere.bags._mcap import (
     _MESSAGE,
     _RECORD,
-    CODECS,
     OP_CHANNEL,
     OP_CHUNK,
     OP_DATA_END,
@@ -25,9 +23,10 @@ from belvedere.bags._mcap import (
     _chunk_index,
     _ChunkRef,
     _fixed,
+    _inflated_chunk,
+    _message_head,
     _message_indexes,
     _parse_channel,
-    _parse_chunk_header,
     _parse_schema,
     _records,
     _Summary,
@@ -145,10 +144,7 @@ def _record(inp: BagInput, op: int, pos: int, length: int, summary: _Summary) ->
         channel = _parse_channel(inp.read(body, length, "a channel record"), body)
         summary.channels[channel.id] = channel
     elif op == OP_MESSAGE:
-        fixed = inp.read(body, min(length, _MESSAGE.size), "a message record")
-        _fixed(fixed, OP_MESSAGE, "a message", body)
-        cid, _, stamp, _ = _MESSAGE.unpack(fixed)
-        summary.add_message(cid, stamp)
+        summary.add_message(*_message_head(inp, body, length))
     elif op == OP_CHUNK:
         return _chunk(inp, pos, length, summary)
     else:
@@ -158,11 +154,7 @@ def _record(inp: BagInput, op: int, pos: int, length: int, summary: _Summary) ->
 
 def _chunk(inp: BagInput, pos: int, length: int, summary: _Summary) -> _Kept:
     """A chunk record: its messages indexed, its schemas and channels added."""
-    body = inp.read(pos + 9, length, "a chunk record")
-    start, end, size, crc, compression, at, compressed = _parse_chunk_header(body, pos + 9)
-    raw = inflate_chunk(compression, CODECS, body[at : at + compressed], size, pos)
-    if crc and zlib.crc32(raw) != crc:
-        raise Damaged(pos, "chunk: its data does not match its CRC")
+    ref, raw = _inflated_chunk(inp.read(pos + 9, length, "a chunk record"), pos)
     index: dict[int, list[tuple[int, int]]] = defaultdict(list)
     schemas, channels, found = [], [], []
     try:
@@ -185,5 +177,4 @@ def _chunk(inp: BagInput, pos: int, length: int, summary: _Summary) -> _Kept:
     summary.channels.update((c.id, c) for c in channels)
     for cid, stamp in found:
         summary.add_message(cid, stamp)
-    ref = _ChunkRef(pos, start, end, compression, compressed, size)
     return _Kept(pos, pos + 9 + length, index, ref)

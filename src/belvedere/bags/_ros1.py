@@ -20,16 +20,16 @@ from __future__ import annotations
 
 import bz2
 import struct
-from collections import defaultdict
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import BinaryIO, Final
+from typing import Final
 
 import lz4.frame
 
+from belvedere.bags._chunked import ChunkWriter
 from belvedere.bags._input import BagInput, Damaged
-from belvedere.bags._model import BagError, ros1_definition
+from belvedere.bags._model import ros1_definition
 
 __all__ = [
     "MAGIC",
@@ -83,7 +83,7 @@ def _bz2(data: bytes) -> bytes:
 # --- writing ---------------------------------------------------------------------------------
 
 
-class Ros1BagWriter:
+class Ros1BagWriter(ChunkWriter):
     """Writes a ROS 1 bag laid out byte for byte as ROS 1's rosbag lays it out (its header
     record padded to 4096 bytes, which ``rosbag reindex`` and rosbag's append rewrite in
     place), a chunk at least every :meth:`flush`."""
@@ -93,29 +93,16 @@ class Ros1BagWriter:
     def __init__(
         self, path: Path, *, compression: str = "none", chunk_size: int = CHUNK_SIZE
     ) -> None:
-        self.path = path
-        try:
-            self._f: BinaryIO = path.open("wb")
-        except OSError as err:
-            msg = f"cannot write {path}: {err.strerror or err}"
-            raise BagError(msg) from None
+        super().__init__(path, chunk_size)
         self._f.write(MAGIC)
         self._write_bag_header(0, 0, 0)
         self._compression = compression
         self._compress: Callable[[bytes], bytes] = {"lz4": _roslz4, "bz2": _bz2}.get(
             compression, bytes
         )
-        self._chunk_size = chunk_size
         self._connections: list[bytes] = []
         """Each connection's record."""
         self._chunk_infos: list[bytes] = []
-        self._new_chunk()
-
-    def _new_chunk(self) -> None:
-        self._buf = bytearray()
-        self._index: dict[int, list[tuple[int, int]]] = defaultdict(list)
-        self._start = 2**64
-        self._end = 0
 
     def _write_bag_header(self, index_pos: int, conns: int, chunks: int) -> None:
         fields = _fields(
@@ -151,14 +138,12 @@ class Ros1BagWriter:
         return conn
 
     def write(self, connection: int, stamp_ns: int, data: bytes) -> None:
+        self._indexed(connection, stamp_ns)
         buf = self._buf
-        self._index[connection].append((stamp_ns, len(buf)))
         buf += _record(
             {"op": bytes([OP_MSGDATA]), "conn": _U32.pack(connection), "time": _time(stamp_ns)},
             data,
         )
-        self._start = min(self._start, stamp_ns)
-        self._end = max(self._end, stamp_ns)
         if len(buf) > self._chunk_size:
             self._write_chunk()
 
@@ -182,16 +167,6 @@ class Ros1BagWriter:
             f.write(_index_record(conn, entries))
         self._chunk_infos.append(_chunk_info(pos, self._start, self._end, self._index))
         self._new_chunk()
-
-    @property
-    def size(self) -> int:
-        """Bytes so far, the open chunk's too."""
-        return self._f.tell() + len(self._buf)
-
-    def flush(self) -> None:
-        """Write the open chunk (if it holds messages) and hand the file to the system."""
-        self._write_chunk()
-        self._f.flush()
 
     def close(self) -> None:
         f = self._f

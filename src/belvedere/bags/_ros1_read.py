@@ -14,14 +14,15 @@ inflated to at most its declared size (:func:`belvedere.bounded.inflate`), and:
 
 from __future__ import annotations
 
-import heapq
-from collections.abc import Iterable, Iterator
+import functools
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Final
 
 from rosbags.typesys.msg import normalize_msgtype
 
-from belvedere.bags._input import BagInput, Damaged, Skipped, inflate_chunk
+from belvedere.bags._chunked import ChunkedBag, Timed
+from belvedere.bags._input import BagInput, Damaged, inflate_chunk
 from belvedere.bags._model import BagError, BagMessage, Connection
 from belvedere.bags._ros1 import (
     _U32,
@@ -66,7 +67,7 @@ def _topic(name: str) -> str:
     return ("/" if name.startswith("/") else "") + "/".join(parts)
 
 
-class Ros1Bag:
+class Ros1Bag(ChunkedBag):
     """An indexed ROS 1 bag, open for reading.
 
     Raises:
@@ -77,28 +78,18 @@ class Ros1Bag:
     format: Final = "bag"
 
     def __init__(self, inp: BagInput) -> None:
-        self.path = inp.path
+        super().__init__(inp)
         self.version = "2.0"
-        self._in = inp
-        self.skipped = Skipped(inp.path)
         self._conns: dict[int, Connection] = {}
         self._infos: list[_ChunkInfo] = []
         self.counts: dict[int, int] = {}
-        try:
-            self._open()
-        except Damaged as err:
-            inp.close()
-            raise inp.error(err.at, err.text, hint=self._hint) from None
-        except BaseException:
-            inp.close()
-            raise
+        self._opened()
         counted = [i for i in self._infos if i.counts]
         self.start_ns = min((i.start for i in counted), default=0)
         self.end_ns = max((i.end for i in counted), default=0)
 
     def _open(self) -> None:
         inp = self._in
-        self._hint: str | None = None
         pos = len(MAGIC)
         fields, data_pos, data_len = read_record_header(inp, pos)
         if op_of(fields, pos) != OP_BAGHEADER:
@@ -181,10 +172,6 @@ class Ros1Bag:
     def connections(self) -> list[Connection]:
         return list(self._conns.values())
 
-    @property
-    def size(self) -> int:
-        return self._in.size
-
     def chunks(self) -> list[ChunkStats]:
         """Each chunk's compression and sizes (from the chunk records' headers); a damaged
         one is skipped, with a warning."""
@@ -221,51 +208,23 @@ class Ros1Bag:
         data = self._in.read(data_pos, data_len, "chunk data")
         return inflate_chunk(compression, CODECS, data, size, pos)
 
-    def messages(
-        self,
-        connections: Iterable[Connection] | None = None,
-        start_ns: int | None = None,
-        stop_ns: int | None = None,
-    ) -> Iterator[BagMessage]:
-        conns = self._conns
-        if connections is not None:
-            wanted = {c.id for c in connections}
-            conns = {k: v for k, v in conns.items() if k in wanted}
-        if not conns:
-            return
-        lo = 0 if start_ns is None else start_ns
-        hi = 2**64 if stop_ns is None else stop_ns
-        sources = [
-            self._chunk_messages(info, conns, lo, hi)
+    def _by_id(self) -> dict[int, Connection]:
+        return self._conns
+
+    def _sources(self, conns: dict[int, Connection], lo: int, hi: int) -> list[Iterator[Timed]]:
+        return [
+            self._chunk_messages(
+                info.pos,
+                info.start,
+                functools.partial(self._chunk_data, info),
+                _parse_chunk,
+                conns,
+                lo,
+                hi,
+            )
             for info in sorted(self._infos, key=lambda i: (i.start, i.pos))
             if info.end >= lo and info.start < hi and any(c in conns for c in info.counts)
         ]
-        for item in heapq.merge(*sources, key=lambda m: m[0]):
-            if item[1] is not None:
-                yield item[1]
-
-    def _chunk_messages(
-        self, info: _ChunkInfo, conns: dict[int, Connection], lo: int, hi: int
-    ) -> Iterator[tuple[int, BagMessage | None]]:
-        yield info.start, None  # a chunk is read only when the merge reaches it
-        found: list[BagMessage] = []
-        try:
-            raw = self._chunk_data(info)
-        except Damaged as err:
-            self.skipped.skip(info.pos, err.at, f"{err.text}; skipping its messages")
-        else:
-            try:
-                _parse_chunk(raw, conns, lo, hi, found)
-            except Damaged as err:
-                text = f"chunk, at byte {err.at:,} of its data: {err.text}; skipping the rest"
-                self.skipped.skip(info.pos, info.pos, text)
-        found.sort(key=lambda m: m.stamp_ns)
-        for message in found:
-            yield message.stamp_ns, message
-
-    def close(self) -> None:
-        self._in.close()
-        self.skipped.summary()
 
 
 def _parse_chunk(

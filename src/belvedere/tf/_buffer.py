@@ -11,7 +11,7 @@ tf2-level ones (:meth:`TFBuffer.lookup`, :meth:`TFBuffer.can`, …).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import Any, Final
 
 from belvedere.tf._cache import (
@@ -285,43 +285,23 @@ class TFBuffer(_FrameListings):
             return cache.latest() if cache is not None else 0
         forever = 1 << 64
         up_from_source: list[tuple[int, int]] = []
-        frame, depth, common = source_id, 0, forever
-        while frame != 0:
-            cache = self._caches[frame]
-            if cache is None:
-                break
-            stamp, parent = cache.latest_and_parent()
-            if parent == 0:
-                break
+        common = forever
+        for stamp, parent in self._latest_up(source_id):
             if stamp:
                 common = min(common, stamp)
             up_from_source.append((stamp, parent))
-            frame = parent
-            if frame == target_id:
+            if parent == target_id:
                 return 0 if common == forever else common
-            depth += 1
-            if depth > MAX_GRAPH_DEPTH:
-                raise self._loop_error()
         parents = [p for _, p in up_from_source]
-        frame, depth, common, meeting = target_id, 0, forever, 0
-        while True:
-            cache = self._caches[frame]
-            if cache is None:
-                break
-            stamp, parent = cache.latest_and_parent()
-            if parent == 0:
-                break
+        common, meeting = forever, 0
+        for stamp, parent in self._latest_up(target_id):
             if stamp:
                 common = min(common, stamp)
             if parent in parents:
                 meeting = parent
                 break
-            frame = parent
-            if frame == source_id:
+            if parent == source_id:
                 return 0 if common == forever else common
-            depth += 1
-            if depth > MAX_GRAPH_DEPTH:
-                raise self._loop_error()
         if meeting == 0:
             raise self._connectivity_error(source_id, target_id)
         for stamp, parent in up_from_source:
@@ -330,6 +310,27 @@ class TFBuffer(_FrameListings):
             if parent == meeting:
                 break
         return 0 if common == forever else common
+
+    def _latest_up(self, frame: int) -> Iterator[tuple[int, int]]:
+        """Up the tree from ``frame`` as far as data goes: each step's latest stamp and the
+        parent it leads to.
+
+        Raises:
+            TFLookupError: more than MAX_GRAPH_DEPTH steps (a loop).
+        """
+        depth = 0
+        while frame != 0:
+            cache = self._caches[frame]
+            if cache is None:
+                return
+            stamp, parent = cache.latest_and_parent()
+            if parent == 0:
+                return
+            yield stamp, parent
+            frame = parent
+            depth += 1
+            if depth > MAX_GRAPH_DEPTH:
+                raise self._loop_error()
 
     def _walk(self, time_ns: int, target_id: int, source_id: int) -> Transformed:
         """tf2's ``walkToTopParent``: up from the source as far as data goes, then up from

@@ -90,13 +90,11 @@ def robot_entry(
                 if j.type != "fixed":
                     joints.append(convert.joint(j.name, start))
                     starts.append(j.child)
-    robot_wide = next(
-        (v for g in model.gazebo_for(None) if (v := g.property("static")) is not None), None
-    )
+    robot_wide = model.gazebo_property(None, "static")
     return WorldModelEntry(
         name=name,
         pose=pose,
-        static=robot_wide is not None and robot_wide.strip().lower() in ("1", "true"),
+        static=robot_wide is not None and robot_wide.lower() in ("1", "true"),
         links=tuple(links),
         joints=tuple(joints),
         canonical_link=links[0].name if links else None,
@@ -110,11 +108,7 @@ class _Converter:
         self.mesh_path = mesh_path
 
     def prop(self, link: str, key: str) -> str | None:
-        for ext in self.model.gazebo_for(link):
-            value = ext.property(key)
-            if value is not None:
-                return value.strip()
-        return None
+        return self.model.gazebo_property(link, key)
 
     def fprop(self, link: str, key: str) -> float | None:
         value = self.prop(link, key)

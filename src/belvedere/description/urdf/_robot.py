@@ -276,6 +276,15 @@ class RobotModel:
         """``<gazebo>`` blocks for a link or joint (None: robot-wide)."""
         return tuple(g for g in self.gazebo if g.reference == reference)
 
+    def gazebo_property(self, reference: str | None, key: str) -> str | None:
+        """The first ``<key>`` of the ``<gazebo>`` blocks for a link or joint (None:
+        robot-wide), without the white space around it, as Gazebo reads it."""
+        for ext in self.gazebo_for(reference):
+            value = ext.property(key)
+            if value is not None:
+                return value.strip()
+        return None
+
 
 def load_robot(
     path: str | os.PathLike[str], *, mappings: dict[str, str] | None = None, **xacro_options: Any

@@ -266,13 +266,13 @@ class BufferInterface:
         new_type: Any = None,
     ) -> Any:
         """``object_stamped`` (a type a ``tf2_*`` module registered) in ``target_frame``."""
-        do_transform = self.registration.get(type(object_stamped))
-        header = object_stamped.header
-        result = do_transform(
+        return self._transformed(
             object_stamped,
-            self.lookup_transform(target_frame, header.frame_id, header.stamp, _zero(timeout)),
+            lambda header: self.lookup_transform(
+                target_frame, header.frame_id, header.stamp, _zero(timeout)
+            ),
+            new_type,
         )
-        return result if not new_type else convert(result, new_type)
 
     def transform_full(
         self,
@@ -284,11 +284,9 @@ class BufferInterface:
         new_type: Any = None,
     ) -> Any:
         """As :meth:`transform`, into ``target_frame`` at ``target_time`` via ``fixed_frame``."""
-        do_transform = self.registration.get(type(object_stamped))
-        header = object_stamped.header
-        result = do_transform(
+        return self._transformed(
             object_stamped,
-            self.lookup_transform_full(
+            lambda header: self.lookup_transform_full(
                 target_frame,
                 target_time,
                 header.frame_id,
@@ -296,7 +294,14 @@ class BufferInterface:
                 fixed_frame,
                 _zero(timeout),
             ),
+            new_type,
         )
+
+    def _transformed(self, object_stamped: Any, lookup: Callable[[Any], Any], new_type: Any) -> Any:
+        """``object_stamped`` moved by the transform ``lookup`` finds for its header; its
+        type is checked first, as tf2_ros does, so an unregistered one looks nothing up."""
+        do_transform = self.registration.get(type(object_stamped))
+        result = do_transform(object_stamped, lookup(object_stamped.header))
         return result if not new_type else convert(result, new_type)
 
     def lookup_transform(

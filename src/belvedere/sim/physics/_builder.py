@@ -91,11 +91,7 @@ class _RobotBuilder:
         self.meshes: dict[tuple[str, tuple[float, float, float]], str] = {}
 
     def prop(self, link: str, key: str) -> str | None:
-        for ext in self.model.gazebo_for(link):
-            value = ext.property(key)
-            if value is not None:
-                return value.strip()
-        return None
+        return self.model.gazebo_property(link, key)
 
     def fprop(self, link: str, key: str) -> float | None:
         value = self.prop(link, key)
@@ -378,23 +374,13 @@ def add_robot(
 ) -> RobotBuild:
     """Add ``model`` as ``name`` at ``pose`` (its root link's pose in the world), its visuals
     lit as in ``scene`` (default: Gazebo's)."""
-    build = _RobotBuilder(spec, model, name, packages, scene).build(pose)
+    builder = _RobotBuilder(spec, model, name, packages, scene)
+    build = builder.build(pose)
     # Gazebo does not collide a model with itself unless <selfCollide> says so.
-    self_collide = any(
-        (v := _prop(model, link.name, "selfCollide")) is not None and v.lower() in ("1", "true")
-        for link in model.links
-    )
+    self_collide = any(builder.bprop(link.name, "selfCollide") for link in model.links)
     if not self_collide:
         bodies = [b for b in build.bodies if b != "world"]
         for i, a in enumerate(bodies):
             for b in bodies[i + 1 :]:
                 spec.add_exclude(bodyname1=a, bodyname2=b)
     return build
-
-
-def _prop(model: RobotModel, link: str, key: str) -> str | None:
-    for ext in model.gazebo_for(link):
-        value = ext.property(key)
-        if value is not None:
-            return value.strip()
-    return None

@@ -1,0 +1,30 @@
+"""Debian's Chromium as the browser tests and the viewer's frame-rate benchmark run it:
+headless, WebGL in software (SwiftShader: no GPU on a CI runner), nothing fetched in the
+background. One command line, so the frame rate the benchmark measures is that of the
+browser the tests check."""
+
+from __future__ import annotations
+
+from typing import Any, Final
+
+__all__ = ["CHROMIUM_ARGS", "launch_chromium"]
+
+CHROMIUM_ARGS: Final = (
+    "--no-sandbox",
+    "--disable-gpu",
+    "--enable-unsafe-swiftshader",
+    "--use-angle=swiftshader",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+)
+
+
+def launch_chromium(playwright: Any, executable: str | None) -> Any:
+    """The Chromium at ``executable``, headless, launched through Playwright's sync API
+    (``playwright`` as ``sync_playwright()`` enters it); Playwright is a test dependency, so
+    it is passed in rather than imported here."""
+    return playwright.chromium.launch(
+        executable_path=executable, headless=True, args=list(CHROMIUM_ARGS)
+    )
