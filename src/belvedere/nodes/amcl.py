@@ -42,6 +42,7 @@ from belvedere.msgs import build, types
 from belvedere.nav._input import Tally, laser_scan_problem, pose_problem
 from belvedere.nav._params import ParamReader, read_like
 from belvedere.nav.amcl import AmclMap, AmclParams, Localizer, laser_data
+from belvedere.nodes._planar import planar, stamp_ns, yaw_of, yaw_quat
 from belvedere.nodes._registry import (
     NodeSpec,
     ParamLookup,
@@ -111,24 +112,6 @@ class NodeParams:
         return cls(**out)
 
 
-def _stamp_ns(msg: Any) -> int:
-    stamp = msg.header.stamp
-    return int(stamp.sec) * NS + int(stamp.nanosec)
-
-
-def _yaw(q: tuple[float, float, float, float]) -> float:
-    x, y, z, w = q
-    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
-
-
-def _planar(t: Transform) -> Floats:
-    return np.array([t.translation[0], t.translation[1], _yaw(t.quat_xyzw)])
-
-
-def _quat(yaw: float) -> tuple[float, float, float, float]:
-    return (0.0, 0.0, math.sin(yaw / 2.0), math.cos(yaw / 2.0))
-
-
 def _compose(a: Floats, b: Floats) -> Floats:
     """a ∘ b of planar poses."""
     c, s = math.cos(a[2]), math.sin(a[2])
@@ -145,7 +128,7 @@ def pose_message(frame: str, stamp_ns: int, pose: Floats, covariance: list[float
     cls = types().cls
     body = cls("geometry_msgs/Pose")(
         cls("geometry_msgs/Point")(float(pose[0]), float(pose[1]), 0.0),
-        cls("geometry_msgs/Quaternion")(*_quat(float(pose[2]))),
+        cls("geometry_msgs/Quaternion")(*yaw_quat(float(pose[2]))),
     )
     return cls("geometry_msgs/PoseWithCovarianceStamped")(
         build.header(stamp_ns, frame),
@@ -346,20 +329,20 @@ class _AmclNode:
         cfg = self.config
         pose = msg.pose.pose
         q = pose.orientation
-        old = np.array([pose.position.x, pose.position.y, _yaw((q.x, q.y, q.z, q.w))])
+        old = np.array([pose.position.x, pose.position.y, yaw_of((q.x, q.y, q.z, q.w))])
         problem = pose_problem(old.tolist())
         if problem is None and not np.isfinite(np.asarray(msg.pose.covariance)).all():
             problem = "not finite", f"covariance {list(msg.pose.covariance)[:2]}…"
-        at = f"{_stamp_ns(msg) / NS:.3f} s"
+        at = f"{stamp_ns(msg) / NS:.3f} s"
         template = "ignored {count}: it is "
         if self.tally.refused(problem, at=at, template=template, noun="initial pose"):
             return
         # where the robot went since the pose's stamp, by the odometry
         try:
-            then = _planar(
-                self.buffer.lookup_transform(cfg.odom_frame_id, cfg.base_frame_id, _stamp_ns(msg))
+            then = planar(
+                self.buffer.lookup_transform(cfg.odom_frame_id, cfg.base_frame_id, stamp_ns(msg))
             )
-            now = _planar(self.buffer.lookup_transform(cfg.odom_frame_id, cfg.base_frame_id, 0))
+            now = planar(self.buffer.lookup_transform(cfg.odom_frame_id, cfg.base_frame_id, 0))
             moved = _compose(_invert(then), now)
         except TFError:
             moved = np.zeros(3)
@@ -416,7 +399,7 @@ class _AmclNode:
 
     def _ready(self, scan: Any) -> bool:
         return self.buffer.can_transform(
-            self.config.odom_frame_id, scan.header.frame_id, _stamp_ns(scan)
+            self.config.odom_frame_id, scan.header.frame_id, stamp_ns(scan)
         )
 
     def _drain(self) -> None:
@@ -443,7 +426,7 @@ class _AmclNode:
             return known
         base = self.config.base_frame_id
         try:
-            mount = self.buffer.lookup_transform(base, frame, _stamp_ns(scan))
+            mount = self.buffer.lookup_transform(base, frame, stamp_ns(scan))
         except TFError:
             try:
                 mount = self.buffer.lookup_transform(base, frame, 0)
@@ -468,16 +451,14 @@ class _AmclNode:
         if localizer is None:
             return
         cfg = self.config
-        stamp = _stamp_ns(scan)
+        stamp = stamp_ns(scan)
         if self.tally.refused(laser_scan_problem(scan), at=f"{stamp / NS:.3f} s"):
             return
         laser = self._laser(scan)
         if laser is None:
             return
         try:
-            odom = _planar(
-                self.buffer.lookup_transform(cfg.odom_frame_id, cfg.base_frame_id, stamp)
-            )
+            odom = planar(self.buffer.lookup_transform(cfg.odom_frame_id, cfg.base_frame_id, stamp))
             angle_min, increment = self._bearings(scan)
         except TFError as err:
             self._warn_once(
@@ -526,7 +507,11 @@ class _AmclNode:
         x, y, yaw = (float(v) for v in self.map_to_odom)
         expires = stamp_ns + round(self.config.transform_tolerance * NS)
         self.broadcaster.send(
-            self.config.global_frame_id, self.config.odom_frame_id, (x, y, 0.0), _quat(yaw), expires
+            self.config.global_frame_id,
+            self.config.odom_frame_id,
+            (x, y, 0.0),
+            yaw_quat(yaw),
+            expires,
         )
 
     def _publish_pose(self, stamp_ns: int, pose: Floats, covariance: list[float]) -> None:

@@ -22,6 +22,7 @@ from typing import Any
 from belvedere.graph import NS, Node
 from belvedere.nav._input import Tally, pose_problem
 from belvedere.nav._params import ParamReader, read_like
+from belvedere.nodes._planar import stamp_ns
 from belvedere.nodes._registry import (
     NodeSpec,
     ParamLookup,
@@ -49,10 +50,6 @@ PARAMETERS: dict[str, Any] = {
 """fake_localization's parameters with its defaults."""
 
 _QUEUE = 100
-
-
-def _stamp_ns(msg: Any) -> int:
-    return int(msg.header.stamp.sec) * NS + int(msg.header.stamp.nanosec)
 
 
 def _pose_transform(pose: Any) -> Transform:
@@ -132,7 +129,7 @@ class _FakeLocalization:
         waiting: deque[Any] = deque()
         while self.pending:
             msg = self.pending.popleft()
-            if self.buffer.can_transform(self.base_frame, self.odom_frame, _stamp_ns(msg)):
+            if self.buffer.can_transform(self.base_frame, self.odom_frame, stamp_ns(msg)):
                 waiting.clear()  # older ones' transforms are not coming
                 self._update(msg)
             else:
@@ -141,12 +138,12 @@ class _FakeLocalization:
         pose = self.pending_pose
         if pose is not None:
             frame = str(pose.header.frame_id).lstrip("/") or self.global_frame
-            if self.buffer.can_transform(self.global_frame, frame, _stamp_ns(pose)):
+            if self.buffer.can_transform(self.global_frame, frame, stamp_ns(pose)):
                 self.pending_pose = None
                 self._shift(pose)
 
     def _update(self, msg: Any) -> None:
-        stamp = _stamp_ns(msg)
+        stamp = stamp_ns(msg)
         problem = _pose_problem(msg.pose.pose)
         if problem is not None:
             why, what = problem
@@ -190,7 +187,7 @@ class _FakeLocalization:
 
     def _shift(self, msg: Any) -> None:
         problem = _pose_problem(msg.pose.pose)
-        at = f"{_stamp_ns(msg) / NS:.3f} s"
+        at = f"{stamp_ns(msg) / NS:.3f} s"
         template = "ignored {count}: it is "
         if self.tally.refused(problem, at=at, template=template, noun="initial pose"):
             return
@@ -204,7 +201,7 @@ class _FakeLocalization:
             )
         try:
             base_in_map = self.buffer.lookup_transform(
-                self.base_frame, self.global_frame, _stamp_ns(msg)
+                self.base_frame, self.global_frame, stamp_ns(msg)
             )
         except TFError:
             logger.warning("%s: Failed to lookup transform!", self.node.full_name)

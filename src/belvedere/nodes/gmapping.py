@@ -24,7 +24,6 @@ out — which ``belvedere slam`` runs over a bag.
 from __future__ import annotations
 
 import logging
-import math
 from collections import deque
 from collections.abc import Mapping
 from typing import Any
@@ -38,6 +37,7 @@ from belvedere.maps import OccupancyMap, grid_message
 from belvedere.msgs import types
 from belvedere.nav._input import Tally, laser_scan_problem, pose_problem
 from belvedere.nav.slam import GMappingParams, LaserGeometry, SubmapSlam, Tuning
+from belvedere.nodes._planar import planar, stamp_ns, yaw_quat
 from belvedere.nodes._registry import (
     NodeSpec,
     ParamLookup,
@@ -46,7 +46,7 @@ from belvedere.nodes._registry import (
     TransformClaim,
     stopping_on_bad_values,
 )
-from belvedere.nodes._slam import Processed, planar, stamp_ns
+from belvedere.nodes._slam import Processed
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster
 
 __all__ = [
@@ -223,10 +223,6 @@ class GMappingCore:
         )
 
 
-def _quat(yaw: float) -> tuple[float, float, float, float]:
-    return (0.0, 0.0, math.sin(yaw / 2.0), math.cos(yaw / 2.0))
-
-
 class _GMappingNode:
     def __init__(self, node: Node) -> None:
         self.node = node
@@ -313,7 +309,7 @@ class _GMappingNode:
         x, y, yaw = (float(v) for v in self.core.map_to_odom())
         stamp = self.node.now_ns() + round(self.tf_delay * NS)
         self.broadcaster.send(
-            self.core.map_frame, self.core.odom_frame, (x, y, 0.0), _quat(yaw), stamp
+            self.core.map_frame, self.core.odom_frame, (x, y, 0.0), yaw_quat(yaw), stamp
         )
 
     def _on_get_map(self, request: Any) -> Any:

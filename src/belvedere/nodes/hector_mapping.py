@@ -16,7 +16,6 @@ dropped; ``~map_size`` squared may not pass ``GRID_CELLS``. Each cause is one co
 from __future__ import annotations
 
 import logging
-import math
 from collections.abc import Mapping
 from typing import Any
 
@@ -29,6 +28,7 @@ from belvedere.maps import OccupancyMap, grid_message
 from belvedere.msgs import types
 from belvedere.nav._input import Tally, grid_reach, laser_scan_problem, pose_problem
 from belvedere.nav.slam import HectorParams, HectorSlam
+from belvedere.nodes._planar import planar, stamp_ns, yaw_quat
 from belvedere.nodes._registry import (
     NodeSpec,
     ParamLookup,
@@ -36,7 +36,7 @@ from belvedere.nodes._registry import (
     TransformClaim,
     stopping_on_bad_values,
 )
-from belvedere.nodes._slam import Processed, planar, stamp_ns
+from belvedere.nodes._slam import Processed
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster, TransformListener
 
 __all__ = ["EXECUTABLES", "JOINING", "PACKAGE", "PARAMETERS", "TRANSFORMS", "HectorCore"]
@@ -313,10 +313,7 @@ def _stamp(ns: int) -> dict[str, int]:
 
 
 def _planar(pose: npt.NDArray[np.float64]) -> Transform:
-    yaw = float(pose[2])
-    return Transform(
-        (float(pose[0]), float(pose[1]), 0.0), (0.0, 0.0, math.sin(yaw / 2), math.cos(yaw / 2))
-    )
+    return Transform((float(pose[0]), float(pose[1]), 0.0), yaw_quat(float(pose[2])))
 
 
 def _scan_points(
