@@ -1,4 +1,5 @@
-"""The planar view the 2-D navigation nodes take of stamps, rotations and transforms."""
+"""The planar view the 2-D navigation nodes take of stamps, rotations and transforms, and
+where they find a laser on the base."""
 
 from __future__ import annotations
 
@@ -9,9 +10,21 @@ import numpy as np
 import numpy.typing as npt
 
 from belvedere.graph import NS
-from belvedere.tf import Transform
+from belvedere.nav._input import Tally, pose_problem
+from belvedere.tf import TFBuffer, TFError, Transform
 
-__all__ = ["planar", "stamp_ns", "yaw_of", "yaw_quat"]
+__all__ = [
+    "MOUNT_REFUSED",
+    "laser_mount",
+    "planar",
+    "stamp_ns",
+    "usable_mount",
+    "yaw_of",
+    "yaw_quat",
+]
+
+MOUNT_REFUSED = "skipped {count}: the laser's mount on the base is "
+"""The tally's template for a scan whose laser mount is not finite or too far."""
 
 
 def stamp_ns(msg: Any) -> int:
@@ -37,3 +50,31 @@ def planar(transform: Transform) -> npt.NDArray[np.float64]:
     return np.array(
         [transform.translation[0], transform.translation[1], yaw_of(transform.quat_xyzw)]
     )
+
+
+def laser_mount(buffer: TFBuffer, base: str, frame: str, stamp: int) -> Transform:
+    """The laser's pose on the base at ``stamp``, else the latest one: a mount published
+    once (on ``/tf_static``, or long before the scan) still holds.
+
+    Raises:
+        TFError: neither is known.
+    """
+    try:
+        return buffer.lookup_transform(base, frame, stamp)
+    except TFError:
+        return buffer.lookup_transform(base, frame, 0)
+
+
+def usable_mount(
+    buffer: TFBuffer, base: str, frame: str, stamp: int, tally: Tally
+) -> Transform | None:
+    """:func:`laser_mount`, or None (counted in ``tally``) when it is not finite or too far.
+
+    Raises:
+        TFError: the mount is not known.
+    """
+    mount = laser_mount(buffer, base, frame, stamp)
+    problem = pose_problem([*mount.translation, *mount.quat_xyzw])
+    if tally.refused(problem, at=f"{stamp / NS:.3f} s", template=MOUNT_REFUSED):
+        return None
+    return mount

@@ -42,7 +42,14 @@ from belvedere.msgs import build, types
 from belvedere.nav._input import Tally, laser_scan_problem, pose_problem
 from belvedere.nav._params import ParamReader, read_like
 from belvedere.nav.amcl import AmclMap, AmclParams, Localizer, laser_data
-from belvedere.nodes._planar import planar, stamp_ns, yaw_of, yaw_quat
+from belvedere.nodes._planar import (
+    MOUNT_REFUSED,
+    laser_mount,
+    planar,
+    stamp_ns,
+    yaw_of,
+    yaw_quat,
+)
 from belvedere.nodes._registry import (
     NodeSpec,
     ParamLookup,
@@ -426,17 +433,14 @@ class _AmclNode:
             return known
         base = self.config.base_frame_id
         try:
-            mount = self.buffer.lookup_transform(base, frame, stamp_ns(scan))
-        except TFError:
-            try:
-                mount = self.buffer.lookup_transform(base, frame, 0)
-            except TFError as err:
-                self._warn_once("laser", f"Couldn't transform from {frame} to {base}: {err}")
-                return None
+            mount = laser_mount(self.buffer, base, frame, stamp_ns(scan))
+        except TFError as err:
+            self._warn_once("laser", f"Couldn't transform from {frame} to {base}: {err}")
+            return None
         problem = pose_problem([*mount.translation, *mount.quat_xyzw])
         if problem is not None:
             why, what = problem
-            self.tally.add("skipped {count}: the laser's mount on the base is " + why, first=what)
+            self.tally.add(MOUNT_REFUSED + why, first=what)
             return None
         pose = (float(mount.translation[0]), float(mount.translation[1]), 0.0)
         self.lasers[frame] = pose

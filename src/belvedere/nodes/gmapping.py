@@ -35,9 +35,9 @@ from belvedere.bounded import LimitError
 from belvedere.graph import NS, Node, ServiceFailedError
 from belvedere.maps import OccupancyMap, grid_message
 from belvedere.msgs import types
-from belvedere.nav._input import Tally, laser_scan_problem, pose_problem
+from belvedere.nav._input import Tally, laser_scan_problem
 from belvedere.nav.slam import GMappingParams, LaserGeometry, SubmapSlam, Tuning
-from belvedere.nodes._planar import planar, stamp_ns, yaw_quat
+from belvedere.nodes._planar import planar, stamp_ns, usable_mount, yaw_quat
 from belvedere.nodes._registry import (
     NodeSpec,
     ParamLookup,
@@ -168,17 +168,8 @@ class GMappingCore:
         odom = planar(buffer.lookup_transform(self.odom_frame, self.base_frame, stamp))
         if self.slam is None:
             frame = scan.header.frame_id
-            try:
-                base_laser = buffer.lookup_transform(self.base_frame, frame, stamp)
-            except TFError:
-                base_laser = buffer.lookup_transform(self.base_frame, frame, 0)
-            mount = pose_problem([*base_laser.translation, *base_laser.quat_xyzw])
-            if mount is not None:
-                why, pose = mount
-                self.tally.add(
-                    "skipped {count}: the laser's mount on the base is " + why,
-                    first=f"{stamp / NS:.3f} s: {pose}",
-                )
+            base_laser = usable_mount(buffer, self.base_frame, frame, stamp, self.tally)
+            if base_laser is None:
                 return None
             laser = laser_geometry(scan, base_laser, self.params.maxRange)
             self.slam = SubmapSlam(laser, self.params, self.tuning, tally=self.tally)
