@@ -51,10 +51,9 @@ from belvedere.nodes._planar import (
     yaw_quat,
 )
 from belvedere.nodes._registry import (
-    NodeSpec,
-    ParamLookup,
     Starter,
     TransformClaim,
+    frame_claim,
     stopping_on_bad_values,
 )
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster
@@ -554,17 +553,11 @@ class _AmclNode:
         node.set_param("~initial_cov_aa", float(cov[35]))
 
 
-def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
-    del spec
-    if not param("tf_broadcast", NODE_PARAMETERS["tf_broadcast"]):
-        return []
-    parent = str(param("global_frame_id", NODE_PARAMETERS["global_frame_id"]))
-    return [(parent, str(param("odom_frame_id", NODE_PARAMETERS["odom_frame_id"])))]
-
-
 EXECUTABLES: dict[str, Starter] = {
     "amcl": stopping_on_bad_values(lambda session, spec, node: _AmclNode(node))
 }
 JOINING = frozenset(EXECUTABLES)
 """A client of the graph: ``run`` starts it on the graph that runs, as rosrun joins the master."""
-TRANSFORMS: dict[str, TransformClaim] = {"amcl": _claim}
+TRANSFORMS: dict[str, TransformClaim] = {
+    "amcl": frame_claim(NODE_PARAMETERS, "global_frame_id", "odom_frame_id", when="tf_broadcast")
+}

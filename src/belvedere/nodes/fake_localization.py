@@ -24,10 +24,9 @@ from belvedere.nav._input import Tally, pose_problem
 from belvedere.nav._params import ParamReader, read_like
 from belvedere.nodes._planar import stamp_ns
 from belvedere.nodes._registry import (
-    NodeSpec,
-    ParamLookup,
     Starter,
     TransformClaim,
+    frame_claim,
     stopping_on_bad_values,
 )
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster, quat_xyzw_from_rpy
@@ -217,15 +216,11 @@ class _FakeLocalization:
         )
 
 
-def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
-    del spec
-    parent = str(param("global_frame_id", PARAMETERS["global_frame_id"]))
-    return [(parent, str(param("odom_frame_id", PARAMETERS["odom_frame_id"])))]
-
-
 EXECUTABLES: dict[str, Starter] = {
     "fake_localization": stopping_on_bad_values(lambda session, spec, node: _FakeLocalization(node))
 }
 JOINING = frozenset(EXECUTABLES)
 """A client of the graph: ``run`` starts it on the graph that runs, as rosrun joins the master."""
-TRANSFORMS: dict[str, TransformClaim] = {"fake_localization": _claim}
+TRANSFORMS: dict[str, TransformClaim] = {
+    "fake_localization": frame_claim(PARAMETERS, "global_frame_id", "odom_frame_id")
+}

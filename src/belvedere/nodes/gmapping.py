@@ -40,10 +40,10 @@ from belvedere.nav.slam import GMappingParams, LaserGeometry, SubmapSlam, Tuning
 from belvedere.nodes._planar import planar, stamp_ns, usable_mount, yaw_quat
 from belvedere.nodes._registry import (
     NodeSpec,
-    ParamLookup,
     Session,
     Starter,
     TransformClaim,
+    frame_claim,
     stopping_on_bad_values,
 )
 from belvedere.nodes._slam import Processed
@@ -310,17 +310,6 @@ class _GMappingNode:
         return types().cls("nav_msgs/srv/GetMap_Response")(self.map_msg)
 
 
-def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
-    del spec
-    defaults = NODE_PARAMETERS
-    return [
-        (
-            str(param("map_frame", defaults["map_frame"])),
-            str(param("odom_frame", defaults["odom_frame"])),
-        )
-    ]
-
-
 def _start(session: Session, spec: NodeSpec, node: Node) -> None:
     del session
     started = _GMappingNode(node)
@@ -335,4 +324,6 @@ def _start(session: Session, spec: NodeSpec, node: Node) -> None:
 EXECUTABLES: dict[str, Starter] = {"slam_gmapping": stopping_on_bad_values(_start)}
 JOINING = frozenset(EXECUTABLES)
 """A client of the graph: ``run`` starts it on the graph that runs, as rosrun joins the master."""
-TRANSFORMS: dict[str, TransformClaim] = {"slam_gmapping": _claim}
+TRANSFORMS: dict[str, TransformClaim] = {
+    "slam_gmapping": frame_claim(NODE_PARAMETERS, "map_frame", "odom_frame")
+}
