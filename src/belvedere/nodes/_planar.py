@@ -1,21 +1,23 @@
-"""The planar view the 2-D navigation nodes take of stamps, rotations and transforms, and
-where they find a laser on the base."""
+"""The 2-D navigation nodes' view of TF: stamps, rotations and transforms in the plane, where
+the laser sits on the base, and a buffer that tells them when it learnt a transform."""
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
-from belvedere.graph import NS
+from belvedere.graph import NS, Node
 from belvedere.nav._input import Tally, pose_problem
 from belvedere.tf import TFBuffer, TFError, Transform
 
 __all__ = [
     "MOUNT_REFUSED",
     "laser_mount",
+    "listen_then",
     "planar",
     "stamp_ns",
     "usable_mount",
@@ -78,3 +80,19 @@ def usable_mount(
     if tally.refused(problem, at=f"{stamp / NS:.3f} s", template=MOUNT_REFUSED):
         return None
     return mount
+
+
+def listen_then(node: Node, buffer: TFBuffer, then: Callable[[], None]) -> None:
+    """Fill ``buffer`` from ``/tf`` and ``/tf_static``, calling ``then`` after each message:
+    inputs that wait for a transform (tf's message filter) are retried when one arrives."""
+
+    def on_tf(msg: Any) -> None:
+        buffer.set_message(msg)
+        then()
+
+    def on_tf_static(msg: Any) -> None:
+        buffer.set_message(msg, static=True)
+        then()
+
+    node.subscribe("/tf", "tf2_msgs/TFMessage", on_tf, queue_size=100)
+    node.subscribe("/tf_static", "tf2_msgs/TFMessage", on_tf_static, queue_size=100)

@@ -45,6 +45,7 @@ from belvedere.nav.amcl import AmclMap, AmclParams, Localizer, laser_data
 from belvedere.nodes._planar import (
     MOUNT_REFUSED,
     laser_mount,
+    listen_then,
     planar,
     stamp_ns,
     yaw_of,
@@ -236,8 +237,7 @@ class _AmclNode:
         node.service("global_localization", "std_srvs/Empty", self._on_global_localization)
         node.service("request_nomotion_update", "std_srvs/Empty", self._on_nomotion)
         node.service("set_map", "nav_msgs/SetMap", self._on_set_map)
-        node.subscribe("/tf", "tf2_msgs/TFMessage", self._on_tf, queue_size=100)
-        node.subscribe("/tf_static", "tf2_msgs/TFMessage", self._on_tf_static, queue_size=100)
+        listen_then(node, self.buffer, self._drain)
         node.subscribe("scan", "sensor_msgs/LaserScan", self._on_scan, queue_size=100)
         node.subscribe("initialpose", "geometry_msgs/PoseWithCovarianceStamped", self._on_pose)
         self.localizer: Localizer | None = None
@@ -387,14 +387,6 @@ class _AmclNode:
         return {"success": True}
 
     # --- scans -------------------------------------------------------------------------------
-    def _on_tf(self, msg: Any) -> None:
-        self.buffer.set_message(msg)
-        self._drain()
-
-    def _on_tf_static(self, msg: Any) -> None:
-        self.buffer.set_message(msg, static=True)
-        self._drain()
-
     def _on_scan(self, msg: Any) -> None:
         if self.localizer is None:
             return  # amcl drops scans until it has a map

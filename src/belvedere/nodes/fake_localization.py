@@ -22,7 +22,7 @@ from typing import Any
 from belvedere.graph import NS, Node
 from belvedere.nav._input import Tally, pose_problem
 from belvedere.nav._params import ParamReader, read_like
-from belvedere.nodes._planar import stamp_ns
+from belvedere.nodes._planar import listen_then, stamp_ns
 from belvedere.nodes._registry import (
     Starter,
     TransformClaim,
@@ -97,22 +97,13 @@ class _FakeLocalization:
         self.pending_pose: Any = None
         self.tally = Tally(node.full_name, logger)
         """Poses skipped, counted (:mod:`belvedere.nav._input`)."""
-        node.subscribe("/tf", "tf2_msgs/TFMessage", self._on_tf, queue_size=100)
-        node.subscribe("/tf_static", "tf2_msgs/TFMessage", self._on_tf_static, queue_size=100)
+        listen_then(node, self.buffer, self._drain)
         node.subscribe(
             "base_pose_ground_truth", "nav_msgs/Odometry", self._on_truth, queue_size=100
         )
         node.subscribe(
             "initialpose", "geometry_msgs/PoseWithCovarianceStamped", self._on_pose, queue_size=1
         )
-
-    def _on_tf(self, msg: Any) -> None:
-        self.buffer.set_message(msg)
-        self._drain()
-
-    def _on_tf_static(self, msg: Any) -> None:
-        self.buffer.set_message(msg, static=True)
-        self._drain()
 
     def _on_truth(self, msg: Any) -> None:
         self.pending.append(msg)

@@ -37,7 +37,7 @@ from belvedere.maps import OccupancyMap, grid_message
 from belvedere.msgs import types
 from belvedere.nav._input import Tally, laser_scan_problem
 from belvedere.nav.slam import GMappingParams, LaserGeometry, SubmapSlam, Tuning
-from belvedere.nodes._planar import planar, stamp_ns, usable_mount, yaw_quat
+from belvedere.nodes._planar import listen_then, planar, stamp_ns, usable_mount, yaw_quat
 from belvedere.nodes._registry import (
     NodeSpec,
     Session,
@@ -234,8 +234,7 @@ class _GMappingNode:
         )
         node.service("dynamic_map", "nav_msgs/GetMap", self._on_get_map)
         self.pending: deque[Any] = deque()
-        node.subscribe("/tf", "tf2_msgs/TFMessage", self._on_tf, queue_size=100)
-        node.subscribe("/tf_static", "tf2_msgs/TFMessage", self._on_tf_static, queue_size=100)
+        listen_then(node, self.buffer, self._drain)
         node.subscribe("scan", "sensor_msgs/LaserScan", self._on_scan, queue_size=5)
         self.map_msg: Any = None
         self._warned: set[str] = set()
@@ -247,14 +246,6 @@ class _GMappingNode:
         if key not in self._warned:
             self._warned.add(key)
             logger.warning("%s: %s", self.node.full_name, text)
-
-    def _on_tf(self, msg: Any) -> None:
-        self.buffer.set_message(msg)
-        self._drain()
-
-    def _on_tf_static(self, msg: Any) -> None:
-        self.buffer.set_message(msg, static=True)
-        self._drain()
 
     def _on_scan(self, msg: Any) -> None:
         if self._failed or not self.core.wanted():
