@@ -38,6 +38,7 @@ from belvedere.msgs import build, types
 from belvedere.nav._input import Tally, laser_scan_problem, pose_problem
 from belvedere.nav.costmap import CostGrid, CostmapParams, LayeredCostmap, Observation
 from belvedere.nav.costmap._params import SourceParams
+from belvedere.nodes._planar import stamp_ns, yaw_of
 from belvedere.tf import TFBuffer, TFError, Transform
 
 __all__ = ["COST_TRANSLATION", "Costmap2DROS", "cloud_points", "scan_points"]
@@ -64,15 +65,6 @@ _MESSAGE_TYPES: Final = {
     "PointCloud2": "sensor_msgs/PointCloud2",
     "PointCloud": "sensor_msgs/PointCloud",
 }
-
-
-def _yaw(quat_xyzw: tuple[float, float, float, float]) -> float:
-    x, y, z, w = quat_xyzw
-    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
-
-
-def _stamp_ns(msg: Any) -> int:
-    return int(msg.header.stamp.sec) * NS + int(msg.header.stamp.nanosec)
 
 
 def scan_points(scan: Any, *, inf_is_valid: bool) -> npt.NDArray[np.float64]:
@@ -210,7 +202,7 @@ class Costmap2DROS:
         except TFError as err:
             self._warn_once("pose", f"no robot pose: {err.message}")
             return None
-        problem = pose_problem([t[0], t[1], _yaw(q)])
+        problem = pose_problem([t[0], t[1], yaw_of(q)])
         if problem is not None:
             why, what = problem
             self.tally.add(
@@ -227,7 +219,7 @@ class Costmap2DROS:
                 f"(transform_tolerance {self.params.transform_tolerance})",
             )
             return None
-        return np.array([t[0], t[1], _yaw(q)])
+        return np.array([t[0], t[1], yaw_of(q)])
 
     def is_current(self) -> bool:
         """Whether every source with an ``expected_update_rate`` sent a reading within it."""
@@ -328,7 +320,7 @@ class Costmap2DROS:
     def _place(self, reading: _Reading) -> bool:
         """Add one reading in the global frame; False while TF cannot place it yet."""
         msg, source = reading.msg, reading.source
-        stamp = _stamp_ns(msg)
+        stamp = stamp_ns(msg)
         frame = str(msg.header.frame_id).lstrip("/")
         sensor = source.sensor_frame or frame
         try:
@@ -386,7 +378,7 @@ class Costmap2DROS:
         except TFError as err:
             self._warn_once("map_tf", f"cannot place the static map: {err.message}")
             return None
-        return (float(t.translation[0]), float(t.translation[1]), _yaw(t.quat_xyzw))
+        return (float(t.translation[0]), float(t.translation[1]), yaw_of(t.quat_xyzw))
 
     # --- outputs ---------------------------------------------------------------------------------
     def _tick(self) -> None:

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import importlib
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any, Final, Protocol
 
 from belvedere.errors import BelvedereError, ParseError, SourceLocation
@@ -28,6 +28,7 @@ __all__ = [
     "executables",
     "files",
     "find",
+    "frame_claim",
     "joins_running_graph",
     "package_names",
     "stopping_on_bad_values",
@@ -111,6 +112,22 @@ executable → claim; ``launch --files`` lists them)."""
 TransformClaim = Callable[[NodeSpec, ParamLookup], list[tuple[str, str]]]
 """The transforms (parent, child frame) a node will publish, as its arguments and parameters
 say (a module's ``TRANSFORMS``: executable → claim)."""
+
+
+def frame_claim(
+    defaults: Mapping[str, Any], parent: str, child: str, *, when: str | None = None
+) -> TransformClaim:
+    """The claim of one transform whose frames are the parameters ``parent`` and ``child``;
+    none while the flag parameter ``when`` is false. ``defaults`` are the node's."""
+
+    def claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
+        del spec
+        if when is not None and not param(when, defaults[when]):
+            return []
+        return [(str(param(parent, defaults[parent])), str(param(child, defaults[child])))]
+
+    return claim
+
 
 MODULES: Final = {
     "amcl": "amcl",

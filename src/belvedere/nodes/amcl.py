@@ -42,11 +42,19 @@ from belvedere.msgs import build, types
 from belvedere.nav._input import Tally, laser_scan_problem, pose_problem
 from belvedere.nav._params import ParamReader, read_like
 from belvedere.nav.amcl import AmclMap, AmclParams, Localizer, laser_data
+from belvedere.nodes._planar import (
+    MOUNT_REFUSED,
+    laser_mount,
+    listen_then,
+    planar,
+    stamp_ns,
+    yaw_of,
+    yaw_quat,
+)
 from belvedere.nodes._registry import (
-    NodeSpec,
-    ParamLookup,
     Starter,
     TransformClaim,
+    frame_claim,
     stopping_on_bad_values,
 )
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster
@@ -111,24 +119,6 @@ class NodeParams:
         return cls(**out)
 
 
-def _stamp_ns(msg: Any) -> int:
-    stamp = msg.header.stamp
-    return int(stamp.sec) * NS + int(stamp.nanosec)
-
-
-def _yaw(q: tuple[float, float, float, float]) -> float:
-    x, y, z, w = q
-    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
-
-
-def _planar(t: Transform) -> Floats:
-    return np.array([t.translation[0], t.translation[1], _yaw(t.quat_xyzw)])
-
-
-def _quat(yaw: float) -> tuple[float, float, float, float]:
-    return (0.0, 0.0, math.sin(yaw / 2.0), math.cos(yaw / 2.0))
-
-
 def _compose(a: Floats, b: Floats) -> Floats:
     """a ∘ b of planar poses."""
     c, s = math.cos(a[2]), math.sin(a[2])
@@ -145,7 +135,7 @@ def pose_message(frame: str, stamp_ns: int, pose: Floats, covariance: list[float
     cls = types().cls
     body = cls("geometry_msgs/Pose")(
         cls("geometry_msgs/Point")(float(pose[0]), float(pose[1]), 0.0),
-        cls("geometry_msgs/Quaternion")(*_quat(float(pose[2]))),
+        cls("geometry_msgs/Quaternion")(*yaw_quat(float(pose[2]))),
     )
     return cls("geometry_msgs/PoseWithCovarianceStamped")(
         build.header(stamp_ns, frame),
@@ -247,8 +237,7 @@ class _AmclNode:
         node.service("global_localization", "std_srvs/Empty", self._on_global_localization)
         node.service("request_nomotion_update", "std_srvs/Empty", self._on_nomotion)
         node.service("set_map", "nav_msgs/SetMap", self._on_set_map)
-        node.subscribe("/tf", "tf2_msgs/TFMessage", self._on_tf, queue_size=100)
-        node.subscribe("/tf_static", "tf2_msgs/TFMessage", self._on_tf_static, queue_size=100)
+        listen_then(node, self.buffer, self._drain)
         node.subscribe("scan", "sensor_msgs/LaserScan", self._on_scan, queue_size=100)
         node.subscribe("initialpose", "geometry_msgs/PoseWithCovarianceStamped", self._on_pose)
         self.localizer: Localizer | None = None
@@ -346,20 +335,20 @@ class _AmclNode:
         cfg = self.config
         pose = msg.pose.pose
         q = pose.orientation
-        old = np.array([pose.position.x, pose.position.y, _yaw((q.x, q.y, q.z, q.w))])
+        old = np.array([pose.position.x, pose.position.y, yaw_of((q.x, q.y, q.z, q.w))])
         problem = pose_problem(old.tolist())
         if problem is None and not np.isfinite(np.asarray(msg.pose.covariance)).all():
             problem = "not finite", f"covariance {list(msg.pose.covariance)[:2]}…"
-        at = f"{_stamp_ns(msg) / NS:.3f} s"
+        at = f"{stamp_ns(msg) / NS:.3f} s"
         template = "ignored {count}: it is "
         if self.tally.refused(problem, at=at, template=template, noun="initial pose"):
             return
         # where the robot went since the pose's stamp, by the odometry
         try:
-            then = _planar(
-                self.buffer.lookup_transform(cfg.odom_frame_id, cfg.base_frame_id, _stamp_ns(msg))
+            then = planar(
+                self.buffer.lookup_transform(cfg.odom_frame_id, cfg.base_frame_id, stamp_ns(msg))
             )
-            now = _planar(self.buffer.lookup_transform(cfg.odom_frame_id, cfg.base_frame_id, 0))
+            now = planar(self.buffer.lookup_transform(cfg.odom_frame_id, cfg.base_frame_id, 0))
             moved = _compose(_invert(then), now)
         except TFError:
             moved = np.zeros(3)
@@ -398,14 +387,6 @@ class _AmclNode:
         return {"success": True}
 
     # --- scans -------------------------------------------------------------------------------
-    def _on_tf(self, msg: Any) -> None:
-        self.buffer.set_message(msg)
-        self._drain()
-
-    def _on_tf_static(self, msg: Any) -> None:
-        self.buffer.set_message(msg, static=True)
-        self._drain()
-
     def _on_scan(self, msg: Any) -> None:
         if self.localizer is None:
             return  # amcl drops scans until it has a map
@@ -416,7 +397,7 @@ class _AmclNode:
 
     def _ready(self, scan: Any) -> bool:
         return self.buffer.can_transform(
-            self.config.odom_frame_id, scan.header.frame_id, _stamp_ns(scan)
+            self.config.odom_frame_id, scan.header.frame_id, stamp_ns(scan)
         )
 
     def _drain(self) -> None:
@@ -443,17 +424,14 @@ class _AmclNode:
             return known
         base = self.config.base_frame_id
         try:
-            mount = self.buffer.lookup_transform(base, frame, _stamp_ns(scan))
-        except TFError:
-            try:
-                mount = self.buffer.lookup_transform(base, frame, 0)
-            except TFError as err:
-                self._warn_once("laser", f"Couldn't transform from {frame} to {base}: {err}")
-                return None
+            mount = laser_mount(self.buffer, base, frame, stamp_ns(scan))
+        except TFError as err:
+            self._warn_once("laser", f"Couldn't transform from {frame} to {base}: {err}")
+            return None
         problem = pose_problem([*mount.translation, *mount.quat_xyzw])
         if problem is not None:
             why, what = problem
-            self.tally.add("skipped {count}: the laser's mount on the base is " + why, first=what)
+            self.tally.add(MOUNT_REFUSED + why, first=what)
             return None
         pose = (float(mount.translation[0]), float(mount.translation[1]), 0.0)
         self.lasers[frame] = pose
@@ -468,16 +446,14 @@ class _AmclNode:
         if localizer is None:
             return
         cfg = self.config
-        stamp = _stamp_ns(scan)
+        stamp = stamp_ns(scan)
         if self.tally.refused(laser_scan_problem(scan), at=f"{stamp / NS:.3f} s"):
             return
         laser = self._laser(scan)
         if laser is None:
             return
         try:
-            odom = _planar(
-                self.buffer.lookup_transform(cfg.odom_frame_id, cfg.base_frame_id, stamp)
-            )
+            odom = planar(self.buffer.lookup_transform(cfg.odom_frame_id, cfg.base_frame_id, stamp))
             angle_min, increment = self._bearings(scan)
         except TFError as err:
             self._warn_once(
@@ -526,7 +502,11 @@ class _AmclNode:
         x, y, yaw = (float(v) for v in self.map_to_odom)
         expires = stamp_ns + round(self.config.transform_tolerance * NS)
         self.broadcaster.send(
-            self.config.global_frame_id, self.config.odom_frame_id, (x, y, 0.0), _quat(yaw), expires
+            self.config.global_frame_id,
+            self.config.odom_frame_id,
+            (x, y, 0.0),
+            yaw_quat(yaw),
+            expires,
         )
 
     def _publish_pose(self, stamp_ns: int, pose: Floats, covariance: list[float]) -> None:
@@ -565,17 +545,11 @@ class _AmclNode:
         node.set_param("~initial_cov_aa", float(cov[35]))
 
 
-def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
-    del spec
-    if not param("tf_broadcast", NODE_PARAMETERS["tf_broadcast"]):
-        return []
-    parent = str(param("global_frame_id", NODE_PARAMETERS["global_frame_id"]))
-    return [(parent, str(param("odom_frame_id", NODE_PARAMETERS["odom_frame_id"])))]
-
-
 EXECUTABLES: dict[str, Starter] = {
     "amcl": stopping_on_bad_values(lambda session, spec, node: _AmclNode(node))
 }
 JOINING = frozenset(EXECUTABLES)
 """A client of the graph: ``run`` starts it on the graph that runs, as rosrun joins the master."""
-TRANSFORMS: dict[str, TransformClaim] = {"amcl": _claim}
+TRANSFORMS: dict[str, TransformClaim] = {
+    "amcl": frame_claim(NODE_PARAMETERS, "global_frame_id", "odom_frame_id", when="tf_broadcast")
+}

@@ -22,11 +22,11 @@ from typing import Any
 from belvedere.graph import NS, Node
 from belvedere.nav._input import Tally, pose_problem
 from belvedere.nav._params import ParamReader, read_like
+from belvedere.nodes._planar import listen_then, stamp_ns
 from belvedere.nodes._registry import (
-    NodeSpec,
-    ParamLookup,
     Starter,
     TransformClaim,
+    frame_claim,
     stopping_on_bad_values,
 )
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster, quat_xyzw_from_rpy
@@ -49,10 +49,6 @@ PARAMETERS: dict[str, Any] = {
 """fake_localization's parameters with its defaults."""
 
 _QUEUE = 100
-
-
-def _stamp_ns(msg: Any) -> int:
-    return int(msg.header.stamp.sec) * NS + int(msg.header.stamp.nanosec)
 
 
 def _pose_transform(pose: Any) -> Transform:
@@ -101,22 +97,13 @@ class _FakeLocalization:
         self.pending_pose: Any = None
         self.tally = Tally(node.full_name, logger)
         """Poses skipped, counted (:mod:`belvedere.nav._input`)."""
-        node.subscribe("/tf", "tf2_msgs/TFMessage", self._on_tf, queue_size=100)
-        node.subscribe("/tf_static", "tf2_msgs/TFMessage", self._on_tf_static, queue_size=100)
+        listen_then(node, self.buffer, self._drain)
         node.subscribe(
             "base_pose_ground_truth", "nav_msgs/Odometry", self._on_truth, queue_size=100
         )
         node.subscribe(
             "initialpose", "geometry_msgs/PoseWithCovarianceStamped", self._on_pose, queue_size=1
         )
-
-    def _on_tf(self, msg: Any) -> None:
-        self.buffer.set_message(msg)
-        self._drain()
-
-    def _on_tf_static(self, msg: Any) -> None:
-        self.buffer.set_message(msg, static=True)
-        self._drain()
 
     def _on_truth(self, msg: Any) -> None:
         self.pending.append(msg)
@@ -132,7 +119,7 @@ class _FakeLocalization:
         waiting: deque[Any] = deque()
         while self.pending:
             msg = self.pending.popleft()
-            if self.buffer.can_transform(self.base_frame, self.odom_frame, _stamp_ns(msg)):
+            if self.buffer.can_transform(self.base_frame, self.odom_frame, stamp_ns(msg)):
                 waiting.clear()  # older ones' transforms are not coming
                 self._update(msg)
             else:
@@ -141,12 +128,12 @@ class _FakeLocalization:
         pose = self.pending_pose
         if pose is not None:
             frame = str(pose.header.frame_id).lstrip("/") or self.global_frame
-            if self.buffer.can_transform(self.global_frame, frame, _stamp_ns(pose)):
+            if self.buffer.can_transform(self.global_frame, frame, stamp_ns(pose)):
                 self.pending_pose = None
                 self._shift(pose)
 
     def _update(self, msg: Any) -> None:
-        stamp = _stamp_ns(msg)
+        stamp = stamp_ns(msg)
         problem = _pose_problem(msg.pose.pose)
         if problem is not None:
             why, what = problem
@@ -190,7 +177,7 @@ class _FakeLocalization:
 
     def _shift(self, msg: Any) -> None:
         problem = _pose_problem(msg.pose.pose)
-        at = f"{_stamp_ns(msg) / NS:.3f} s"
+        at = f"{stamp_ns(msg) / NS:.3f} s"
         template = "ignored {count}: it is "
         if self.tally.refused(problem, at=at, template=template, noun="initial pose"):
             return
@@ -204,7 +191,7 @@ class _FakeLocalization:
             )
         try:
             base_in_map = self.buffer.lookup_transform(
-                self.base_frame, self.global_frame, _stamp_ns(msg)
+                self.base_frame, self.global_frame, stamp_ns(msg)
             )
         except TFError:
             logger.warning("%s: Failed to lookup transform!", self.node.full_name)
@@ -220,15 +207,11 @@ class _FakeLocalization:
         )
 
 
-def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
-    del spec
-    parent = str(param("global_frame_id", PARAMETERS["global_frame_id"]))
-    return [(parent, str(param("odom_frame_id", PARAMETERS["odom_frame_id"])))]
-
-
 EXECUTABLES: dict[str, Starter] = {
     "fake_localization": stopping_on_bad_values(lambda session, spec, node: _FakeLocalization(node))
 }
 JOINING = frozenset(EXECUTABLES)
 """A client of the graph: ``run`` starts it on the graph that runs, as rosrun joins the master."""
-TRANSFORMS: dict[str, TransformClaim] = {"fake_localization": _claim}
+TRANSFORMS: dict[str, TransformClaim] = {
+    "fake_localization": frame_claim(PARAMETERS, "global_frame_id", "odom_frame_id")
+}

@@ -24,7 +24,6 @@ out — which ``belvedere slam`` runs over a bag.
 from __future__ import annotations
 
 import logging
-import math
 from collections import deque
 from collections.abc import Mapping
 from typing import Any
@@ -36,17 +35,18 @@ from belvedere.bounded import LimitError
 from belvedere.graph import NS, Node, ServiceFailedError
 from belvedere.maps import OccupancyMap, grid_message
 from belvedere.msgs import types
-from belvedere.nav._input import Tally, laser_scan_problem, pose_problem
+from belvedere.nav._input import Tally, laser_scan_problem
 from belvedere.nav.slam import GMappingParams, LaserGeometry, SubmapSlam, Tuning
+from belvedere.nodes._planar import listen_then, planar, stamp_ns, usable_mount, yaw_quat
 from belvedere.nodes._registry import (
     NodeSpec,
-    ParamLookup,
     Session,
     Starter,
     TransformClaim,
+    frame_claim,
     stopping_on_bad_values,
 )
-from belvedere.nodes._slam import Processed, planar, stamp_ns
+from belvedere.nodes._slam import Processed
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster
 
 __all__ = [
@@ -168,17 +168,8 @@ class GMappingCore:
         odom = planar(buffer.lookup_transform(self.odom_frame, self.base_frame, stamp))
         if self.slam is None:
             frame = scan.header.frame_id
-            try:
-                base_laser = buffer.lookup_transform(self.base_frame, frame, stamp)
-            except TFError:
-                base_laser = buffer.lookup_transform(self.base_frame, frame, 0)
-            mount = pose_problem([*base_laser.translation, *base_laser.quat_xyzw])
-            if mount is not None:
-                why, pose = mount
-                self.tally.add(
-                    "skipped {count}: the laser's mount on the base is " + why,
-                    first=f"{stamp / NS:.3f} s: {pose}",
-                )
+            base_laser = usable_mount(buffer, self.base_frame, frame, stamp, self.tally)
+            if base_laser is None:
                 return None
             laser = laser_geometry(scan, base_laser, self.params.maxRange)
             self.slam = SubmapSlam(laser, self.params, self.tuning, tally=self.tally)
@@ -223,10 +214,6 @@ class GMappingCore:
         )
 
 
-def _quat(yaw: float) -> tuple[float, float, float, float]:
-    return (0.0, 0.0, math.sin(yaw / 2.0), math.cos(yaw / 2.0))
-
-
 class _GMappingNode:
     def __init__(self, node: Node) -> None:
         self.node = node
@@ -247,8 +234,7 @@ class _GMappingNode:
         )
         node.service("dynamic_map", "nav_msgs/GetMap", self._on_get_map)
         self.pending: deque[Any] = deque()
-        node.subscribe("/tf", "tf2_msgs/TFMessage", self._on_tf, queue_size=100)
-        node.subscribe("/tf_static", "tf2_msgs/TFMessage", self._on_tf_static, queue_size=100)
+        listen_then(node, self.buffer, self._drain)
         node.subscribe("scan", "sensor_msgs/LaserScan", self._on_scan, queue_size=5)
         self.map_msg: Any = None
         self._warned: set[str] = set()
@@ -260,14 +246,6 @@ class _GMappingNode:
         if key not in self._warned:
             self._warned.add(key)
             logger.warning("%s: %s", self.node.full_name, text)
-
-    def _on_tf(self, msg: Any) -> None:
-        self.buffer.set_message(msg)
-        self._drain()
-
-    def _on_tf_static(self, msg: Any) -> None:
-        self.buffer.set_message(msg, static=True)
-        self._drain()
 
     def _on_scan(self, msg: Any) -> None:
         if self._failed or not self.core.wanted():
@@ -313,7 +291,7 @@ class _GMappingNode:
         x, y, yaw = (float(v) for v in self.core.map_to_odom())
         stamp = self.node.now_ns() + round(self.tf_delay * NS)
         self.broadcaster.send(
-            self.core.map_frame, self.core.odom_frame, (x, y, 0.0), _quat(yaw), stamp
+            self.core.map_frame, self.core.odom_frame, (x, y, 0.0), yaw_quat(yaw), stamp
         )
 
     def _on_get_map(self, request: Any) -> Any:
@@ -321,17 +299,6 @@ class _GMappingNode:
         if self.map_msg is None:
             raise ServiceFailedError(self.node.resolve("dynamic_map"), "no map yet")
         return types().cls("nav_msgs/srv/GetMap_Response")(self.map_msg)
-
-
-def _claim(spec: NodeSpec, param: ParamLookup) -> list[tuple[str, str]]:
-    del spec
-    defaults = NODE_PARAMETERS
-    return [
-        (
-            str(param("map_frame", defaults["map_frame"])),
-            str(param("odom_frame", defaults["odom_frame"])),
-        )
-    ]
 
 
 def _start(session: Session, spec: NodeSpec, node: Node) -> None:
@@ -348,4 +315,6 @@ def _start(session: Session, spec: NodeSpec, node: Node) -> None:
 EXECUTABLES: dict[str, Starter] = {"slam_gmapping": stopping_on_bad_values(_start)}
 JOINING = frozenset(EXECUTABLES)
 """A client of the graph: ``run`` starts it on the graph that runs, as rosrun joins the master."""
-TRANSFORMS: dict[str, TransformClaim] = {"slam_gmapping": _claim}
+TRANSFORMS: dict[str, TransformClaim] = {
+    "slam_gmapping": frame_claim(NODE_PARAMETERS, "map_frame", "odom_frame")
+}

@@ -16,7 +16,6 @@ dropped; ``~map_size`` squared may not pass ``GRID_CELLS``. Each cause is one co
 from __future__ import annotations
 
 import logging
-import math
 from collections.abc import Mapping
 from typing import Any
 
@@ -27,8 +26,9 @@ from belvedere.bounded import GRID_CELLS
 from belvedere.graph import NS, Node
 from belvedere.maps import OccupancyMap, grid_message
 from belvedere.msgs import types
-from belvedere.nav._input import Tally, grid_reach, laser_scan_problem, pose_problem
+from belvedere.nav._input import Tally, grid_reach, laser_scan_problem
 from belvedere.nav.slam import HectorParams, HectorSlam
+from belvedere.nodes._planar import planar, stamp_ns, usable_mount, yaw_quat
 from belvedere.nodes._registry import (
     NodeSpec,
     ParamLookup,
@@ -36,7 +36,7 @@ from belvedere.nodes._registry import (
     TransformClaim,
     stopping_on_bad_values,
 )
-from belvedere.nodes._slam import Processed, planar, stamp_ns
+from belvedere.nodes._slam import Processed
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster, TransformListener
 
 __all__ = ["EXECUTABLES", "JOINING", "PACKAGE", "PARAMETERS", "TRANSFORMS", "HectorCore"]
@@ -152,17 +152,8 @@ class HectorCore:
         frame = scan.header.frame_id
         if self.tally.refused(laser_scan_problem(scan), at=f"{stamp / NS:.3f} s"):
             return None
-        try:
-            laser = buffer.lookup_transform(self.base_frame, frame, stamp)
-        except TFError:
-            laser = buffer.lookup_transform(self.base_frame, frame, 0)
-        mount = pose_problem([*laser.translation, *laser.quat_xyzw])
-        if mount is not None:
-            why, where = mount
-            self.tally.add(
-                "skipped {count}: the laser's mount on the base is " + why,
-                first=f"{stamp / NS:.3f} s: {where}",
-            )
+        laser = usable_mount(buffer, self.base_frame, frame, stamp, self.tally)
+        if laser is None:
             return None
         ranges = np.asarray(scan.ranges, dtype=np.float64)
         nan = int(np.count_nonzero(np.isnan(ranges)))
@@ -313,10 +304,7 @@ def _stamp(ns: int) -> dict[str, int]:
 
 
 def _planar(pose: npt.NDArray[np.float64]) -> Transform:
-    yaw = float(pose[2])
-    return Transform(
-        (float(pose[0]), float(pose[1]), 0.0), (0.0, 0.0, math.sin(yaw / 2), math.cos(yaw / 2))
-    )
+    return Transform((float(pose[0]), float(pose[1]), 0.0), yaw_quat(float(pose[2])))
 
 
 def _scan_points(

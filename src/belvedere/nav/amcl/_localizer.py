@@ -26,6 +26,8 @@ __all__ = ["AmclParams", "Estimate", "Localizer", "Step"]
 
 Floats = npt.NDArray[np.float64]
 
+_LASER = LaserParams()
+
 
 @dataclass(frozen=True)
 class AmclParams:
@@ -49,19 +51,20 @@ class AmclParams:
     initial_cov_aa: float = (math.pi / 12.0) ** 2
     laser_min_range: float = -1.0
     laser_max_range: float = -1.0
-    laser_max_beams: int = 30
-    laser_model_type: str = "likelihood_field"
-    laser_z_hit: float = 0.95
-    laser_z_short: float = 0.1
-    laser_z_max: float = 0.05
-    laser_z_rand: float = 0.05
-    laser_sigma_hit: float = 0.2
-    laser_lambda_short: float = 0.1
-    laser_likelihood_max_dist: float = 2.0
-    do_beamskip: bool = False
-    beam_skip_distance: float = 0.5
-    beam_skip_threshold: float = 0.3
-    beam_skip_error_threshold: float = 0.9
+    # the laser model's defaults are amcl's too: they are kept once, in LaserParams
+    laser_max_beams: int = _LASER.max_beams
+    laser_model_type: str = _LASER.model
+    laser_z_hit: float = _LASER.z_hit
+    laser_z_short: float = _LASER.z_short
+    laser_z_max: float = _LASER.z_max
+    laser_z_rand: float = _LASER.z_rand
+    laser_sigma_hit: float = _LASER.sigma_hit
+    laser_lambda_short: float = _LASER.lambda_short
+    laser_likelihood_max_dist: float = _LASER.likelihood_max_dist
+    do_beamskip: bool = _LASER.do_beamskip
+    beam_skip_distance: float = _LASER.beam_skip_distance
+    beam_skip_threshold: float = _LASER.beam_skip_threshold
+    beam_skip_error_threshold: float = _LASER.beam_skip_error_threshold
     odom_model_type: str = "diff"
     odom_alpha1: float = 0.2
     odom_alpha2: float = 0.2

@@ -18,6 +18,7 @@ __all__ = [
     "angle_diff",
     "as_path",
     "sign",
+    "slowed",
     "stopped",
 ]
 
@@ -104,3 +105,16 @@ def stopped(velocity: tuple[float, float, float], rot_stopped: float, trans_stop
 def sign(value: float) -> float:
     """-1 for negative values, else 1 (as base_local_planner's sign, so 0 counts as positive)."""
     return -1.0 if value < 0 else 1.0
+
+
+def slowed(
+    velocity: tuple[float, float, float], acc_lim: tuple[float, float, float], period: float
+) -> tuple[float, float, float]:
+    """Each component brought towards zero by its acceleration limit over one controller
+    period, never past it (base_local_planner's stopWithAccLimits)."""
+    vx, vy, vth = velocity
+    return (
+        sign(vx) * max(0.0, abs(vx) - acc_lim[0] * period),
+        sign(vy) * max(0.0, abs(vy) - acc_lim[1] * period),
+        sign(vth) * max(0.0, abs(vth) - acc_lim[2] * period),
+    )

@@ -29,12 +29,13 @@ from belvedere.nav.local._base import (
     NoTrajectoryError,
     angle_diff,
     as_path,
-    sign,
+    slowed,
     stopped,
 )
 from belvedere.nav.local._maps import (
     DistanceMap,
     FootprintModel,
+    clipped_cells,
     follow_plan,
     footprint_model,
     plan_cells,
@@ -336,18 +337,14 @@ class DWAPlannerROS:
         bad = np.zeros(count, dtype=bool)
         bad |= self._oscillation.barred(velocities)
 
-        def cells(x: Floats, y: Floats) -> tuple[Floats, Floats, Bools]:
-            i = np.floor((x - grid.origin_x) / res).astype(np.intp)
-            j = np.floor((y - grid.origin_y) / res).astype(np.intp)
-            inside = (i >= 0) & (i < grid.width) & (j >= 0) & (j < grid.height)
-            return np.clip(i, 0, grid.width - 1), np.clip(j, 0, grid.height - 1), inside
-
-        ic, jc, inside = cells(r.x, r.y)
+        ic, jc, inside = clipped_cells(grid, r.x, r.y)
 
         def grid_cost(dmap: DistanceMap, shift: float, stop_on_failure: bool) -> Floats:
             nonlocal bad
             if shift:
-                i2, j2, ins = cells(r.x + shift * np.cos(r.yaw), r.y + shift * np.sin(r.yaw))
+                i2, j2, ins = clipped_cells(
+                    grid, r.x + shift * np.cos(r.yaw), r.y + shift * np.sin(r.yaw)
+                )
             else:
                 i2, j2, ins = ic, jc, inside
             values = dmap.dist[j2, i2]
@@ -416,11 +413,7 @@ class DWAPlannerROS:
         if not self._rotating_to_goal and not stopped(
             vel, p.theta_stopped_vel, p.trans_stopped_vel
         ):
-            cmd = (
-                sign(vel[0]) * max(0.0, abs(vel[0]) - p.acc_lim_x * period),
-                sign(vel[1]) * max(0.0, abs(vel[1]) - p.acc_lim_y * period),
-                sign(vel[2]) * max(0.0, abs(vel[2]) - p.acc_lim_theta * period),
-            )
+            cmd = slowed(vel, (p.acc_lim_x, p.acc_lim_y, p.acc_lim_theta), period)
             if not self._valid(cycle, pose, vel, cmd):
                 message = "DWAPlannerROS: cannot slow down at the goal without a collision"
                 raise NoTrajectoryError(message)

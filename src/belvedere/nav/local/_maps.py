@@ -21,7 +21,9 @@ from belvedere.nav.local._base import NoTrajectoryError
 __all__ = [
     "DistanceMap",
     "FootprintModel",
+    "clipped_cells",
     "filled_footprint_cells",
+    "grid_cells",
     "plan_in_window",
     "prune_plan",
     "wavefront",
@@ -89,12 +91,24 @@ def _densify(points: Floats, step: float) -> Floats:
     return np.vstack([dense, points[-1:]])
 
 
-def _cells_of(grid: CostGrid, xy: Floats) -> tuple[Ints, Ints, Bools]:
-    """(column, row, inside) of world points (any leading shape)."""
-    i = np.floor((xy[..., 0] - grid.origin_x) / grid.resolution).astype(np.intp)
-    j = np.floor((xy[..., 1] - grid.origin_y) / grid.resolution).astype(np.intp)
+def grid_cells(grid: CostGrid, x: Floats, y: Floats) -> tuple[Ints, Ints, Bools]:
+    """(column, row, inside) of world points (arrays of any one shape)."""
+    i = np.floor((x - grid.origin_x) / grid.resolution).astype(np.intp)
+    j = np.floor((y - grid.origin_y) / grid.resolution).astype(np.intp)
     inside = (i >= 0) & (i < grid.width) & (j >= 0) & (j < grid.height)
     return i, j, inside
+
+
+def clipped_cells(grid: CostGrid, x: Floats, y: Floats) -> tuple[Ints, Ints, Bools]:
+    """:func:`grid_cells` with points off the grid moved to its edge, so that every cell
+    can be looked up (``inside`` says which were off)."""
+    i, j, inside = grid_cells(grid, x, y)
+    return np.clip(i, 0, grid.width - 1), np.clip(j, 0, grid.height - 1), inside
+
+
+def _cells_of(grid: CostGrid, xy: Floats) -> tuple[Ints, Ints, Bools]:
+    """(column, row, inside) of world points (any leading shape)."""
+    return grid_cells(grid, xy[..., 0], xy[..., 1])
 
 
 def plan_cells(grid: CostGrid, plan_xy: Floats) -> tuple[Ints, Ints]:

@@ -57,6 +57,26 @@ def _at_least(name: str, value: float, low: float) -> None:
         raise ValueError(message)
 
 
+def _check_shared(params: TrajectoryPlannerParams | DWAPlannerParams, *axes: str) -> None:
+    """The checks both planners make: positive simulation steps, limits and tolerances not
+    negative, and for each of ``axes`` ``max_vel_<axis>`` not below ``min_vel_<axis>``."""
+    for name in ("sim_time", "sim_granularity", "angular_sim_granularity"):
+        if getattr(params, name) <= 0:
+            message = f"parameter {name} must be positive, got {getattr(params, name):g}"
+            raise ValueError(message)
+    for name in ("acc_lim_x", "acc_lim_y", "acc_lim_theta", "xy_goal_tolerance"):
+        _at_least(name, getattr(params, name), 0.0)
+    _at_least("yaw_goal_tolerance", params.yaw_goal_tolerance, 0.0)
+    for axis in axes:
+        high, low = getattr(params, f"max_vel_{axis}"), getattr(params, f"min_vel_{axis}")
+        if high < low:
+            message = (
+                f"parameters max_vel_{axis} ({high:g}) and min_vel_{axis} ({low:g}): "
+                "the maximum is below the minimum"
+            )
+            raise ValueError(message)
+
+
 @dataclass(frozen=True)
 class TrajectoryPlannerParams:
     """``base_local_planner/TrajectoryPlannerROS``'s parameters (ROS defaults)."""
@@ -123,25 +143,7 @@ class TrajectoryPlannerParams:
 
     def check(self) -> None:
         """Raise ``ValueError`` for values the planner cannot work with."""
-        for name in ("sim_time", "sim_granularity", "angular_sim_granularity"):
-            if getattr(self, name) <= 0:
-                message = f"parameter {name} must be positive, got {getattr(self, name):g}"
-                raise ValueError(message)
-        for name in ("acc_lim_x", "acc_lim_y", "acc_lim_theta", "xy_goal_tolerance"):
-            _at_least(name, getattr(self, name), 0.0)
-        _at_least("yaw_goal_tolerance", self.yaw_goal_tolerance, 0.0)
-        if self.max_vel_x < self.min_vel_x:
-            message = (
-                f"parameters max_vel_x ({self.max_vel_x:g}) and min_vel_x "
-                f"({self.min_vel_x:g}): the maximum is below the minimum"
-            )
-            raise ValueError(message)
-        if self.max_vel_theta < self.min_vel_theta:
-            message = (
-                f"parameters max_vel_theta ({self.max_vel_theta:g}) and min_vel_theta "
-                f"({self.min_vel_theta:g}): the maximum is below the minimum"
-            )
-            raise ValueError(message)
+        _check_shared(self, "x", "theta")
 
 
 @dataclass(frozen=True)
@@ -204,18 +206,5 @@ class DWAPlannerParams:
 
     def check(self) -> None:
         """Raise ``ValueError`` for values the planner cannot work with."""
-        for name in ("sim_time", "sim_granularity", "angular_sim_granularity"):
-            if getattr(self, name) <= 0:
-                message = f"parameter {name} must be positive, got {getattr(self, name):g}"
-                raise ValueError(message)
-        for name in ("acc_lim_x", "acc_lim_y", "acc_lim_theta", "xy_goal_tolerance"):
-            _at_least(name, getattr(self, name), 0.0)
-        _at_least("yaw_goal_tolerance", self.yaw_goal_tolerance, 0.0)
-        for axis in ("x", "y"):
-            high, low = getattr(self, f"max_vel_{axis}"), getattr(self, f"min_vel_{axis}")
-            if high < low:
-                message = (
-                    f"parameters max_vel_{axis} ({high:g}) and min_vel_{axis} ({low:g}): "
-                    "the maximum is below the minimum"
-                )
-                raise ValueError(message)
+        # min_vel_theta is the least |rotation| here, not the bottom of a range
+        _check_shared(self, "x", "y")

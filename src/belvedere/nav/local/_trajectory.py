@@ -29,14 +29,17 @@ from belvedere.nav.local._base import (
     angle_diff,
     as_path,
     sign,
+    slowed,
     stopped,
 )
 from belvedere.nav.local._maps import (
     DistanceMap,
     FootprintModel,
+    clipped_cells,
     filled_footprint_cells,
     follow_plan,
     footprint_model,
+    grid_cells,
     plan_cells,
     used_points_cost,
     wavefront,
@@ -184,12 +187,7 @@ class TrajectoryPlannerROS:
         whichever its earliest bad point shows."""
         p = self._params
         grid = cycle.grid
-        res = grid.resolution
-        i = np.floor((r.x - grid.origin_x) / res).astype(np.intp)
-        j = np.floor((r.y - grid.origin_y) / res).astype(np.intp)
-        inside = (i >= 0) & (i < grid.width) & (j >= 0) & (j < grid.height)
-        ic = np.clip(i, 0, grid.width - 1)
-        jc = np.clip(j, 0, grid.height - 1)
+        ic, jc, inside = clipped_cells(grid, r.x, r.y)
         centre = grid.costs[jc, ic].astype(np.float64)
         count = len(r.samples)
         if p.simple_attractor:
@@ -258,10 +256,7 @@ class TrajectoryPlannerROS:
         here = grid.world_to_map(x, y)
         if here is None:
             return math.inf
-        res = grid.resolution
-        pi = np.floor((cycle.plan[:, 0] - grid.origin_x) / res).astype(np.intp)
-        pj = np.floor((cycle.plan[:, 1] - grid.origin_y) / res).astype(np.intp)
-        inside = (pi >= 0) & (pi < grid.width) & (pj >= 0) & (pj < grid.height)
+        pi, pj, inside = grid_cells(grid, cycle.plan[:, 0], cycle.plan[:, 1])
         pi, pj = pi[inside], pj[inside]
         if len(pi) == 0:
             return math.inf
@@ -453,11 +448,7 @@ class TrajectoryPlannerROS:
             return Command(0.0, 0.0, 0.0)
         if not self._rotating_to_goal and not stopped(vel, _STOPPED, _STOPPED):
             period = p.sim_period
-            cmd = (
-                sign(vel[0]) * max(0.0, abs(vel[0]) - p.acc_lim_x * period),
-                sign(vel[1]) * max(0.0, abs(vel[1]) - p.acc_lim_y * period),
-                sign(vel[2]) * max(0.0, abs(vel[2]) - p.acc_lim_theta * period),
-            )
+            cmd = slowed(vel, (p.acc_lim_x, p.acc_lim_y, p.acc_lim_theta), period)
             if not self._valid(cycle, pose, vel, cmd):
                 message = "TrajectoryPlannerROS: cannot slow down at the goal without a collision"
                 raise NoTrajectoryError(message)

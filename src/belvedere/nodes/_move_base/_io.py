@@ -15,6 +15,7 @@ from belvedere.msgs import build, message_from_data, types
 from belvedere.nav.planners import NoPathError
 from belvedere.nodes._costmap import Costmap2DROS
 from belvedere.nodes._move_base._params import MoveBaseParams
+from belvedere.nodes._planar import yaw_of
 from belvedere.tf import TFBuffer, TFError
 
 __all__ = ["Floats", "NodeIO"]
@@ -30,10 +31,6 @@ def _pose_data(x: float, y: float, yaw: float) -> dict[str, Any]:
         "position": {"x": float(x), "y": float(y), "z": 0.0},
         "orientation": {"z": math.sin(yaw / 2), "w": math.cos(yaw / 2)},
     }
-
-
-def _yaw(q: Any) -> float:
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
 
 
 def _transform(poses: Floats, transform: tuple[float, float, float]) -> npt.NDArray[np.float64]:
@@ -79,7 +76,7 @@ class NodeIO:
         if abs(math.sqrt(q.x**2 + q.y**2 + q.z**2 + q.w**2) - 1.0) > 0.01:
             self._warn_once("quat", "a goal whose orientation is not a unit quaternion was refused")
             return None
-        pose: Floats = np.array([[p.x, p.y, _yaw(q)]], dtype=np.float64)
+        pose: Floats = np.array([[p.x, p.y, yaw_of((q.x, q.y, q.z, q.w))]], dtype=np.float64)
         if frame == self.global_costmap.global_frame:
             same: Floats = pose[0].copy()
             return same
@@ -95,9 +92,7 @@ class NodeIO:
         except TFError as err:
             self._warn_once(f"tf {target} {source}", err.message)
             return None
-        x, y, z, w = q
-        yaw = math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
-        return (float(t[0]), float(t[1]), yaw)
+        return (float(t[0]), float(t[1]), yaw_of(q))
 
     # --- outputs -------------------------------------------------------------------------------
     def _send(self, vx: float, vy: float, vth: float) -> None:
