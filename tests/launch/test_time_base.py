@@ -29,12 +29,11 @@ BELVEDERE = [sys.executable, "-m", "belvedere", "--package-path", str(EXAMPLES)]
 FAKE_TURTLEBOT = ["rbx1_bringup", "fake_turtlebot.launch"]
 MBOT_ARBOTIX = ["mbot_description", "arbotix_mbot_with_laser_xacro.launch"]
 
-ODOM_PERIOD = 0.05
-"""The ArbotiX fakes publish /odom (and odom -> base_footprint) at 20 Hz."""
-DISPLAY_PERIOD = 0.1
-"""joint_state_publisher publishes /joint_states (and robot_state_publisher /tf) at 10 Hz."""
-CLOCK_PERIOD = 0.01
-"""A simulation announces its time at 100 Hz: a receiver's now() is that far behind at most."""
+SAME_BASE = 1.0
+"""How far a receiver's now() may be from a message's stamp when both keep one time base.
+On an idle machine it is one update (0.05 s for /odom, 0.1 s for /joint_states) and one
+/clock tick (0.01 s); on a busy one a message or a /clock tick arrives late, so the
+tests allow a second. A wrong base is off by the epoch (1.8e9 s) or by the run's age."""
 
 STAMPS_SCRIPT = """\
 import sys
@@ -180,9 +179,7 @@ def test_fake_turtlebot_and_move_base_in_two_terminals(endpoint: str, tmp_path: 
             # the tools, each in a process of its own, in the simulation's time
             echo = tool("topic", "echo", "--offset", "-n", "5", "/odom")
             assert echo.returncode == 0, echo.stderr
-            assert all(abs(o) <= ODOM_PERIOD + CLOCK_PERIOD for o in offsets(echo.stdout, 5)), (
-                echo.stdout
-            )
+            assert all(abs(o) <= SAME_BASE for o in offsets(echo.stdout, 5)), echo.stdout
             tf = tool("tf", "echo", "map", "base_footprint", "-n", "1")
             x, y = (float(v) for v in re.findall(r"Translation: \[(\S+), (\S+),", tf.stdout)[0])
             assert math.hypot(x - 1.0, y - 0.5) < 0.25, tf.stdout + tf.stderr
@@ -203,7 +200,7 @@ def test_fake_turtlebot_and_move_base_in_two_terminals(endpoint: str, tmp_path: 
     ), sim_log
     assert sim_log.count("/use_sim_time false is not used") == 1
     assert "transform timeout" not in nav_log, nav_log[-2000:]
-    assert probe.worst_lag() <= ODOM_PERIOD + CLOCK_PERIOD
+    assert probe.worst_lag() <= SAME_BASE
     # rosbag's time of each message is the simulation's, as is its header's stamp
     opened = open_bag(bag)
     try:
@@ -213,7 +210,7 @@ def test_fake_turtlebot_and_move_base_in_two_terminals(endpoint: str, tmp_path: 
         opened.close()
     assert records
     for stamp_ns, header in records:
-        assert abs(stamp_ns - (header.sec * NS + header.nanosec)) / NS <= ODOM_PERIOD + CLOCK_PERIOD
+        assert abs(stamp_ns - (header.sec * NS + header.nanosec)) / NS <= SAME_BASE
 
 
 FAKE_NAV_DEMO = """\
@@ -270,9 +267,9 @@ def test_mbot_arbotix_and_a_nav_demo_in_two_terminals(endpoint: str, tmp_path: P
     assert set(seen) == {"/odom", "/joint_states", "/tf"}, stamps.stdout
     for topic, (count, least, most) in seen.items():
         assert count > 0
-        # the stamp is this process's now(), give or take one update and one /clock tick
-        assert -CLOCK_PERIOD <= least <= most <= ODOM_PERIOD + CLOCK_PERIOD, (topic, least, most)
-    assert probe.worst_lag() <= ODOM_PERIOD + CLOCK_PERIOD
+        # the stamp is this process's now(), give or take a late message (SAME_BASE)
+        assert -SAME_BASE <= least <= most <= SAME_BASE, (topic, least, most)
+    assert probe.worst_lag() <= SAME_BASE
     said = nav_log.read_text()
     assert re.search(
         r"fake_nav_demo\.launch:3:\d+: /use_sim_time false is not used: the running graph "
@@ -324,7 +321,7 @@ def test_a_plain_launch_and_a_script_first_graph(endpoint: str, tmp_path: Path) 
         echo = tool("topic", "echo", "--offset", "-n", "3", "/joint_states")
     assert "use_sim_time True" in stamps.stdout, stamps.stdout + stamps.stderr
     assert echo.returncode == 0, echo.stderr
-    assert all(abs(o) <= DISPLAY_PERIOD for o in offsets(echo.stdout, 3)), echo.stdout
+    assert all(abs(o) <= SAME_BASE for o in offsets(echo.stdout, 3)), echo.stdout
     checks = [(stamps.stdout, True)]
     # the script first: it provides the graph, on the wall clock; the same launch joins it
     script_log = tmp_path / "script.log"
@@ -334,14 +331,14 @@ def test_a_plain_launch_and_a_script_first_graph(endpoint: str, tmp_path: Path) 
             wait_until(lambda: script.poll() is not None, what="the script's end")
             echo = tool("topic", "echo", "--offset", "-n", "3", "/joint_states")
     assert echo.returncode == 0, echo.stderr
-    assert all(abs(o) <= DISPLAY_PERIOD for o in offsets(echo.stdout, 3)), echo.stdout
+    assert all(abs(o) <= SAME_BASE for o in offsets(echo.stdout, 3)), echo.stdout
     checks.append((script_log.read_text(), False))
     for output, simulated in checks:
         seen = lags(output)
         assert set(seen) == {"/joint_states", "/tf"}, output
         for topic, (count, least, most) in seen.items():
             assert count > 0
-            assert -CLOCK_PERIOD <= least <= most <= DISPLAY_PERIOD, (simulated, topic, least, most)
+            assert -SAME_BASE <= least <= most <= SAME_BASE, (simulated, topic, least, most)
 
 
 def test_mapping_while_navigating_in_three_terminals(endpoint: str, tmp_path: Path) -> None:
@@ -374,4 +371,4 @@ def test_mapping_while_navigating_in_three_terminals(endpoint: str, tmp_path: Pa
     assert "transform timeout" not in slam_log, slam_log[-2000:]
     grid = load_map(tmp_path / "explored.yaml")
     assert int((grid.data == OCCUPIED).sum()) > 100  # the cloister's walls, mapped
-    assert probe.worst_lag() <= ODOM_PERIOD + CLOCK_PERIOD
+    assert probe.worst_lag() <= SAME_BASE
