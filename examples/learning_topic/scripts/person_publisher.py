@@ -21,7 +21,7 @@ def person_publisher():
 
 
 if __name__ == "__main__":
-    try:  # noqa: SIM105 (the shape of rospy's tutorials)
+    try:
         person_publisher()
     except rospy.ROSInterruptException:
         pass

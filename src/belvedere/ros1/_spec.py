@@ -112,6 +112,7 @@ def store_name(name: str) -> str:
     if name in fielddefs:
         return name
     pkg, _, base = name.partition("/")
+    types().learn(pkg)  # a package of the user's, read when first named
     if "/" not in base:
         for suffix in ("Request", "Response"):
             candidate = f"{pkg}/srv/{base.removesuffix(suffix)}_{suffix}"
