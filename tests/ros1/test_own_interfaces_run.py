@@ -46,7 +46,8 @@ class Running:
         def seen() -> str | None:
             return next((line for line in self.lines if text in line), None)
 
-        return wait_until(seen, what=f"{text!r} in the output", detail=lambda: self.lines[-5:])
+        line: str = wait_until(seen, what=f"{text!r} in the output", detail=lambda: self.lines[-5:])
+        return line
 
     def stop(self) -> None:
         if self.process.poll() is None:
