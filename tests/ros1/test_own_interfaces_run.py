@@ -43,11 +43,10 @@ class Running:
             self.lines.append(line.rstrip("\n"))
 
     def wait_for(self, text: str) -> str:
-        def seen() -> str | None:
-            return next((line for line in self.lines if text in line), None)
+        def seen() -> str:
+            return next((line for line in self.lines if text in line), "")
 
-        line: str = wait_until(seen, what=f"{text!r} in the output", detail=lambda: self.lines[-5:])
-        return line
+        return wait_until(seen, what=f"{text!r} in the output", detail=lambda: self.lines[-5:])
 
     def stop(self) -> None:
         if self.process.poll() is None:
