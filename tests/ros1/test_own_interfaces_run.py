@@ -70,6 +70,14 @@ def _env(package_path: Path | None) -> dict[str, str]:
     return env
 
 
+def _finished(argv: list[str], *, cwd: Path, env: dict[str, str]) -> str:
+    """The output of a command that must succeed."""
+    done = subprocess.run(
+        argv, cwd=cwd, env=env, capture_output=True, text=True, timeout=DEADLINE, check=True
+    )
+    return done.stdout
+
+
 def test_person_publisher_and_subscriber(processes: list[Running], tmp_path: Path) -> None:
     """As after sourcing the workspace: ROS_PACKAGE_PATH names it; run from elsewhere."""
     env = _env(EXAMPLES)
@@ -79,16 +87,12 @@ def test_person_publisher_and_subscriber(processes: list[Running], tmp_path: Pat
         processes[-1].wait_for("Person Info: name:Tom")  # (the first provides the graph)
     processes[1].wait_for("Subscribe Person Info: name:Tom  age:18  sex:male")
     # another terminal's tool, in the package's directory with nothing sourced
-    echo = subprocess.run(
+    echo = _finished(
         [*BELVEDERE, "topic", "echo", "/person_info", "-n", "1"],
         cwd=EXAMPLES / "learning_topic",
         env=_env(None),
-        capture_output=True,
-        text=True,
-        timeout=DEADLINE,
-        check=True,
     )
-    assert 'name: "Tom"\nage: 18\nsex: 1\n---' in echo.stdout
+    assert 'name: "Tom"\nage: 18\nsex: 1\n---' in echo
 
 
 def test_person_server_and_client(processes: list[Running], tmp_path: Path) -> None:
@@ -100,27 +104,17 @@ def test_person_server_and_client(processes: list[Running], tmp_path: Path) -> N
     )
     processes.append(server)
     server.wait_for("Ready to show person information.")
-    client = subprocess.run(
-        [*BELVEDERE, "run", "--headless", str(home / "person_client.py")],
-        cwd=tmp_path,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=DEADLINE,
-        check=True,
+    client = _finished(
+        [*BELVEDERE, "run", "--headless", str(home / "person_client.py")], cwd=tmp_path, env=env
     )
-    assert "Show person result : OK" in client.stdout
+    assert "Show person result : OK" in client
     server.wait_for("Person: name:Tom  age:20  sex:1")
-    call = subprocess.run(
+    call = _finished(
         [*BELVEDERE, "service", "call", "/show_person", "{name: Ann, age: 3, sex: 2}"],
         cwd=EXAMPLES / "learning_service",
         env=env,
-        capture_output=True,
-        text=True,
-        timeout=DEADLINE,
-        check=True,
     )
-    assert 'result: "OK"' in call.stdout
+    assert 'result: "OK"' in call
     server.wait_for("Person: name:Ann  age:3  sex:2")
 
 
@@ -132,16 +126,10 @@ def test_do_dishes_action(processes: list[Running], tmp_path: Path) -> None:
     )
     processes.append(server)
     server.wait_for("listening")  # the graph it provides, before a client joins it
-    client = subprocess.run(
-        [*BELVEDERE, "run", "--headless", str(home / "do_dishes_client.py")],
-        cwd=tmp_path,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=DEADLINE,
-        check=True,
+    client = _finished(
+        [*BELVEDERE, "run", "--headless", str(home / "do_dishes_client.py")], cwd=tmp_path, env=env
     )
-    feedback = [line for line in client.stdout.splitlines() if line.startswith("Percent")]
+    feedback = [line for line in client.splitlines() if line.startswith("Percent")]
     assert feedback == [f"Percent complete: {p:.1f}%" for p in (20, 40, 60, 80, 100)]
-    assert "Result: 10 dishes cleaned" in client.stdout
+    assert "Result: 10 dishes cleaned" in client
     server.wait_for("Dishwasher 1 finished working.")
