@@ -9,9 +9,11 @@ from __future__ import annotations
 
 import difflib
 import struct
-from collections.abc import Iterator
+import threading
+from collections.abc import Iterable, Iterator
 from dataclasses import replace
 from functools import cache
+from pathlib import Path
 from typing import Any, Final
 
 import numpy as np
@@ -20,12 +22,11 @@ from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from rosbags.typesys.store import Typestore
 
 from belvedere.errors import BelvedereError
+from belvedere.msgs._genmsg import PLACEHOLDER, Definition, typedef
+from belvedere.msgs._packages import PackageInterfaces
 
 __all__ = ["PLACEHOLDER", "MessageTypeError", "TypeRegistry", "types"]
 
-PLACEHOLDER: Final = "structure_needs_at_least_one_member"
-"""The member rosbags' store gives a message type without fields (ROS 2's IDL needs one;
-ROS 1 has none): never shown, never asked for."""
 
 # Standard ROS types missing from rosbags' Noetic store, in .msg syntax (types, not code).
 _EXTRA_MESSAGES: Final = {
@@ -217,6 +218,37 @@ class TypeRegistry:
                 extra[f"{name}{suffix}"] = fielddef
         self.store.register(extra)
         self.services = frozenset(_EXTRA_SERVICES)
+        self.own = PackageInterfaces()
+        """The packages on the package path: their msg/, srv/ and action/ files."""
+        self.definitions: dict[str, Definition] = {}
+        """The types read from those files, by store name (their text as written)."""
+        self._asked: set[str] = set()
+        self._learning = threading.RLock()
+
+    # --- the user's own packages -------------------------------------------------------------
+    def add_package_path(self, dirs: Iterable[Path]) -> None:
+        """Look for packages' own types in ``dirs`` too (a command's package path)."""
+        with self._learning:
+            self.own.add_path(dirs)
+            # packages not found so far may be on the new path
+            self._asked &= {d.package for d in self.definitions.values()}
+
+    def learn(self, package: str) -> bool:
+        """Read the types of ``package`` (and of the packages they use) from its msg/, srv/
+        and action/ files if not done yet; true if that made new types known. A bad
+        definition is an error at its file and line (asked again, read again)."""
+        with self._learning:
+            if package in self._asked:
+                return False
+            found = self.own.load(package, self.store.fielddefs.__contains__)
+            self._asked.update({package, *found.packages})
+            new = {n: d for n, d in found.definitions.items() if n not in self.store.fielddefs}
+            if not new:
+                return False
+            self.store.register({name: typedef(d) for name, d in new.items()})
+            self.definitions.update(new)
+            self.services = self.services | found.services
+            return True
 
     # --- names ---------------------------------------------------------------------------------
     def message_names(self) -> Iterator[str]:
@@ -227,6 +259,8 @@ class TypeRegistry:
         full = canonical(name)
         if full in self.store.fielddefs:
             return full
+        if self.learn(full.split("/", 1)[0]):
+            return self.resolve(name)
         if "/srv/" in full and full.rsplit("_", 1)[-1] in ("Request", "Response"):
             msg = f"unknown service message type {name!r}"
             raise MessageTypeError(msg)
@@ -243,6 +277,8 @@ class TypeRegistry:
         full = canonical(name, "srv")
         if full in self.services:
             return full
+        if self.learn(full.split("/", 1)[0]):
+            return self.resolve_service(name)
         close = difflib.get_close_matches(full, sorted(self.services), n=3)
         hint = "did you mean " + ", ".join(short(c) for c in close) + "?" if close else None
         msg = (

@@ -24,10 +24,16 @@ __all__ = ["RosModuleFinder", "install", "installed", "packages", "uninstall"]
 _NOT_ROS1 = frozenset({"builtin_interfaces"})
 
 
-@cache
 def packages() -> dict[str, dict[str, tuple[str, ...]]]:
     """``{package: {"msg": names, "srv": names}}`` for what the type store holds (service
-    names without ``Request``/``Response``)."""
+    names without ``Request``/``Response``), the packages read from the package path so far
+    included."""
+    return _packages(len(types().store.fielddefs))
+
+
+@cache
+def _packages(_size: int) -> dict[str, dict[str, tuple[str, ...]]]:
+    """(Made again when the store grows: a package's own types are read when first asked.)"""
     found: dict[str, dict[str, set[str]]] = {}
     for full in types().store.fielddefs:
         pkg, kind, base = full.split("/")
@@ -101,7 +107,9 @@ class RosModuleFinder(importlib.abc.MetaPathFinder):
         parts = fullname.split(".")
         known = packages()
         if parts[0] not in known:
-            return None
+            if len(parts) > 2 or not types().learn(parts[0]):
+                return None
+            known = packages()
         if len(parts) == 1:
             return importlib.machinery.ModuleSpec(fullname, self._loader, is_package=True)
         if len(parts) == 2 and parts[1] in ("msg", "srv") and known[parts[0]][parts[1]]:

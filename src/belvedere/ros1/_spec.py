@@ -112,6 +112,7 @@ def store_name(name: str) -> str:
     if name in fielddefs:
         return name
     pkg, _, base = name.partition("/")
+    types().learn(pkg)  # a package of the user's, read when first named
     if "/" not in base:
         for suffix in ("Request", "Response"):
             candidate = f"{pkg}/srv/{base.removesuffix(suffix)}_{suffix}"
@@ -134,7 +135,11 @@ def message_spec(name: str) -> MessageSpec:
     if [f[0] for f in fielddefs] == [PLACEHOLDER]:
         fielddefs = []  # how the store keeps a message with no fields
     fields: list[FieldSpec] = []
-    md5_lines = [f"{typ} {cname}={_constant_text(typ, value)}" for cname, typ, value in constants]
+    own = types().definitions.get(full)  # a type of the user's: its text and values as written
+    if own is not None:
+        md5_lines = [f"{c.type} {c.name}={c.text}" for c in own.constants]
+    else:
+        md5_lines = [f"{t} {c}={_constant_text(t, value)}" for c, t, value in constants]
     text_lines = list(md5_lines)
     direct: list[str] = []
     for fname, desc in fielddefs:
@@ -180,7 +185,7 @@ def message_spec(name: str) -> MessageSpec:
         fields=tuple(fields),
         md5_text=md5_text,
         md5sum=hashlib.md5(md5_text.encode()).hexdigest(),
-        text="\n".join(text_lines) + "\n",
+        text=own.text if own is not None else "\n".join(text_lines) + "\n",
         dependencies=tuple(deps),
     )
 

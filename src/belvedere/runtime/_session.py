@@ -117,7 +117,10 @@ def run_session(
     ``announce``: roslaunch's way: say each process started, and each node lives and dies
     as roslaunch's processes do (:mod:`belvedere.launch._lifecycle`)."""
     from belvedere.launch._runtime import LaunchRuntime
+    from belvedere.msgs import types
 
+    # the run's own packages' types (--echo, --pub, a bag), as its scripts find them
+    types().add_package_path(packages.search_path)
     if join:
         graph = join_graph(options.address, seed=options.seed, alone=sim_time)
         transport = graph.transport
