@@ -38,6 +38,8 @@ _VERBS = (
     "param",
     "service",
     "node",
+    "msg",
+    "srv",
     "log",
     "tf",
     "bag",
