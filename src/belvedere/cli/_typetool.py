@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from belvedere.ros1._show import Kind, md5_text, package_types, packages, show_text, type_names
+from belvedere.ros1 import Kind, md5_text, package_types, show_text, type_names, type_packages
 
 __all__ = ["add_type_parser"]
 
@@ -50,7 +50,7 @@ def run(args: argparse.Namespace, kind: Kind) -> int:
     elif action == "package":
         out = "\n".join(package_types(kind, args.package)) + "\n"
     elif action == "packages":
-        out = "\n".join(packages(kind)) + "\n"
+        out = "\n".join(type_packages(kind)) + "\n"
     else:
         out = "\n".join(type_names(kind)) + "\n"
     sys.stdout.write(out)

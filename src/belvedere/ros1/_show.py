@@ -10,19 +10,21 @@ full (``std_msgs/Header header`` where the file says ``Header header``).
 
 from __future__ import annotations
 
-import difflib
 from typing import Final, Literal
 
+from belvedere.errors import did_you_mean
 from belvedere.msgs import MessageTypeError, canonical, types
 from belvedere.ros1._spec import MessageSpec, message_spec, ros1_name, service_md5
 
 __all__ = [
     "Kind",
+    "known_type",
     "md5_text",
     "package_types",
-    "packages",
+    "service_args",
     "show_text",
     "type_names",
+    "type_packages",
 ]
 
 Kind = Literal["msg", "srv"]
@@ -39,7 +41,7 @@ def type_names(kind: Kind) -> list[str]:
     return sorted(ros1_name(n) for n in registry.message_names() if n not in _PRIMITIVES)
 
 
-def packages(kind: Kind) -> list[str]:
+def type_packages(kind: Kind) -> list[str]:
     """The packages that hold types of ``kind`` (rosmsg packages)."""
     return sorted({name.partition("/")[0] for name in type_names(kind)})
 
@@ -50,7 +52,7 @@ def package_types(kind: Kind, package: str) -> list[str]:
     found = [name for name in type_names(kind) if name.partition("/")[0] == package]
     if not found:
         msg = f"no {_WORD[kind]} types in package {package!r}"
-        raise MessageTypeError(msg, hint=_did_you_mean(package, packages(kind)))
+        raise MessageTypeError(msg, hint=_did_you_mean(package, type_packages(kind)))
     return found
 
 
@@ -74,14 +76,21 @@ def _lookup(kind: Kind, name: str) -> list[str]:
 _WORD: Final = {"msg": "message", "srv": "service"}
 
 
+def known_type(kind: Kind, name: str) -> str:
+    """``pkg/Type`` of a type the store knows (named in full), or an error with the closest."""
+    found = _lookup(kind, name if "/" in name else f"/{name}")
+    return found[0]
+
+
 def _did_you_mean(name: str, candidates: list[str]) -> str:
     # A type's own name in another package first (geometry_msgs/Header: std_msgs/Header)
     tail = name.rpartition("/")[2].lower()
-    close = [c for c in candidates if "/" in name and c.rpartition("/")[2].lower() == tail][:3]
-    close = close or difflib.get_close_matches(name, candidates, n=3, cutoff=0.6)
-    if close:
-        return "did you mean " + ", ".join(close) + "?"
-    return "see 'belvedere msg list' and 'belvedere srv list'"
+    same = [c for c in candidates if "/" in name and c.rpartition("/")[2].lower() == tail]
+    if same:
+        return "did you mean " + " or ".join(same[:3]) + "?"
+    return did_you_mean(name, candidates, most=3, quote=False) or (
+        "see 'belvedere msg list' and 'belvedere srv list'"
+    )
 
 
 def _spec_lines(spec: MessageSpec, indent: str, raw: bool) -> list[str]:
@@ -130,3 +139,10 @@ def md5_text(kind: Kind, name: str) -> str:
     if "/" in name:
         return md5(found[0]) + "\n"
     return "".join(f"[{full}]: {md5(full)}\n" for full in found)
+
+
+def service_args(service: str) -> list[str]:
+    """The fields of a service's request (rosservice args), by the service's store name
+    (``std_srvs/srv/SetBool``) or ROS 1 name."""
+    spec = message_spec(f"{canonical(service, 'srv')}_Request")
+    return [field.ros_name for field in spec.fields]
