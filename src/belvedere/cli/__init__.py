@@ -40,6 +40,7 @@ _VERBS = (
     "node",
     "msg",
     "srv",
+    "wtf",
     "log",
     "tf",
     "bag",

@@ -15,7 +15,8 @@ same functions.
   a user's script), :func:`install_script` (``--pub``/``--echo``).
 - Beside a graph: :func:`start_bridge` (Foxglove).
 - Asking it (rosnode, rosservice info): :func:`known_node`, :func:`ping_node`,
-  :func:`kill_nodes`, :func:`machines`, :func:`unreachable_nodes`, :func:`offered_service`.
+  :func:`kill_nodes`, :func:`machines`, :func:`unreachable_nodes`, :func:`offered_service`;
+  roswtf's checks, :func:`check_graph`.
 
 Importing this package loads the graph's modules but neither the launch runtime, the nodes
 nor the bridge: those load when a session starts one.
@@ -51,6 +52,7 @@ from belvedere.runtime._session import (
     run_launch,
     run_session,
 )
+from belvedere.runtime._wtf import WtfReport, check_graph
 
 __all__ = [
     "BridgeOptions",
@@ -61,6 +63,8 @@ __all__ = [
     "SessionOptions",
     "Tool",
     "ViewerOptions",
+    "WtfReport",
+    "check_graph",
     "holds_parameters",
     "install_script",
     "join_graph",
