@@ -50,12 +50,12 @@ def scripts(endpoint: str, tmp_path: Path) -> Iterator[dict[str, subprocess.Pope
     script = tmp_path / "node.py"
     script.write_text(SCRIPT)
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    run = [sys.executable, "-m", "belvedere", "run", "-q", "--headless", str(script)]
     procs: dict[str, subprocess.Popen[str]] = {}
     try:
         for role in ("listener", "talker"):
             proc = subprocess.Popen(
-                [sys.executable, "-m", "belvedere", "run", "-q", "--headless", str(script)]
-                + [role, str(tmp_path / f"{role}.done")],
+                [*run, role, str(tmp_path / f"{role}.done")],
                 env=env,
                 stdout=subprocess.PIPE,
                 stderr=subprocess.DEVNULL,
@@ -85,9 +85,7 @@ def test_the_graph_as_rosnode_rostopic_and_rosservice_see_it(
     assert "unknown message type 'std_msgs/Strin'" in err
     assert "did you mean std_msgs/String" in err
     info = _tool(capsys, "service", "info", "/enable")[1]
-    assert info == (
-        "Node: /listener\nURI: bv/231/s/enable\nType: std_srvs/SetBool\nArgs: data\n"
-    )
+    assert info == ("Node: /listener\nURI: bv/231/s/enable\nType: std_srvs/SetBool\nArgs: data\n")
     assert _tool(capsys, "service", "args", "enable")[1] == "data\n"
     assert _tool(capsys, "service", "uri", "/enable")[1] == "bv/231/s/enable\n"
     assert _tool(capsys, "service", "find", "std_srvs/SetBool")[1] == "/enable\n"
