@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import os
 import re
+import signal
 import socket
 import subprocess
 import sys
@@ -60,6 +61,7 @@ def scripts(endpoint: str, tmp_path: Path) -> Iterator[dict[str, subprocess.Pope
                 stdout=subprocess.PIPE,
                 stderr=subprocess.DEVNULL,
                 text=True,
+                start_new_session=True,  # its script's process too is ended below
             )
             procs[role] = proc
             assert proc.stdout is not None
@@ -68,7 +70,7 @@ def scripts(endpoint: str, tmp_path: Path) -> Iterator[dict[str, subprocess.Pope
     finally:
         for proc in procs.values():
             if proc.poll() is None:
-                proc.kill()
+                os.killpg(proc.pid, signal.SIGKILL)
             proc.wait()
 
 
@@ -79,7 +81,7 @@ def test_the_graph_as_rosnode_rostopic_and_rosservice_see_it(
         lambda: _tool(capsys, "node", "list")[1] == "/listener\n/talker\n", what="both nodes"
     )
     assert _tool(capsys, "topic", "find", "std_msgs/String")[1] == "/chatter\n/status\n"
-    assert _tool(capsys, "topic", "find", "geometry_msgs/Twist") == (0, "", "")
+    assert _tool(capsys, "topic", "find", "geometry_msgs/Twist") == (0, "\n", "")
     code, _, err = _tool(capsys, "topic", "find", "std_msgs/Strin")
     assert code == 1
     assert "unknown message type 'std_msgs/Strin'" in err
@@ -89,7 +91,7 @@ def test_the_graph_as_rosnode_rostopic_and_rosservice_see_it(
     assert _tool(capsys, "service", "args", "enable")[1] == "data\n"
     assert _tool(capsys, "service", "uri", "/enable")[1] == "bv/231/s/enable\n"
     assert _tool(capsys, "service", "find", "std_srvs/SetBool")[1] == "/enable\n"
-    assert _tool(capsys, "service", "find", "std_srvs/Trigger")[1] == ""
+    assert _tool(capsys, "service", "find", "std_srvs/Trigger")[1] == "\n"
     code, _, err = _tool(capsys, "service", "info", "/enabel")
     assert (code, err) == (
         1,

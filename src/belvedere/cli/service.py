@@ -48,7 +48,7 @@ def run(args: argparse.Namespace) -> int:
                 for n, offered in info.services.items()
                 if any(typ == wanted for typ, _ in offered)
             ]
-            sys.stdout.write("".join(f"{name}\n" for name in sorted(found)))
+            sys.stdout.write("\n".join(sorted(found)) + "\n")  # none: an empty line
             return 0
         name, srv_type, offered = offered_service(info, args.service)
         uri = tool.transport.service_key(name)

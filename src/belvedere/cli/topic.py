@@ -338,5 +338,5 @@ def _find(tool: Tool, args: argparse.Namespace) -> int:
         for topic, entries in table.items()
         if any(typ == wanted for typ, _ in entries)
     }
-    sys.stdout.write("".join(f"{topic}\n" for topic in sorted(found)))
+    sys.stdout.write("\n".join(sorted(found)) + "\n")  # none: one empty line, as rostopic
     return 0
