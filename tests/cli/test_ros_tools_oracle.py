@@ -20,7 +20,7 @@ import pytest
 
 from belvedere.cli import main
 from tests.debian_ros import ROS_PYTHON
-from tests.ros1.rospy_oracle import REPO, Master, master, missing_oracle
+from tests.ros1.rospy_oracle import REPO, SCRIPTS, Master, master, missing_oracle
 from tests.waiting import DEADLINE, wait_until
 
 pytestmark = pytest.mark.oracle
@@ -188,24 +188,7 @@ def test_the_listings_and_calls_of_rostopic_and_rosservice(
     assert expected[("service", "call", "/reset")] == "\n"  # an empty response: nothing
 
 
-KILLABLE = """
-import sys
-import rospy
-from std_msgs.msg import String
-from std_srvs.srv import SetBool, SetBoolResponse
-
-role, done = sys.argv[1], sys.argv[2]
-rospy.init_node(role, disable_rosout=True)
-if role == "listener":
-    rospy.Subscriber("/chatter", String, lambda m: None)
-    rospy.Service("/enable", SetBool, lambda req: SetBoolResponse(True, "on"))
-else:
-    pub = rospy.Publisher("/status", String, queue_size=1)
-rospy.on_shutdown(lambda: open(done, "w").write("hook ran"))
-print("ready", flush=True)
-rospy.spin()
-print("spin returned", flush=True)
-"""
+KILLABLE = SCRIPTS / "killable.py"
 """Two nodes (the listener's subscription unconnected); ``rosnode kill`` ends the talker."""
 
 GRAPH_LINES: tuple[tuple[str, ...], ...] = (
@@ -266,7 +249,7 @@ def _interrupt(procs: Iterable[subprocess.Popen[str]]) -> None:
 def _killable(
     argv: Sequence[str], env: dict[str, str], role: str, folder: Path
 ) -> subprocess.Popen[str]:
-    """A script of KILLABLE in a process group of its own, once it has said it is ready."""
+    """killable.py in a process group of its own, once it has said it is ready."""
     proc = subprocess.Popen(
         [*argv, role, str(folder / f"{role}.done")],
         env=env,
@@ -292,8 +275,7 @@ def test_rosnode_kill_machine_rostopic_find_rosservice_info_and_roswtf(
     fresh_roscore: Master, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     roscore = fresh_roscore
-    script = tmp_path / "killable.py"
-    script.write_text(KILLABLE)
+    script = KILLABLE
     roswtf = Path("/usr/bin/roswtf")
     if not roswtf.is_file():
         pytest.skip("roswtf is not installed")

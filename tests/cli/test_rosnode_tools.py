@@ -17,26 +17,8 @@ import pytest
 
 from belvedere.cli import main
 from belvedere.graph import Graph, ZenohTransport
+from tests.ros1.rospy_oracle import SCRIPTS
 from tests.waiting import DEADLINE, wait_until
-
-SCRIPT = """
-import sys
-import rospy
-from std_msgs.msg import String
-from std_srvs.srv import SetBool, SetBoolResponse
-
-role, done = sys.argv[1], sys.argv[2]
-rospy.init_node(role)
-if role == "listener":
-    rospy.Subscriber("/chatter", String, lambda m: None)
-    rospy.Service("/enable", SetBool, lambda req: SetBoolResponse(True, "on"))
-else:
-    pub = rospy.Publisher("/status", String, queue_size=1)
-rospy.on_shutdown(lambda: open(done, "w").write("hook ran"))
-print("ready", flush=True)
-rospy.spin()
-print("spin returned", flush=True)
-"""
 
 
 def _tool(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
@@ -48,8 +30,7 @@ def _tool(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str
 
 @pytest.fixture
 def scripts(endpoint: str, tmp_path: Path) -> Iterator[dict[str, subprocess.Popen[str]]]:
-    script = tmp_path / "node.py"
-    script.write_text(SCRIPT)
+    script = SCRIPTS / "killable.py"
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}
     run = [sys.executable, "-m", "belvedere", "run", "-q", "--headless", str(script)]
     procs: dict[str, subprocess.Popen[str]] = {}
