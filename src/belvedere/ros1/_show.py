@@ -88,7 +88,7 @@ def _did_you_mean(name: str, candidates: list[str]) -> str:
     same = [c for c in candidates if "/" in name and c.rpartition("/")[2].lower() == tail]
     if same:
         return "did you mean " + " or ".join(same[:3]) + "?"
-    return did_you_mean(name, candidates, most=3, quote=False) or (
+    return did_you_mean(name, candidates, quote=False) or (
         "see 'belvedere msg list' and 'belvedere srv list'"
     )
 
