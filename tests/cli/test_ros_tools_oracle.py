@@ -1,22 +1,26 @@
-"""``belvedere topic``/``service`` against Debian's ``rostopic``/``rosservice``: one graph
-layout, made by the same rospy script under a real roscore and under ``belvedere run``, and
-the tools' output compared line for line.
+"""``belvedere topic``/``service``/``node``/``wtf`` against Debian's ``rostopic``,
+``rosservice``, ``rosnode`` and ``roswtf``: one graph layout, made by the same rospy script
+under a real roscore and under ``belvedere run``, and the tools' output compared line for
+line.
 
 Skipped where Debian's ROS 1 (roscore, rospy, rostopic, rosservice) is absent."""
 
 from __future__ import annotations
 
 import os
+import re
+import signal
+import socket
 import subprocess
 import sys
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from pathlib import Path
 
 import pytest
 
 from belvedere.cli import main
 from tests.debian_ros import ROS_PYTHON
-from tests.ros1.rospy_oracle import REPO, Master, master, missing_oracle
+from tests.ros1.rospy_oracle import REPO, SCRIPTS, Master, master, missing_oracle
 from tests.waiting import DEADLINE, wait_until
 
 pytestmark = pytest.mark.oracle
@@ -182,3 +186,146 @@ def test_the_listings_and_calls_of_rostopic_and_rosservice(
         " * /robot/cmd [geometry_msgs/Twist] 1 subscriber\n\n"
     )
     assert expected[("service", "call", "/reset")] == "\n"  # an empty response: nothing
+
+
+KILLABLE = SCRIPTS / "killable.py"
+"""Two nodes (the listener's subscription unconnected); ``rosnode kill`` ends the talker."""
+
+GRAPH_LINES: tuple[tuple[str, ...], ...] = (
+    ("topic", "find", "std_msgs/String"),
+    ("topic", "find", "geometry_msgs/Twist"),
+    ("service", "info", "/enable"),
+    ("service", "args", "/enable"),
+    ("service", "find", "std_srvs/SetBool"),
+    ("node", "machine"),
+    ("node", "machine", socket.gethostname()),
+)
+ROS_TOOLS = {"topic": ROSTOPIC, "service": ROSSERVICE, "node": Path("/usr/bin/rosnode")}
+
+
+def _comparable(line: tuple[str, ...], text: str) -> str:
+    """What both graphs say alike: not the URI of a service (rosservice's is an address,
+    belvedere's a Zenoh key) nor roscore's own /rosout node."""
+    kept = [row for row in text.split("\n") if not row.startswith("URI: ") and row != "/rosout"]
+    return "\n".join(kept)
+
+
+def _unconnected_block(text: str) -> str:
+    """roswtf's warning about unconnected subscriptions, down to the blank line after it,
+    without roscore's own /rosout node (the scripts do not log to /rosout)."""
+    start = text.index("WARNING The following node subscriptions are unconnected:")
+    block = text[start : text.index("\n\n", start) + 2]
+    return block.replace(" * /rosout:\n   * /rosout\n", "")
+
+
+def _graph_tools(
+    run_tool: Callable[[tuple[str, ...]], str],
+    procs: dict[str, subprocess.Popen[str]],
+    wtf: str,
+) -> dict[str, str]:
+    found = {" ".join(line): _comparable(line, run_tool(line)) for line in GRAPH_LINES}
+    found["wtf"] = _unconnected_block(wtf)
+    found["kill"] = run_tool(("node", "kill", "/talker"))
+    talker = procs["talker"]
+    out, _ = talker.communicate(timeout=DEADLINE)
+    found["talker's output"] = out
+    found["talker's exit"] = str(talker.returncode)
+    return found
+
+
+def _interrupt(procs: Iterable[subprocess.Popen[str]]) -> None:
+    """Ctrl-C to each script still running, as a terminal sends it: to its process group
+    (``belvedere run`` and the script's process under it); rospy shuts down on it."""
+    for proc in procs:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGINT)
+        try:
+            proc.wait(timeout=DEADLINE)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+
+
+def _killable(
+    argv: Sequence[str], env: dict[str, str], role: str, folder: Path
+) -> subprocess.Popen[str]:
+    """killable.py in a process group of its own, once it has said it is ready."""
+    proc = subprocess.Popen(
+        [*argv, role, str(folder / f"{role}.done")],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.DEVNULL,
+        text=True,
+        start_new_session=True,
+    )
+    assert proc.stdout is not None
+    assert proc.stdout.readline().strip() == "ready", f"{argv} did not start"
+    return proc
+
+
+@pytest.fixture
+def fresh_roscore(roscore: Master) -> Iterator[Master]:
+    """A roscore of its own (a master remembers the types of topics whose nodes are gone:
+    rostopic find would list the other test's)."""
+    with master() as core:
+        yield core
+
+
+def test_rosnode_kill_machine_rostopic_find_rosservice_info_and_roswtf(
+    fresh_roscore: Master, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    roscore = fresh_roscore
+    script = KILLABLE
+    roswtf = Path("/usr/bin/roswtf")
+    if not roswtf.is_file():
+        pytest.skip("roswtf is not installed")
+    ros_dir, bv_dir = tmp_path / "ros", tmp_path / "belvedere"
+    ros_dir.mkdir()
+    bv_dir.mkdir()
+    # under ROS
+    ros = [str(ROS_PYTHON), str(script)]
+    procs = {role: _killable(ros, roscore.env, role, ros_dir) for role in ("listener", "talker")}
+    try:
+
+        def ros_tool(line: tuple[str, ...]) -> str:
+            argv = [str(ROS_TOOLS[line[0]]), *line[1:]]
+            return subprocess.run(
+                argv, env=roscore.env, capture_output=True, text=True, check=True
+            ).stdout
+
+        wtf = subprocess.run(
+            [str(roswtf)], env=roscore.env, capture_output=True, text=True, check=False
+        ).stdout
+        expected = _graph_tools(ros_tool, procs, re.sub(r"\x1b\[[0-9;]*m", "", wtf))
+    finally:
+        _interrupt(procs.values())
+    # under belvedere
+    env = {**os.environ, "PYTHONPATH": str(REPO / "src"), "PYTHONUNBUFFERED": "1"}
+    run = [sys.executable, "-m", "belvedere", "run", "-q", "--headless", str(script)]
+    procs = {role: _killable(run, env, role, bv_dir) for role in ("listener", "talker")}
+    try:
+
+        def ours(line: tuple[str, ...]) -> str:
+            capsys.readouterr()
+            assert main(["-q", *line]) == 0, line
+            return capsys.readouterr().out
+
+        wait_until(lambda: ours(("node", "list")) == "/listener\n/talker\n", what="both nodes")
+        capsys.readouterr()
+        main(["-q", "wtf"])
+        got = _graph_tools(ours, procs, capsys.readouterr().out)
+    finally:
+        _interrupt(procs.values())
+    assert got == expected
+    for folder in (ros_dir, bv_dir):
+        assert (folder / "talker.done").read_text() == "hook ran"
+    # what the comparison establishes, spelt out
+    assert (
+        expected["service info /enable"] == "Node: /listener\nType: std_srvs/SetBool\nArgs: data\n"
+    )
+    assert expected["kill"] == "killing /talker\nkilled\n"
+    assert expected["talker's output"] == "shutdown request: user request\nspin returned\n"
+    assert expected["wtf"] == (
+        "WARNING The following node subscriptions are unconnected:\n * /listener:\n"
+        "   * /chatter\n\n"
+    )

@@ -1,4 +1,6 @@
-"""``belvedere service list|call|type`` — rosservice, against the running graph."""
+"""``belvedere service list|call|type|info|find|args|uri`` — rosservice, against the running
+graph. ``uri`` and ``info``'s ``URI:`` are the Zenoh key a service answers on (rosservice
+prints the node's ``rosrpc://`` address)."""
 
 from __future__ import annotations
 
@@ -6,10 +8,9 @@ import argparse
 import sys
 
 from belvedere.cli._tool import action_parsers, graph_address
-from belvedere.errors import BelvedereError
-from belvedere.graph import did_you_mean, resolve_name
-from belvedere.msgs import message_from_args, message_to_yaml, short
-from belvedere.runtime import open_tool
+from belvedere.msgs import canonical, message_from_args, message_to_yaml, short
+from belvedere.ros1 import known_type, service_args
+from belvedere.runtime import offered_service, open_tool
 
 __all__ = ["add_parser", "run"]
 
@@ -21,6 +22,10 @@ def add_parser(
     verb = action_parsers(p, common)
     verb("list", "offered services")
     verb("type", "a service's type").add_argument("service")
+    verb("info", "a service's node, key, type and arguments").add_argument("service")
+    verb("args", "the fields of a service's request").add_argument("service")
+    verb("uri", "the Zenoh key a service answers on").add_argument("service")
+    verb("find", "the services of a type").add_argument("type")
     v = verb("call", "call a service")
     v.add_argument("service")
     v.add_argument("values", nargs="*", help="request as YAML (one mapping or per field)")
@@ -36,20 +41,33 @@ def run(args: argparse.Namespace) -> int:
             for name in sorted(info.services):
                 sys.stdout.write(name + "\n")
             return 0
-        name = resolve_name(args.service)
-        offered = sorted(info.services.get(name, ()))
-        if not offered:
-            msg = f"service {name} is not offered by any node"
-            hint = did_you_mean(name, info.services) or "see 'belvedere service list'"
-            raise BelvedereError(msg, hint=hint)
-        srv_type = offered[0][0]
-        if args.action == "type":
-            sys.stdout.write(short(srv_type) + "\n")
+        if args.action == "find":
+            wanted = canonical(known_type("srv", args.type), "srv")
+            found = [
+                n
+                for n, offered in info.services.items()
+                if any(typ == wanted for typ, _ in offered)
+            ]
+            sys.stdout.write("\n".join(sorted(found)) + "\n")  # none: an empty line
             return 0
-        tool.graph.start(rtf=None)
-        request = message_from_args(f"{srv_type}_Request", args.values)
-        response = tool.node.call_service(name, srv_type, request, timeout=args.timeout)
-        sys.stdout.write(message_to_yaml(response) + "\n")
+        name, srv_type, offered = offered_service(info, args.service)
+        uri = tool.transport.service_key(name)
+        if args.action == "type":
+            out = [short(srv_type)]
+        elif args.action == "args":
+            out = [" ".join(service_args(srv_type))]
+        elif args.action == "uri":
+            out = [uri]
+        elif args.action == "info":
+            out = [f"Node: {node}" for _, node in sorted(offered)]
+            out += [f"URI: {uri}", f"Type: {short(srv_type)}"]
+            out.append(f"Args: {' '.join(service_args(srv_type))}")
+        else:
+            tool.graph.start(rtf=None)
+            request = message_from_args(f"{srv_type}_Request", args.values)
+            response = tool.node.call_service(name, srv_type, request, timeout=args.timeout)
+            out = [message_to_yaml(response)]
+        sys.stdout.write("".join(line + "\n" for line in out))
         return 0
     finally:
         tool.close()

@@ -56,6 +56,7 @@ def add_parser(
     v.add_argument("topic")
     v = verb("type", "the topic's message type")
     v.add_argument("topic")
+    verb("find", "the topics of a message type").add_argument("type")
     p.set_defaults(run=run)
 
 
@@ -70,6 +71,7 @@ def run(args: argparse.Namespace) -> int:
             "bw": _bw,
             "info": _info,
             "type": _type,
+            "find": _find,
         }[args.action]
         tool.graph.start(rtf=None)
         return action(tool, args)
@@ -323,4 +325,18 @@ def _type(tool: Tool, args: argparse.Namespace) -> int:
     if typ is None:
         raise _unknown(topic, info)
     sys.stdout.write(short(typ) + "\n")
+    return 0
+
+
+def _find(tool: Tool, args: argparse.Namespace) -> int:
+    """rostopic find: the topics published or subscribed with messages of the type."""
+    wanted = types().resolve(args.type)
+    info = tool.info()
+    found = {
+        topic
+        for table in (info.publishers, info.subscribers)
+        for topic, entries in table.items()
+        if any(typ == wanted for typ, _ in entries)
+    }
+    sys.stdout.write("\n".join(sorted(found)) + "\n")  # none: one empty line, as rostopic
     return 0

@@ -91,6 +91,9 @@ class Node:
         """Its log: each message on ``/rosout`` and on the terminal, as a ROS node's."""
         self.closed = False
         """Shut down: off the graph, its publishers silent, its callbacks never called."""
+        self.shutdown_request: tuple[str, str] | None = None
+        """Who asked another process's node to shut down, and why (rosnode kill: "user
+        request"); None when it was not asked (replaced by a node of its name)."""
         self.on_crash: Callable[[Exception], None] | None = None
         """Called instead of raising when one of its timers (or a subscription, with a
         belvedere error) raises: the node dies alone, as a process of a launch does."""

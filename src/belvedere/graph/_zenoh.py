@@ -38,6 +38,7 @@ import zenoh
 from belvedere.graph._endpoints import Publisher, ServiceServer, Subscription, Topic
 from belvedere.graph._errors import ServiceFailedError, ServiceUnavailableError
 from belvedere.graph._graph import Graph, Node
+from belvedere.graph._zenoh_control import _NodeControl
 from belvedere.graph._zenoh_discovery import _Discovery
 from belvedere.graph._zenoh_latch import _STAMP, Sent, _LatchedSeen, _sender, _sent
 from belvedere.graph._zenoh_outbox import NEWEST_ONLY, TopicStats, _bulky, _Outbox
@@ -60,7 +61,7 @@ def _close_at_exit(ref: weakref.ref[ZenohTransport]) -> None:
         transport.close()
 
 
-class ZenohTransport(_Discovery, _ParamService):
+class ZenohTransport(_Discovery, _ParamService, _NodeControl):
     """Carries a graph's traffic to and from other processes."""
 
     def __init__(
@@ -94,6 +95,7 @@ class ZenohTransport(_Discovery, _ParamService):
         self._tokens: dict[tuple[str, ...], Any] = {}
         self._param_queryable: Any = None
         self._node_watch: Any = None
+        self._control: Any = None
         self._own_nodes: dict[str, tuple[int, Node]] = {}
         """full name → (when taken, node)"""
         self._clashes: set[tuple[str, str]] = set()
@@ -123,6 +125,7 @@ class ZenohTransport(_Discovery, _ParamService):
         self._node_watch = self.session.liveliness().declare_subscriber(
             self._key("g/node/**"), self._on_node_token
         )
+        self._control = self.session.declare_queryable(self._key("c/**"), self._on_control_query)
 
     def close(self) -> None:
         if self._closed:
@@ -480,6 +483,10 @@ class ZenohTransport(_Discovery, _ParamService):
         self._service_queryables[server.name] = self.session.declare_queryable(
             self._key("s", server.name), on_query
         )
+
+    def service_key(self, name: str) -> str:
+        """The key a service answers on (where rosservice has the node's rosrpc:// URI)."""
+        return self._key("s", name)
 
     def withdraw_service(self, server: ServiceServer) -> None:
         self._drop_token("srv", server.name, server.type, server.node.full_name)

@@ -177,6 +177,11 @@ _EXTRA_SERVICES: Final = {
         "nav_msgs/OccupancyGrid map\ngeometry_msgs/PoseWithCovarianceStamped initial_pose",
         "bool success",
     ),
+    "sensor_msgs/srv/SetCameraInfo": (
+        "sensor_msgs/CameraInfo camera_info",
+        "bool success\nstring status_message",
+    ),
+    "tf2_msgs/srv/FrameGraph": ("", "string frame_yaml"),
 }
 
 
@@ -253,6 +258,17 @@ class TypeRegistry:
     # --- names ---------------------------------------------------------------------------------
     def message_names(self) -> Iterator[str]:
         return (n for n in self.store.fielddefs if "/msg/" in n)
+
+    def service_names(self) -> list[str]:
+        """Every service type the store holds (``pkg/srv/Name``, both halves registered),
+        sorted: the standard ones and any added to the store since."""
+        found = set(self.services)
+        for name in self.store.fielddefs:
+            if "/srv/" in name and name.endswith("_Request"):
+                base = name.removesuffix("_Request")
+                if f"{base}_Response" in self.store.fielddefs:
+                    found.add(base)
+        return sorted(found)
 
     def resolve(self, name: str) -> str:
         """The canonical name of a message type, or an error suggesting close names."""

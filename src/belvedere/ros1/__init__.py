@@ -29,10 +29,21 @@ from belvedere.ros1._message import (
     strify_message,
 )
 from belvedere.ros1._rostime import Duration, Time, TVal
+from belvedere.ros1._show import (
+    Kind,
+    known_type,
+    md5_text,
+    package_types,
+    service_args,
+    show_text,
+    type_names,
+    type_packages,
+)
 
 __all__ = [
     "DeserializationError",
     "Duration",
+    "Kind",
     "Message",
     "MessageException",
     "RosModuleFinder",
@@ -43,11 +54,18 @@ __all__ = [
     "from_store",
     "install",
     "installed",
+    "known_type",
+    "md5_text",
     "message_class",
+    "package_types",
     "packages",
     "serialize_message",
+    "service_args",
     "service_class",
+    "show_text",
     "strify_message",
     "to_store",
+    "type_names",
+    "type_packages",
     "uninstall",
 ]

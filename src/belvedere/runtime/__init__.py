@@ -14,6 +14,9 @@ same functions.
   :func:`run_launch` (roslaunch's way), :func:`rosrun` and :func:`run_alone` (an executable,
   a user's script), :func:`install_script` (``--pub``/``--echo``).
 - Beside a graph: :func:`start_bridge` (Foxglove).
+- Asking it (rosnode, rosservice info): :func:`known_node`, :func:`ping_node`,
+  :func:`kill_nodes`, :func:`machines`, :func:`unreachable_nodes`, :func:`offered_service`;
+  roswtf's checks, :func:`check_graph`.
 
 Importing this package loads the graph's modules but neither the launch runtime, the nodes
 nor the bridge: those load when a session starts one.
@@ -21,6 +24,15 @@ nor the bridge: those load when a session starts one.
 
 from belvedere.runtime._bridge import BridgeOptions, start_bridge
 from belvedere.runtime._clock import open_clock_transport, refuse_second_clock
+from belvedere.runtime._graphtools import (
+    Pong,
+    kill_nodes,
+    known_node,
+    machines,
+    offered_service,
+    ping_node,
+    unreachable_nodes,
+)
 from belvedere.runtime._join import (
     GraphAddress,
     Tool,
@@ -40,28 +52,38 @@ from belvedere.runtime._session import (
     run_launch,
     run_session,
 )
+from belvedere.runtime._wtf import WtfReport, check_graph
 
 __all__ = [
     "BridgeOptions",
     "GraphAddress",
     "HandOver",
+    "Pong",
     "ScriptOptions",
     "SessionOptions",
     "Tool",
     "ViewerOptions",
+    "WtfReport",
+    "check_graph",
     "holds_parameters",
     "install_script",
     "join_graph",
     "joins_running_graph",
+    "kill_nodes",
+    "known_node",
+    "machines",
+    "offered_service",
     "open_clock_transport",
     "open_tool",
     "open_transport",
+    "ping_node",
     "refuse_second_clock",
     "rosrun",
     "run_alone",
     "run_launch",
     "run_session",
     "start_bridge",
+    "unreachable_nodes",
     "wait_for",
     "wait_for_messages",
 ]

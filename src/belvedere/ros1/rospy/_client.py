@@ -131,10 +131,18 @@ def _start_clock(runtime: _state.Runtime) -> None:
 
 def _watch_node(runtime: _state.Runtime) -> None:
     """A node of the same name started elsewhere replaces this one (as ROS 1's master
-    does): shut down, with rospy's reason."""
+    does), or another process asks it to end (rosnode kill): shut down, with rospy's
+    reason."""
     stop = _state.shutdown_event()
     while not stop.wait(0.2):
         if runtime.node.closed:
+            asked = runtime.node.shutdown_request
+            if asked is not None:  # rosnode kill, as rospy's handler of the request says it
+                caller, why = asked
+                sys.stdout.write(f"shutdown request: {why}\n")
+                sys.stdout.flush()
+                _state.signal_shutdown(f"external shutdown request from [{caller}]: {why}")
+                return
             name = _state.caller_id()
             _logging.log(_logging.WARN, "Shutdown request received.", ())
             _logging.log(
