@@ -20,6 +20,7 @@ from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from rosbags.typesys.store import Typestore
 
 from belvedere.errors import BelvedereError
+from belvedere.msgs import _dynamic_reconfigure_types
 
 __all__ = ["PLACEHOLDER", "MessageTypeError", "TypeRegistry", "types"]
 
@@ -177,6 +178,8 @@ _EXTRA_SERVICES: Final = {
         "bool success",
     ),
 }
+_EXTRA_MESSAGES.update(_dynamic_reconfigure_types.MESSAGES)
+_EXTRA_SERVICES.update(_dynamic_reconfigure_types.SERVICES)
 
 
 class MessageTypeError(BelvedereError):
