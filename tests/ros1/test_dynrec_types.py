@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import subprocess
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -70,5 +71,5 @@ def test_known_sums_and_constants() -> None:
     assert service_class("dynamic_reconfigure/Reconfigure")._md5sum == (
         "bb125d226a21982a4a98760418dc2672"
     )
-    levels = message_class("dynamic_reconfigure/msg/SensorLevels")
+    levels: Any = message_class("dynamic_reconfigure/msg/SensorLevels")
     assert (levels.RECONFIGURE_CLOSE, levels.RECONFIGURE_STOP) == (3, 1)

@@ -101,7 +101,10 @@ class RosModuleFinder(importlib.abc.MetaPathFinder):
         parts = fullname.split(".")
         known = packages()
         if parts[0] not in known:
-            return None
+            # A workspace package's dynamic_reconfigure module (``pkg.cfg.NameConfig``).
+            from belvedere.ros1.dynamic_reconfigure._cfgmodule import cfg_spec
+
+            return cfg_spec(fullname)
         if len(parts) == 1:
             return importlib.machinery.ModuleSpec(fullname, self._loader, is_package=True)
         if len(parts) == 2 and parts[1] in ("msg", "srv") and known[parts[0]][parts[1]]:
