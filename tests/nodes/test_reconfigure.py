@@ -12,6 +12,12 @@ import pytest
 from belvedere.graph import ActionClient, Graph, ServiceFailedError
 from belvedere.msgs import message_to_data
 from belvedere.ros1.dynamic_reconfigure._description import config_data, config_values
+from tests.nodes.test_amcl import (
+    AMCL,
+    SIM,
+    pkg,  # noqa: F401 (the map package fixture)
+)
+from tests.nodes.test_amcl import _start as start_amcl
 from tests.nodes.test_move_base import _goal, _launch, _start
 
 
@@ -78,3 +84,31 @@ def test_a_slower_local_planner_drives_slower(nav: tuple[Graph, Any]) -> None:
     with pytest.raises(ServiceFailedError, match="maximum is below the minimum"):
         _set(probe, planner, {"max_vel_x": 0.01})
     assert math.isclose(graph.params.get("/move_base/TrajectoryPlannerROS/max_vel_x"), 0.12)
+
+
+def test_amcl_takes_a_new_configuration_and_keeps_localizing(pkg: Path) -> None:  # noqa: F811
+    graph = start_amcl(pkg, SIM + AMCL.format(extra=""), "reconfigure.launch")
+    probe = graph.create_node("probe")
+    poses: list[Any] = []
+    probe.subscribe("/amcl_pose", "geometry_msgs/PoseWithCovarianceStamped", poses.append)
+    probe.publisher("/cmd_vel", "geometry_msgs/Twist", latch=True).publish_data(
+        {"linear": {"x": 0.3}}
+    )
+    try:
+        graph.run(duration=2.0)
+        assert poses
+        after = _set(
+            probe, "/amcl/set_parameters", {"laser_max_beams": 900, "odom_model_type": "diff"}
+        )
+        assert after["laser_max_beams"] == 250  # AMCL.cfg's maximum
+        assert graph.params.get("/amcl/laser_max_beams") == 250
+        with pytest.raises(ServiceFailedError, match="none of its enum's values"):
+            _set(probe, "/amcl/set_parameters", {"odom_model_type": "tracks"})
+        count = len(poses)
+        graph.run(duration=3.0)
+        assert len(poses) > count  # the filter, made anew, goes on from its estimate
+        last = poses[-1].pose.pose.position
+        assert last.y == pytest.approx(-4.5, abs=0.3)
+        assert last.x > 0.5
+    finally:
+        graph.shutdown()
