@@ -4,6 +4,7 @@ processes of their own on this test's graph, and ``dynparam`` against the server
 from __future__ import annotations
 
 import ast
+import contextlib
 import subprocess
 import sys
 from collections.abc import Iterator
@@ -12,7 +13,7 @@ from typing import IO, Any
 
 import pytest
 
-from tests.conftest import EXAMPLES
+from tests.conftest import DATA, EXAMPLES
 from tests.waiting import DEADLINE, wait_until
 
 RUN = [sys.executable, "-m", "belvedere", "run", "--headless"]
@@ -37,22 +38,25 @@ class Lines:
         return [line.split("Request: ", 1)[1] for line in self.lines if "Request: " in line]
 
 
-@pytest.fixture
-def server(endpoint: str) -> Iterator[Lines]:
+@contextlib.contextmanager
+def running(script: str) -> Iterator[Lines]:
+    """One of the package's scripts run by ``belvedere run``, stopped at the end."""
     process = subprocess.Popen(
-        [*RUN, str(SCRIPTS / "server.py")],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
+        [*RUN, str(SCRIPTS / script)], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True
     )
     assert process.stdout is not None
-    out = Lines(process.stdout)
     try:
-        wait_until(out.requests, what="the server's first callback", detail=lambda: out.lines)
-        yield out
+        yield Lines(process.stdout)
     finally:
         process.terminate()
         process.wait(DEADLINE)
+
+
+@pytest.fixture
+def server(endpoint: str) -> Iterator[Lines]:
+    with running("server.py") as out:
+        wait_until(out.requests, what="the server's first callback", detail=lambda: out.lines)
+        yield out
 
 
 def dynparam(*args: str) -> str:
@@ -117,15 +121,7 @@ def test_dynparam_gets_sets_and_lists(server: Lines, tmp_path: Path) -> None:
 
 
 def test_the_tutorial_client_reconfigures_the_server(server: Lines) -> None:
-    client = subprocess.Popen(
-        [*RUN, str(SCRIPTS / "client.py")],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-    )
-    assert client.stdout is not None
-    out = Lines(client.stdout)
-    try:
+    with running("client.py") as out:
         # the first update: int_param 1, double_param 1/2, its time as str_param, bool_param True
         wait_until(
             lambda: len(server.requests()) > 1, what="the client's update", detail=lambda: out.lines
@@ -138,6 +134,18 @@ def test_the_tutorial_client_reconfigures_the_server(server: Lines) -> None:
             what="the client's config_callback",
             detail=lambda: out.lines,
         )
-    finally:
-        client.terminate()
-        client.wait(DEADLINE)
+
+
+def test_a_script_importing_a_cfg_that_imports_os_fails_at_its_line(endpoint: str) -> None:
+    package = DATA / "dynrec" / "sneaky_cfg"
+    ran = subprocess.run(
+        [*RUN, str(package / "scripts" / "use.py")],
+        capture_output=True,
+        text=True,
+        timeout=DEADLINE,
+        check=False,
+    )
+    assert ran.returncode == 1
+    cfg = package / "cfg" / "Sneaky.cfg"
+    assert f"ImportError: {cfg}:5:1: error: a .cfg may not import os" in ran.stderr
+    assert not Path("/tmp/sneaky_cfg_was_here").exists()
