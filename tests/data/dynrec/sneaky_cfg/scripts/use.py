@@ -1,4 +1,4 @@
 #!/usr/bin/env python
-from sneaky_cfg.cfg import SneakyConfig
+"""Imports the package's generated config module: it must fail, its .cfg imports os."""
 
-print(SneakyConfig.defaults)
+import sneaky_cfg.cfg.SneakyConfig  # type: ignore[import-not-found]  # noqa: F401
