@@ -7,6 +7,7 @@ import math
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
 
 from belvedere.graph import ActionClient, Graph, ServiceFailedError
@@ -112,3 +113,38 @@ def test_amcl_takes_a_new_configuration_and_keeps_localizing(pkg: Path) -> None:
         assert last.x > 0.5
     finally:
         graph.shutdown()
+
+
+def test_a_wider_inflation_radius_inflates_the_global_costmap_further(
+    nav: tuple[Graph, Any],
+) -> None:
+    graph, probe = nav
+    costmap: dict[str, Any] = {}
+
+    def on_full(msg: Any) -> None:
+        costmap["grid"] = np.asarray(msg.data).reshape(msg.info.height, msg.info.width)
+
+    def on_update(msg: Any) -> None:  # costmap_2d's updates: a box of changed cells
+        box = np.asarray(msg.data).reshape(msg.height, msg.width)
+        costmap["grid"][msg.y : msg.y + msg.height, msg.x : msg.x + msg.width] = box
+
+    topic = "/move_base/global_costmap/costmap"
+    probe.subscribe(topic, "nav_msgs/OccupancyGrid", on_full)
+    probe.subscribe(topic + "_updates", "map_msgs/OccupancyGridUpdate", on_update)
+    # rbx1's blank map is walled all round: inflated cells line its border
+    graph.run(duration=2.5)
+
+    def inflated() -> int:
+        data = costmap["grid"]
+        return int(np.count_nonzero((data > 0) & (data < 100)))
+
+    before = inflated()
+    assert before > 0
+    layer = "/move_base/global_costmap/inflation_layer/set_parameters"
+    after = _set(probe, layer, {"inflation_radius": 0.6, "cost_scaling_factor": 1.0})
+    assert after["inflation_radius"] == pytest.approx(0.6)
+    graph.run(duration=2.5)
+    assert inflated() > 1.5 * before  # 0.3 m → 0.6 m: about twice the band
+    _set(probe, layer, {"enabled": False})
+    graph.run(duration=2.5)
+    assert inflated() == 0

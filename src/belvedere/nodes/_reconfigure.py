@@ -1,9 +1,11 @@
 """The reconfigurable parameters of belvedere's navigation nodes, with the names, types,
 levels, defaults and ranges of ROS's ``.cfg`` files (move_base's MoveBase.cfg,
 dwa_local_planner's DWAPlanner.cfg with base_local_planner's generic limits,
-base_local_planner's BaseLocalPlanner.cfg, amcl's AMCL.cfg), for rqt_reconfigure and dynparam.
+base_local_planner's BaseLocalPlanner.cfg, amcl's AMCL.cfg, costmap_2d's Costmap2D.cfg and its
+plugins' files), for rqt_reconfigure and dynparam.
 
-Omitted: each file's ``restore_defaults`` and the parameters belvedere's nodes do not have.
+Omitted: each file's ``restore_defaults`` and the parameters belvedere's nodes do not change
+while running (a costmap's size, resolution, origin and footprint).
 """
 
 from __future__ import annotations
@@ -20,7 +22,18 @@ from belvedere.ros1.dynamic_reconfigure._description import (
     enum_edit_method,
 )
 
-__all__ = ["AMCL", "DWA_PLANNER", "MOVE_BASE", "TRAJECTORY_PLANNER", "current", "replaced"]
+__all__ = [
+    "AMCL",
+    "COSTMAP",
+    "DWA_PLANNER",
+    "GENERIC_LAYER",
+    "INFLATION_LAYER",
+    "MOVE_BASE",
+    "OBSTACLE_LAYER",
+    "TRAJECTORY_PLANNER",
+    "current",
+    "replaced",
+]
 
 _Row = tuple[Any, ...]
 T = TypeVar("T")
@@ -250,6 +263,57 @@ AMCL: Final = _table(
         ("odom_frame_id", "str", 0, "odometry frame", "odom"),
         ("base_frame_id", "str", 0, "robot base frame", "base_link"),
         ("global_frame_id", "str", 0, "map frame", "map"),
+    ],
+)
+
+
+COSTMAP: Final = _table(
+    "Costmap2D",
+    [
+        ("transform_tolerance", "double", 0, "tolerated age of the robot's pose, s", 0.3, 0, 10),
+        ("update_frequency", "double", 0, "update rate, Hz", 5.0, 0, 100),
+        ("publish_frequency", "double", 0, "publishing rate, Hz", 0.0, 0, 100),
+    ],
+)
+
+_ENABLED: Final[_Row] = ("enabled", "bool", 0, "apply this layer", True)
+
+GENERIC_LAYER: Final = _table("GenericPlugin", [_ENABLED])
+
+INFLATION_LAYER: Final = _table(
+    "InflationPlugin",
+    [
+        _ENABLED,
+        ("cost_scaling_factor", "double", 0, "decay of inflated costs", 10.0, 0, 100),
+        ("inflation_radius", "double", 0, "reach of inflated costs, m", 0.55, 0, 50),
+        ("inflate_unknown", "bool", 0, "inflate into unknown cells", False),
+    ],
+)
+
+OBSTACLE_LAYER: Final = _table(
+    "ObstaclePlugin",
+    [
+        _ENABLED,
+        ("footprint_clearing_enabled", "bool", 0, "clear the robot's footprint", True),
+        ("max_obstacle_height", "double", 0, "tallest obstacle marked, m", 2.0, 0, 50),
+        (
+            "combination_method",
+            "int",
+            0,
+            "how the layer combines into the master",
+            1,
+            None,
+            None,
+            _enum(
+                "int",
+                [
+                    ("Overwrite", 0, "overwrite values"),
+                    ("Maximum", 1, "the maximum of the values"),
+                    ("Nothing", 99, "leave the master as it is"),
+                ],
+                "combination methods",
+            ),
+        ),
     ],
 )
 

@@ -44,6 +44,7 @@ from belvedere.nav.recovery import (
 )
 from belvedere.nodes import _reconfigure as reconfigure
 from belvedere.nodes._costmap import Costmap2DROS
+from belvedere.nodes._costmap_reconfigure import serve_costmap
 from belvedere.nodes._move_base import Cycle, Floats, MoveBaseParams, State, Trigger
 from belvedere.nodes._registry import (
     NodeSpec,
@@ -135,6 +136,8 @@ class _MoveBase(Cycle):
         )
         values = reconfigure.current(local, self.local_planner.params)
         GraphServer(self.node, local, values, self._reconfigure_local, ns=f"~{local_name}")
+        serve_costmap(self.global_costmap)
+        serve_costmap(self.local_costmap)
 
     def _reconfigure(self, config: dict[str, Any], level: int) -> None:
         for plugin in ("base_global_planner", "base_local_planner"):
