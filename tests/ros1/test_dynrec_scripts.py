@@ -149,3 +149,16 @@ def test_a_script_importing_a_cfg_that_imports_os_fails_at_its_line(endpoint: st
     cfg = package / "cfg" / "Sneaky.cfg"
     assert f"ImportError: {cfg}:5:1: error: a .cfg may not import os" in ran.stderr
     assert not Path("/tmp/sneaky_cfg_was_here").exists()
+
+
+def test_dynparam_without_a_server_is_one_error_after_its_timeout(endpoint: str) -> None:
+    ran = subprocess.run(
+        [*RUN, "dynamic_reconfigure", "dynparam", "get", "-t", "0.5", "/nobody"],
+        capture_output=True,
+        text=True,
+        timeout=DEADLINE,
+        check=False,
+    )
+    assert ran.returncode == 1
+    assert "error: timeout exceeded while waiting for service /nobody/set_parameters" in ran.stderr
+    assert "Traceback" not in ran.stderr

@@ -8,7 +8,6 @@ read and written without Python object tags: ``dump`` writes plain mappings (ROS
 
 from __future__ import annotations
 
-import contextlib
 import optparse
 import sys
 from collections.abc import Callable, Sequence
@@ -211,6 +210,11 @@ def main(argv: Sequence[str] | None = None) -> None:
     if command is None:
         _say(_USAGE)
         sys.exit(1)
-    with contextlib.suppress(ROSInterruptException):
+    try:
         command(args[2:])
+    except ROSInterruptException:
+        pass
+    except ROSException as err:  # no server within --timeout: one line, not a traceback
+        _say(f"error: {err}", sys.stderr)
+        sys.exit(1)
     return
