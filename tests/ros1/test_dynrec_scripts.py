@@ -59,14 +59,18 @@ def server(endpoint: str) -> Iterator[Lines]:
         yield out
 
 
-def dynparam(*args: str) -> str:
-    ran = subprocess.run(
+def run_dynparam(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
         [*RUN, "dynamic_reconfigure", "dynparam", *args],
         capture_output=True,
         text=True,
         timeout=DEADLINE,
         check=False,
     )
+
+
+def dynparam(*args: str) -> str:
+    ran = run_dynparam(*args)
     assert ran.returncode == 0, ran.stderr
     return ran.stdout
 
@@ -110,13 +114,7 @@ def test_dynparam_gets_sets_and_lists(server: Lines, tmp_path: Path) -> None:
     dynparam("load", "/dynamic_tutorials", str(dump))
     assert _config(dynparam("get", "/dynamic_tutorials"))["str_param"] == "loaded"
 
-    unknown = subprocess.run(
-        [*RUN, "dynamic_reconfigure", "dynparam", "set", "/dynamic_tutorials", "speed", "1"],
-        capture_output=True,
-        text=True,
-        timeout=DEADLINE,
-        check=False,
-    )
+    unknown = run_dynparam("set", "/dynamic_tutorials", "speed", "1")
     assert "error updating parameters: don't know parameter: speed" in unknown.stdout
 
 
@@ -152,13 +150,7 @@ def test_a_script_importing_a_cfg_that_imports_os_fails_at_its_line(endpoint: st
 
 
 def test_dynparam_without_a_server_is_one_error_after_its_timeout(endpoint: str) -> None:
-    ran = subprocess.run(
-        [*RUN, "dynamic_reconfigure", "dynparam", "get", "-t", "0.5", "/nobody"],
-        capture_output=True,
-        text=True,
-        timeout=DEADLINE,
-        check=False,
-    )
+    ran = run_dynparam("get", "-t", "0.5", "/nobody")
     assert ran.returncode == 1
     assert "error: timeout exceeded while waiting for service /nobody/set_parameters" in ran.stderr
     assert "Traceback" not in ran.stderr
