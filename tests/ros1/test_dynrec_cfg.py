@@ -113,6 +113,7 @@ def test_an_enum_refuses_a_value_in_range_that_is_none_of_its_constants(tmp_path
         ('gen.add("n", int_t, 0, "d")\ngen.add("n", int_t, 0, "d")\n', 0, "added twice"),
         ('gen.add("bad name", int_t, 0, "d")\n', 5, "not a ROS name"),
         ("gen.add(\n", 5, "invalid Python"),
+        ('e = gen.enum([gen.const("A", int_t, "one", "d")], "d")\n', 5, "constant 'A' is a int"),
     ],
 )
 def test_a_bad_cfg_is_one_error_at_its_line(

@@ -20,10 +20,12 @@ from typing import Any, Final
 from belvedere.bounded import LimitError, read_regular_text, run_bounded
 from belvedere.errors import ParseError, SourceLocation
 from belvedere.ros1.dynamic_reconfigure._description import (
+    TYPES,
     Description,
     Group,
     Param,
     ReconfigureError,
+    typed,
 )
 
 __all__ = ["CfgError", "load_cfg"]
@@ -110,15 +112,18 @@ def _group(data: dict[str, Any], path: str) -> Group:
 
 
 def _constant(const: Any, path: str) -> tuple[str, Any]:
-    where = SourceLocation(path)
     if not isinstance(const, dict) or not isinstance(const.get("name"), str):
         msg = "gen.const(name, type, value, description) is malformed"
-        raise CfgError(msg, where)
-    name, value = const["name"], const.get("value")
-    if not isinstance(value, int | float | str | bool):
-        msg = f"constant {name!r}: its value {value!r} is not an int, double, str or bool"
-        raise CfgError(msg, where)
-    return name, value
+        raise CfgError(msg, SourceLocation(path))
+    where = SourceLocation(path, int(const.get("srcline", 0)))
+    name, kind = const["name"], const.get("type")
+    if kind not in TYPES:
+        msg = f"constant {name!r}: unknown type {kind!r}"
+        raise CfgError(msg, where, hint="one of int_t, double_t, str_t, bool_t")
+    try:
+        return name, typed(name, kind, const.get("value"))
+    except ReconfigureError as err:
+        raise CfgError(err.message.replace("parameter", "constant", 1), where) from None
 
 
 @cache

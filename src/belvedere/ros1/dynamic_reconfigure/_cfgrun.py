@@ -133,6 +133,7 @@ class ParameterGenerator:
 
     def const(self, name: Any, type: Any, value: Any, descr: Any) -> dict[str, Any]:
         const = {"name": name, "type": type, "value": value, "description": descr}
+        const["srcline"] = _line()
         self.constants.append(const)
         return const
 

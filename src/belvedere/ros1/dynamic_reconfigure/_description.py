@@ -22,6 +22,7 @@ __all__ = [
     "config_data",
     "config_values",
     "enum_edit_method",
+    "typed",
 ]
 
 TYPES: Final = {"int": int, "double": float, "str": str, "bool": bool}
