@@ -39,10 +39,13 @@ class Lines:
 
 
 @contextlib.contextmanager
-def running(script: str) -> Iterator[Lines]:
+def running(script: str, *args: str) -> Iterator[Lines]:
     """One of the package's scripts run by ``belvedere run``, stopped at the end."""
     process = subprocess.Popen(
-        [*RUN, str(SCRIPTS / script)], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True
+        [*RUN, str(SCRIPTS / script), *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
     )
     assert process.stdout is not None
     try:
@@ -114,6 +117,22 @@ def test_dynparam_gets_sets_and_lists(server: Lines, tmp_path: Path) -> None:
     dynparam("load", "/dynamic_tutorials", str(dump))
     assert _config(dynparam("get", "/dynamic_tutorials"))["str_param"] == "loaded"
 
+    # a file ROS's dynparam dumped: its Config objects read as mappings, nothing constructed
+    ros_dump = tmp_path / "ros.yaml"
+    ros_dump.write_text(
+        "!!python/object/new:dynamic_reconfigure.encoding.Config\n"
+        "dictitems:\n  int_param: 7\n  groups: !!python/object/new:"
+        "dynamic_reconfigure.encoding.Config\n    dictitems: {id: 0}\n    state: []\n"
+        "state: []\n"
+    )
+    dynparam("load", "/dynamic_tutorials", str(ros_dump))
+    assert _config(dynparam("get", "/dynamic_tutorials"))["int_param"] == 7
+    hostile = tmp_path / "hostile.yaml"
+    hostile.write_text("!!python/object/apply:os.system ['touch /tmp/dynparam_was_here']\n")
+    refused = run_dynparam("load", "/dynamic_tutorials", str(hostile))
+    assert refused.returncode == 1
+    assert f"error: cannot load {hostile}" in refused.stderr
+
     unknown = run_dynparam("set", "/dynamic_tutorials", "speed", "1")
     assert "error updating parameters: don't know parameter: speed" in unknown.stdout
 
@@ -154,3 +173,17 @@ def test_dynparam_without_a_server_is_one_error_after_its_timeout(endpoint: str)
     assert ran.returncode == 1
     assert "error: timeout exceeded while waiting for service /nobody/set_parameters" in ran.stderr
     assert "Traceback" not in ran.stderr
+
+
+def test_the_server_starts_from_its_private_parameters_clamped(endpoint: str) -> None:
+    with running("server.py", "_int_param:=500", "_str_param:=from the command line") as out:
+        wait_until(out.requests, what="the server's first callback", detail=lambda: out.lines)
+        assert _request(out.requests()[0]) == ["100", "0.5", "from the command line", "True", "1"]
+        ran = subprocess.run(
+            [sys.executable, "-m", "belvedere", "param", "get", "/dynamic_tutorials/int_param"],
+            capture_output=True,
+            text=True,
+            timeout=DEADLINE,
+            check=False,
+        )
+        assert ran.stdout.strip() == "100"  # written back, clamped, as ROS's server does

@@ -1,9 +1,10 @@
 """``dynparam``: get, set, list, dump and load a reconfigurable node's configuration, as
 ``rosrun dynamic_reconfigure dynparam`` does (its commands, arguments and output).
 
-It runs as a rospy script (``belvedere run dynamic_reconfigure dynparam …``). Files are YAML
-read and written without Python object tags: ``dump`` writes plain mappings (ROS's writes
-``!!python/object`` tags that only Python's unsafe loader reads back).
+It runs as a rospy script (``belvedere run dynamic_reconfigure dynparam …``). ``dump`` writes
+plain YAML mappings; ROS's writes its ``Config`` class as a ``!!python/object/new`` tag, which
+``load`` reads as the mapping it holds (ROS reads it with YAML's unsafe loader; nothing here
+constructs an object a file names).
 """
 
 from __future__ import annotations
@@ -80,6 +81,24 @@ def _node_and(args: list[str], parser: optparse.OptionParser, what: str | None) 
 
 def _connect() -> None:
     init_node("dynparam", anonymous=True)
+
+
+_CONFIG_TAG = "tag:yaml.org,2002:python/object/new:dynamic_reconfigure.encoding.Config"
+
+
+class _Loader(yaml.SafeLoader):
+    """YAML's safe loader, reading ROS's dumped ``Config`` objects as their mappings."""
+
+
+def _config_object(loader: yaml.SafeLoader, node: yaml.Node) -> Any:
+    if not isinstance(node, yaml.MappingNode):
+        return loader.construct_object(node)
+    fields = loader.construct_mapping(node, deep=True)
+    items = fields.get("dictitems", {})
+    return dict(items) if isinstance(items, dict) else {}
+
+
+_Loader.add_constructor(_CONFIG_TAG, _config_object)
 
 
 def _set_params(node: str, params: dict[str, Any], timeout: float | None) -> None:
@@ -169,7 +188,7 @@ def do_load(argv: list[str]) -> None:
     params: dict[str, Any] = {}
     try:
         with open(path, encoding="utf-8") as f:
-            for doc in yaml.safe_load_all(f):
+            for doc in yaml.load_all(f, Loader=_Loader):
                 if isinstance(doc, dict):
                     params.update(doc)
     except (OSError, yaml.YAMLError) as err:
