@@ -39,10 +39,12 @@ logger = logging.getLogger("belvedere.launch")
 
 def find_script(root: Path, executable: str) -> Path | None:
     """Where rosrun (and roslaunch) finds a package's ``executable``: ``scripts/``,
-    ``nodes/``, the package's top, then anywhere below it. None in the packages belvedere
-    provides (their executables are belvedere's own nodes)."""
+    ``nodes/``, the package's top, then anywhere below it. In the packages belvedere provides
+    only ``scripts/`` (rospy scripts of ROS's own, as dynparam; the rest are belvedere's own
+    nodes)."""
     if root.is_relative_to(BUILTIN_PACKAGES):
-        return None
+        found = root / "scripts" / executable
+        return found if found.is_file() else None
     for candidate in (
         root / "scripts" / executable,
         root / "nodes" / executable,

@@ -22,6 +22,7 @@ from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from rosbags.typesys.store import Typestore
 
 from belvedere.errors import BelvedereError
+from belvedere.msgs import _dynamic_reconfigure_types
 from belvedere.msgs._genmsg import PLACEHOLDER, Definition, typedef
 from belvedere.msgs._packages import PackageInterfaces
 
@@ -183,6 +184,8 @@ _EXTRA_SERVICES: Final = {
     ),
     "tf2_msgs/srv/FrameGraph": ("", "string frame_yaml"),
 }
+_EXTRA_MESSAGES.update(_dynamic_reconfigure_types.MESSAGES)
+_EXTRA_SERVICES.update(_dynamic_reconfigure_types.SERVICES)
 
 
 class MessageTypeError(BelvedereError):

@@ -42,6 +42,7 @@ from belvedere.msgs import build, types
 from belvedere.nav._input import Tally, laser_scan_problem, pose_problem
 from belvedere.nav._params import ParamReader, read_like
 from belvedere.nav.amcl import AmclMap, AmclParams, Localizer, laser_data
+from belvedere.nodes import _reconfigure as reconfigure
 from belvedere.nodes._planar import (
     MOUNT_REFUSED,
     laser_mount,
@@ -57,6 +58,7 @@ from belvedere.nodes._registry import (
     frame_claim,
     stopping_on_bad_values,
 )
+from belvedere.ros1.dynamic_reconfigure.graph_server import GraphServer
 from belvedere.tf import TFBuffer, TFError, Transform, TransformBroadcaster
 
 __all__ = [
@@ -259,6 +261,21 @@ class _AmclNode:
         else:
             self._map_timer = node.timer(_MAP_RETRY, self._request_map)
             self._request_map()
+        values = reconfigure.current(reconfigure.AMCL, self.params, self.config)
+        GraphServer(node, reconfigure.AMCL, values, self._reconfigure)
+
+    def _reconfigure(self, config: dict[str, Any], level: int) -> None:
+        """As amcl's: the new parameters, and the filter made anew from the last estimate."""
+        params = reconfigure.replaced(self.params, config)
+        params.check()
+        self.config = NodeParams.from_mapping({**self.config.__dict__, **config})
+        self.params = params
+        if self.localizer is not None:
+            seed = self.node.graph.executor.random.getrandbits(63)
+            self.localizer = Localizer(params, self.localizer.map, seed=seed)
+            self.pending.clear()
+            if self.last_pose is not None:
+                self._set_pose(self.last_pose)
 
     def _warn_once(self, key: str, text: str) -> None:
         if key not in self._warned:

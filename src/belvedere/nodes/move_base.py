@@ -32,7 +32,7 @@ import numpy as np
 from belvedere.errors import BelvedereError
 from belvedere.graph import NS, ActionServer, GoalHandle, Node
 from belvedere.msgs import message_from_data
-from belvedere.nav.local import LocalPlanner, make_local_planner
+from belvedere.nav.local import DWAPlannerROS, LocalPlanner, make_local_planner
 from belvedere.nav.planners import GlobalPlanner, UnknownPluginError, make_global_planner
 from belvedere.nav.recovery import (
     ROTATE,
@@ -42,7 +42,9 @@ from belvedere.nav.recovery import (
     RotateRecoveryParams,
     recovery_behaviors,
 )
+from belvedere.nodes import _reconfigure as reconfigure
 from belvedere.nodes._costmap import Costmap2DROS
+from belvedere.nodes._costmap_reconfigure import serve_costmap
 from belvedere.nodes._move_base import Cycle, Floats, MoveBaseParams, State, Trigger
 from belvedere.nodes._registry import (
     NodeSpec,
@@ -51,6 +53,7 @@ from belvedere.nodes._registry import (
     StartError,
     stopping_on_bad_values,
 )
+from belvedere.ros1.dynamic_reconfigure.graph_server import GraphServer
 from belvedere.tf import TFBuffer, TransformListener
 from belvedere.yamlfile import load_yaml_file
 
@@ -119,7 +122,39 @@ class _MoveBase(Cycle):
         if p.shutdown_costmaps:
             self.global_costmap.stop()
             self.local_costmap.stop()
-        node.timer(1.0 / p.controller_frequency, self._cycle)
+        self.timer = node.timer(1.0 / p.controller_frequency, self._cycle)
+        self._serve_reconfigure(local_name)
+
+    # --- dynamic_reconfigure (rqt_reconfigure, dynparam) ---------------------------------------
+    def _serve_reconfigure(self, local_name: str) -> None:
+        own = reconfigure.current(reconfigure.MOVE_BASE, self.params)
+        GraphServer(self.node, reconfigure.MOVE_BASE, own, self._reconfigure)
+        local = (
+            reconfigure.DWA_PLANNER
+            if isinstance(self.local_planner, DWAPlannerROS)
+            else reconfigure.TRAJECTORY_PLANNER
+        )
+        values = reconfigure.current(local, self.local_planner.params)
+        GraphServer(self.node, local, values, self._reconfigure_local, ns=f"~{local_name}")
+        serve_costmap(self.global_costmap)
+        serve_costmap(self.local_costmap)
+
+    def _reconfigure(self, config: dict[str, Any], level: int) -> None:
+        for plugin in ("base_global_planner", "base_local_planner"):
+            if config[plugin] != getattr(self.params, plugin):
+                message = f"{plugin} cannot change while move_base runs (restart it)"
+                raise ValueError(message)
+        params = MoveBaseParams.from_mapping({**self.params.__dict__, **config})
+        if params.controller_frequency != self.params.controller_frequency:
+            self.timer.cancel()
+            self.timer = self.node.timer(1.0 / params.controller_frequency, self._cycle)
+        self.params = params
+
+    def _reconfigure_local(self, config: dict[str, Any], level: int) -> None:
+        params = reconfigure.replaced(self.local_planner.params, config)
+        params.check()
+        self.local_planner = type(self.local_planner)(params)
+        self.plan_to_local = None  # the new planner is handed the plan on the next cycle
 
     def _plugin(self, session: Session, spec: NodeSpec, param: str, private: Any) -> Any:
         p = self.params

@@ -108,13 +108,21 @@ class RosModuleFinder(importlib.abc.MetaPathFinder):
         known = packages()
         if parts[0] not in known:
             if len(parts) > 2 or not types().learn(parts[0]):
-                return None
+                # A workspace package's dynamic_reconfigure module (``pkg.cfg.NameConfig``).
+                return _cfg_spec(fullname)
             known = packages()
         if len(parts) == 1:
             return importlib.machinery.ModuleSpec(fullname, self._loader, is_package=True)
         if len(parts) == 2 and parts[1] in ("msg", "srv") and known[parts[0]][parts[1]]:
             return importlib.machinery.ModuleSpec(fullname, self._loader)
-        return None
+        return _cfg_spec(fullname) if parts[1] == "cfg" else None
+
+
+def _cfg_spec(fullname: str) -> importlib.machinery.ModuleSpec | None:
+    # Imported here: the generator's runner loads only when a script asks for a .cfg module.
+    from belvedere.ros1.dynamic_reconfigure._cfgmodule import cfg_spec
+
+    return cfg_spec(fullname)
 
 
 def installed() -> RosModuleFinder | None:
