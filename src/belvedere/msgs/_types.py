@@ -20,6 +20,7 @@ from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from rosbags.typesys.store import Typestore
 
 from belvedere.errors import BelvedereError
+from belvedere.msgs._turtlesim_types import TURTLESIM_MESSAGES, TURTLESIM_SERVICES
 
 __all__ = ["PLACEHOLDER", "MessageTypeError", "TypeRegistry", "types"]
 
@@ -121,6 +122,7 @@ _EXTRA_MESSAGES: Final = {
         "string name\nstring state\nstring type\n"
         "controller_manager_msgs/HardwareInterfaceResources[] claimed_resources"
     ),
+    **TURTLESIM_MESSAGES,
 }
 _EXTRA_SERVICES: Final = {
     "controller_manager_msgs/srv/LoadController": ("string name", "bool ok"),
@@ -176,6 +178,7 @@ _EXTRA_SERVICES: Final = {
         "nav_msgs/OccupancyGrid map\ngeometry_msgs/PoseWithCovarianceStamped initial_pose",
         "bool success",
     ),
+    **TURTLESIM_SERVICES,
 }
 
 
