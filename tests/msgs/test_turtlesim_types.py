@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import subprocess
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -17,6 +18,7 @@ from tests.debian_ros import ROS_PYTHON, missing_debian_ros
 GENMSG_SUMS = """
 import json, sys
 from pathlib import Path
+from typing import Any
 import genmsg, genmsg.msg_loader, genmsg.gentools
 root = Path(sys.argv[1])
 ctx = genmsg.MsgContext.create_default()
@@ -72,7 +74,7 @@ def test_md5_sums_match_debians_genmsg(tmp_path: Path) -> None:
 
 def test_a_request_and_response_as_genpy_builds_them() -> None:
     spawn = service_class("turtlesim/Spawn")
-    request = spawn._request_class(1.0, 2.0, 0.5, "leo")
+    request: Any = spawn._request_class(1.0, 2.0, 0.5, "leo")
     assert (request.x, request.y, request.theta, request.name) == (1.0, 2.0, 0.5, "leo")
     assert spawn._response_class().__slots__ == ["name"]
     pose = message_class("turtlesim/Pose")()

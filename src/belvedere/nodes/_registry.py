@@ -132,6 +132,7 @@ MODULES: Final = {
     "teleop_twist_keyboard": "teleop_twist_keyboard",
     "tf": "tf",
     "tf2_ros": "tf2_ros",
+    "turtlesim": "turtlesim",
 }
 """ROS package → the module here that provides its executables."""
 
