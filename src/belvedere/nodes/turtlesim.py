@@ -166,8 +166,11 @@ class _Mimic:
     turtles): each pose's speeds sent on as a command."""
 
     def __init__(self, node: Node) -> None:
-        self.pub = node.publisher("output/cmd_vel", _TWIST, queue_size=1)
-        node.subscribe("input/pose", "turtlesim/Pose", self._on_pose, queue_size=1)
+        # roscpp remaps a NodeHandle's namespace as it makes it: ``input:=turtle1`` moves
+        # everything under it
+        output, input_ = node.resolve("output"), node.resolve("input")
+        self.pub = node.publisher(f"{output}/cmd_vel", _TWIST, queue_size=1)
+        node.subscribe(f"{input_}/pose", "turtlesim/Pose", self._on_pose, queue_size=1)
 
     def _on_pose(self, pose: Any) -> None:
         self.pub.publish_data(
