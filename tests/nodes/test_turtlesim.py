@@ -106,8 +106,8 @@ def test_mimic_follows_turtle1_with_turtle2(tmp_path: Path) -> None:
     probe = graph.create_node("probe")
     probe.call_service("/spawn", "turtlesim/Spawn", {"x": 2.0, "y": 2.0, "name": "turtle2"})
     poses: dict[str, Any] = {}
-    for name in ("turtle1", "turtle2"):
-        probe.subscribe(f"/{name}/pose", "turtlesim/Pose", lambda m, n=name: poses.update({n: m}))
+    probe.subscribe("/turtle1/pose", "turtlesim/Pose", lambda m: poses.update(turtle1=m))
+    probe.subscribe("/turtle2/pose", "turtlesim/Pose", lambda m: poses.update(turtle2=m))
     probe.publisher("/turtle1/cmd_vel", "geometry_msgs/Twist").publish_data(
         {"linear": {"x": 1.0}, "angular": {"z": 0.5}}
     )
