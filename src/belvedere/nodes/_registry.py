@@ -29,6 +29,7 @@ __all__ = [
     "files",
     "find",
     "joins_running_graph",
+    "node_name",
     "package_names",
     "stopping_on_bad_values",
     "transforms",
@@ -187,6 +188,14 @@ def anonymous(package: str, executable: str) -> bool:
     ``AnonymousName``: ``rosrun rviz rviz`` is ``/rviz_<nanoseconds>``), as the module's
     ``ANONYMOUS`` says."""
     return executable in _module_set(package, "ANONYMOUS")
+
+
+def node_name(package: str, executable: str) -> str:
+    """The name ``executable`` gives its node when nothing renames it: what its ``ros::init``
+    says, as the module's ``NAMES`` has it (``turtlesim_node`` is ``turtlesim``), else the
+    executable's own name."""
+    names: dict[str, str] = _table(package, "NAMES", {})
+    return names.get(executable, executable.removesuffix(".py"))
 
 
 def _module_set(package: str, attribute: str) -> frozenset[str]:

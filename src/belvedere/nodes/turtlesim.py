@@ -24,7 +24,7 @@ from belvedere.graph import Node, Publisher, ServiceFailedError, ServiceServer, 
 from belvedere.nodes._registry import NodeSpec, Session, Starter
 from belvedere.sim.turtlesim import BACKGROUND, PERIOD, SIZE, TurtleError, TurtleWorld
 
-__all__ = ["EXECUTABLES", "JOINING", "PACKAGE", "TurtlesimNode"]
+__all__ = ["EXECUTABLES", "JOINING", "NAMES", "PACKAGE", "TurtlesimNode"]
 
 PACKAGE = "turtlesim"
 logger = logging.getLogger("belvedere.nodes.turtlesim")
@@ -283,5 +283,13 @@ EXECUTABLES: dict[str, Starter] = {
     "mimic": _on_node(_Mimic),
     "draw_square": _on_node(_DrawSquare),
 }
+NAMES = {
+    "turtlesim_node": "turtlesim",
+    "turtle_teleop_key": "teleop_turtle",
+    "mimic": "turtle_mimic",
+    "draw_square": "draw_square",
+}
+"""The names their ``ros::init`` gives them (``rosrun turtlesim turtlesim_node`` is
+``/turtlesim``, whose ``~background_r`` the course reads as ``/turtlesim/background_r``)."""
 JOINING = frozenset(EXECUTABLES)
 """Clients of the graph, as in ROS: ``run`` starts each on the graph that runs."""
