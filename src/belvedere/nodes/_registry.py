@@ -70,6 +70,8 @@ class Session(Protocol):
     gui_joints: bool
     rviz_config: str | None
     want_viewer: bool
+    canvases: list[Any]
+    """2D simulations for the viewer to draw (:class:`belvedere.viewer.Canvas`)."""
     deferred: list[Callable[[], None]]
     """Run after every node exists (spawn_model)."""
     controllers: list[Callable[[], None]]

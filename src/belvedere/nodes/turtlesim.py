@@ -20,9 +20,18 @@ import threading
 from collections.abc import Callable
 from typing import Any
 
+import numpy as np
+
 from belvedere.graph import Node, Publisher, ServiceFailedError, ServiceServer, Subscription
 from belvedere.nodes._registry import NodeSpec, Session, Starter
-from belvedere.sim.turtlesim import BACKGROUND, PERIOD, SIZE, TurtleError, TurtleWorld
+from belvedere.sim.turtlesim import (
+    BACKGROUND,
+    METER_PX,
+    PERIOD,
+    SIZE,
+    TurtleError,
+    TurtleWorld,
+)
 
 __all__ = ["EXECUTABLES", "JOINING", "NAMES", "PACKAGE", "TurtlesimNode"]
 
@@ -37,6 +46,8 @@ class TurtlesimNode:
 
     def __init__(self, node: Node) -> None:
         self.node = node
+        self.lock = threading.Lock()
+        """Held while the world changes: the viewer's thread takes its picture between."""
         for channel, value in zip("rgb", BACKGROUND, strict=True):
             if not node.has_param(f"~background_{channel}"):
                 node.set_param(f"~background_{channel}", value)
@@ -51,6 +62,13 @@ class TurtlesimNode:
         centre = SIZE / 2.0
         self._spawned(self.world.spawn("", centre, centre, 0.0), centre, centre, 0.0)
         node.timer(PERIOD, self._update)
+        self.cmd_vel = node.resolve("turtle1/cmd_vel")
+        """What the viewer's teleop drives, as turtle_teleop_key does."""
+
+    def picture(self) -> tuple[np.ndarray[Any, np.dtype[np.uint8]], float]:
+        """turtlesim's window (:class:`belvedere.viewer.Canvas`)."""
+        with self.lock:
+            return self.world.image(), 1.0 / METER_PX
 
     def background(self) -> tuple[int, int, int]:
         """``~background_r/g/b`` as turtlesim reads them: an integer 0-255 each, else its
@@ -74,20 +92,25 @@ class TurtlesimNode:
     def _clear(self, request: Any) -> None:
         del request
         self.node.logger.info("Clearing turtlesim.")
-        self.world.clear(self.background())
+        background = self.background()
+        with self.lock:
+            self.world.clear(background)
 
     def _reset(self, request: Any) -> None:
         del request
         self.node.logger.info("Resetting turtlesim.")
         for name in list(self.names):
             self._forget(name)
-        name = self.world.reset(self.background())
+        background = self.background()
+        with self.lock:
+            name = self.world.reset(background)
         self._spawned(name, SIZE / 2.0, SIZE / 2.0, 0.0)
 
     def _spawn(self, request: Any) -> dict[str, str]:
         x, y, theta = float(request.x), float(request.y), float(request.theta)
         try:
-            name = self.world.spawn(str(request.name), x, y, theta)
+            with self.lock:
+                name = self.world.spawn(str(request.name), x, y, theta)
         except TurtleError as err:
             self.node.logger.error("%s", err.message)
             raise ServiceFailedError(self.node.resolve("spawn"), err.message) from None
@@ -97,7 +120,8 @@ class TurtlesimNode:
     def _kill(self, request: Any) -> None:
         name = str(request.name)
         try:
-            self.world.kill(name)
+            with self.lock:
+                self.world.kill(name)
         except TurtleError as err:
             self.node.logger.error("%s", err.message)
             raise ServiceFailedError(self.node.resolve("kill"), err.message) from None
@@ -145,7 +169,9 @@ class TurtlesimNode:
                 graph.remove_service(handle)
 
     def _update(self) -> None:
-        for report in self.world.update(self.node.now()):
+        with self.lock:
+            reports = self.world.update(self.node.now())
+        for report in reports:
             pose, color = self.publishers[report.name]
             pose.publish_data(
                 {
@@ -277,8 +303,15 @@ def _on_node(make: Callable[[Node], object]) -> Starter:
     return start
 
 
+def _turtlesim_node(session: Session, spec: NodeSpec, node: Node) -> None:
+    del spec
+    # turtlesim opens its window: here, the viewer draws the canvas
+    session.canvases.append(TurtlesimNode(node))
+    session.want_viewer = True
+
+
 EXECUTABLES: dict[str, Starter] = {
-    "turtlesim_node": _on_node(TurtlesimNode),
+    "turtlesim_node": _turtlesim_node,
     "turtle_teleop_key": _teleop,
     "mimic": _on_node(_Mimic),
     "draw_square": _on_node(_DrawSquare),
