@@ -43,7 +43,7 @@ class _Watcher:
 @pytest.fixture
 def turtlesim(endpoint: str) -> Iterator[_Watcher]:
     sim = subprocess.Popen(
-        [*BELVEDERE, "run", "turtlesim", "turtlesim_node"],
+        [*BELVEDERE, "run", "--headless", "turtlesim", "turtlesim_node"],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
         text=True,
