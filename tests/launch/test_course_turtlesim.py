@@ -40,14 +40,19 @@ class _Watcher:
         self.graph.start(rtf=None)
 
 
-@pytest.fixture
-def turtlesim(endpoint: str) -> Iterator[_Watcher]:
-    sim = subprocess.Popen(
-        [*BELVEDERE, "run", "--headless", "turtlesim", "turtlesim_node"],
+def _start(verb: str, *words: str) -> subprocess.Popen[str]:
+    """``belvedere VERB --headless WORDS`` in the background; its stderr kept for the end."""
+    return subprocess.Popen(
+        [*BELVEDERE, verb, "--headless", *words],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
         text=True,
     )
+
+
+@pytest.fixture
+def turtlesim(endpoint: str) -> Iterator[_Watcher]:
+    sim = _start("run", "turtlesim", "turtlesim_node")
     watcher = _Watcher(endpoint)
     try:
         wait_until(lambda: watcher.poses["turtle1"], what="turtlesim's /turtle1/pose")
@@ -129,12 +134,7 @@ def test_spawn_and_the_background_parameters(turtlesim: _Watcher) -> None:
 
 
 def test_the_tf_demo_turtle2_catches_turtle1(endpoint: str) -> None:
-    launch = subprocess.Popen(
-        [*BELVEDERE, "launch", *PACKAGES, "learning_tf", "start_tf_demo_py.launch", "--headless"],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
+    launch = _start("launch", *PACKAGES, "learning_tf", "start_tf_demo_py.launch")
     watcher = _Watcher(endpoint)
     try:
         wait_until(lambda: watcher.poses["turtle2"], what="turtle2, spawned by the listener")
