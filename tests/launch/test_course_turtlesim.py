@@ -20,6 +20,7 @@ import pytest
 from belvedere.graph import Graph, ZenohTransport
 from belvedere.sim.turtlesim import PERIOD, SIZE
 from tests.conftest import EXAMPLES
+from tests.terminal import Terminal
 from tests.waiting import DEADLINE, wait_until
 
 BELVEDERE = [sys.executable, "-m", "belvedere"]
@@ -152,3 +153,31 @@ def test_the_tf_demo_turtle2_catches_turtle1(endpoint: str) -> None:
         launch.send_signal(signal.SIGINT)  # Ctrl-C: roslaunch ends its script nodes too
         _, err = launch.communicate(timeout=DEADLINE)
     assert err.endswith("done\n"), err  # roslaunch's last word after a clean shutdown
+
+
+def test_turtle_teleop_key_drives_turtle1_from_a_terminal(turtlesim: _Watcher) -> None:
+    terminal = Terminal()
+    teleop = subprocess.Popen(
+        [*BELVEDERE, "run", "turtlesim", "turtle_teleop_key"],
+        stdin=terminal.slave,
+        stdout=terminal.slave,
+        stderr=subprocess.DEVNULL,
+    )
+    poses = turtlesim.poses["turtle1"]
+    try:
+        terminal.wait_for("Use arrow keys to move the turtle. 'q' to quit.")
+        start = poses[-1]
+        terminal.type("\x1b[A")  # up: 2.0 m/s for turtlesim's second
+        wait_until(lambda: poses[-1].linear_velocity == 2.0, what="turtle1 driving")
+        wait_until(lambda: poses[-1].linear_velocity == 0.0, what="turtle1 stopping after 1 s")
+        # 62 or 63 updates of 2.0 m/s x 16 ms, depending on where the second fell
+        assert poses[-1].x - start.x == pytest.approx(2.0, abs=0.05)
+        terminal.type("\x1b[D")  # left: 2.0 rad/s
+        wait_until(lambda: poses[-1].angular_velocity == 2.0, what="turtle1 turning")
+        terminal.type("q")
+        assert teleop.wait(timeout=DEADLINE) == 0
+    finally:
+        if teleop.poll() is None:
+            teleop.kill()
+            teleop.wait(timeout=DEADLINE)
+        terminal.close()

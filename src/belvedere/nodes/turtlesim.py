@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from belvedere.graph import Node, Publisher, ServiceFailedError, ServiceServer, Subscription
-from belvedere.nodes._registry import NodeSpec, Session, Starter
+from belvedere.nodes._registry import NodeSpec, Session, Starter, end_when
 from belvedere.sim.turtlesim import (
     BACKGROUND,
     METER_PX,
@@ -290,9 +290,11 @@ def _teleop(session: Session, spec: NodeSpec, node: Node) -> None:
     def publish(t: tuple[float, float, float, float]) -> None:
         pub.publish_data({"linear": {"x": t[0]}, "angular": {"z": t[3]}})
 
-    threading.Thread(
+    thread = threading.Thread(
         target=run_teleop, args=(keys, publish, sys.stdin.fileno(), sys.stdout), daemon=True
-    ).start()
+    )
+    thread.start()
+    end_when(session, node, lambda: not thread.is_alive())  # q quits, as turtlesim's does
 
 
 def _on_node(make: Callable[[Node], object]) -> Starter:
