@@ -13,11 +13,12 @@ every 16 ms of the graph's time, so a run in simulated time is deterministic.
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import math
 import sys
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import Any
 
 import numpy as np
@@ -88,6 +89,16 @@ class TurtlesimNode:
             rgb.append(value)
         return (rgb[0], rgb[1], rgb[2])
 
+    @contextlib.contextmanager
+    def _refusing(self, service: str) -> Iterator[None]:
+        """What the world refuses is logged as turtlesim logs it, and the service call fails
+        (turtlesim's handler returns false)."""
+        try:
+            yield
+        except TurtleError as err:
+            self.node.logger.error("%s", err.message)
+            raise ServiceFailedError(self.node.resolve(service), err.message) from None
+
     # --- the frame's services ------------------------------------------------------------------
     def _clear(self, request: Any) -> None:
         del request
@@ -108,23 +119,15 @@ class TurtlesimNode:
 
     def _spawn(self, request: Any) -> dict[str, str]:
         x, y, theta = float(request.x), float(request.y), float(request.theta)
-        try:
-            with self.lock:
-                name = self.world.spawn(str(request.name), x, y, theta)
-        except TurtleError as err:
-            self.node.logger.error("%s", err.message)
-            raise ServiceFailedError(self.node.resolve("spawn"), err.message) from None
+        with self._refusing("spawn"), self.lock:
+            name = self.world.spawn(str(request.name), x, y, theta)
         self._spawned(name, x, y, theta)
         return {"name": name}
 
     def _kill(self, request: Any) -> None:
         name = str(request.name)
-        try:
-            with self.lock:
-                self.world.kill(name)
-        except TurtleError as err:
-            self.node.logger.error("%s", err.message)
-            raise ServiceFailedError(self.node.resolve("kill"), err.message) from None
+        with self._refusing("kill"), self.lock:
+            self.world.kill(name)
         self._forget(name)
 
     # --- each turtle's names -------------------------------------------------------------------
@@ -139,10 +142,12 @@ class TurtlesimNode:
             world.set_pen(name, (req.r, req.g, req.b), int(req.width), bool(req.off))
 
         def absolute(req: Any) -> None:
-            world.teleport_absolute(name, float(req.x), float(req.y), float(req.theta))
+            with self._refusing(f"{name}/teleport_absolute"), self.lock:
+                world.teleport_absolute(name, float(req.x), float(req.y), float(req.theta))
 
         def relative(req: Any) -> None:
-            world.teleport_relative(name, float(req.linear), float(req.angular))
+            with self._refusing(f"{name}/teleport_relative"), self.lock:
+                world.teleport_relative(name, float(req.linear), float(req.angular))
 
         pose = node.publisher(f"{name}/pose", "turtlesim/Pose", queue_size=1)
         color = node.publisher(f"{name}/color_sensor", "turtlesim/Color", queue_size=1)

@@ -124,10 +124,7 @@ class TurtleWorld:
 
     def spawn(self, name: str, x: float, y: float, theta: float) -> str:
         """A new turtle at (x, y) facing ``theta``; its name (``turtleN`` when empty)."""
-        for value in (x, y, theta):
-            if not math.isfinite(value):
-                msg = f"cannot spawn a turtle at x={x}, y={y}, theta={theta}: not a number"
-                raise TurtleError(msg)
+        _finite("spawn a turtle at", x=x, y=y, theta=theta)
         if not name:
             while True:
                 self.counter += 1
@@ -164,9 +161,11 @@ class TurtleWorld:
 
     def teleport_absolute(self, name: str, x: float, y: float, theta: float) -> None:
         """Done at the next update, as turtlesim queues it."""
+        _finite(f"teleport {name} to", x=x, y=y, theta=theta)
         self._turtle(name).teleports.append((False, x, y, theta))
 
     def teleport_relative(self, name: str, linear: float, angular: float) -> None:
+        _finite(f"teleport {name} by", linear=linear, angular=angular)
         self._turtle(name).teleports.append((True, linear, 0.0, angular))
 
     def _turtle(self, name: str) -> _Turtle:
@@ -240,6 +239,15 @@ class TurtleWorld:
             _disk(picture, (cx, cy), 11.0, (40, 120, 50))
             _disk(picture, (cx, cy), 6.0, (90, 170, 70))
         return picture
+
+
+def _finite(doing: str, **values: float) -> None:
+    """A request with a value that is not a number is refused (turtlesim would put the
+    turtle nowhere, and every later pose with it)."""
+    if not all(math.isfinite(v) for v in values.values()):
+        given = ", ".join(f"{k}={v}" for k, v in values.items())
+        msg = f"cannot {doing} {given}: not a number"
+        raise TurtleError(msg)
 
 
 def _round(value: float) -> int:
