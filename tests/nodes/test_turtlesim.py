@@ -67,8 +67,8 @@ def test_names_parameters_and_services(tmp_path: Path) -> None:
     graph.run(duration=0.1)
     assert (colors[-1].r, colors[-1].g, colors[-1].b) == (5, 86, 0)
 
+    teleport = ("/turtle2/teleport_absolute", "turtlesim/TeleportAbsolute")
     with pytest.raises(ServiceFailedError, match=r"cannot teleport turtle2 to x=nan"):
-        teleport = ("/turtle2/teleport_absolute", "turtlesim/TeleportAbsolute")
         probe.call_service(*teleport, {"x": math.nan})
     with pytest.raises(ServiceFailedError, match=r"cannot spawn a turtle at x=inf"):
         probe.call_service("/spawn", "turtlesim/Spawn", {"x": math.inf})
