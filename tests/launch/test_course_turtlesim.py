@@ -12,6 +12,7 @@ import math
 import signal
 import subprocess
 import sys
+import threading
 from collections.abc import Iterator
 from typing import Any
 
@@ -181,3 +182,26 @@ def test_turtle_teleop_key_drives_turtle1_from_a_terminal(turtlesim: _Watcher) -
             teleop.kill()
             teleop.wait(timeout=DEADLINE)
         terminal.close()
+
+
+def test_the_pose_subscriber_logs_where_turtle1_is(turtlesim: _Watcher) -> None:
+    del turtlesim
+    script = subprocess.Popen(
+        [*BELVEDERE, "run", *PACKAGES, "learning_topic", "pose_subscriber.py"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.DEVNULL,
+        text=True,
+    )
+    lines: list[str] = []
+    out = script.stdout
+    assert out is not None
+    reader = threading.Thread(target=lambda: lines.extend(iter(out.readline, "")))
+    reader.start()
+    try:
+        wait_until(lambda: any("Turtle pose" in line for line in lines), what="a pose logged")
+    finally:
+        script.terminate()
+        script.wait(timeout=DEADLINE)
+        reader.join(timeout=DEADLINE)
+    logged = next(line for line in lines if "Turtle pose" in line)
+    assert logged.rstrip().endswith("Turtle pose: x:5.544445, y:5.544445")  # float32
