@@ -62,7 +62,7 @@ def test_names_parameters_and_services(tmp_path: Path) -> None:
     assert seen[-1].x == pytest.approx(3.0, abs=0.02)  # 1 m/s for 1 s, then stopped
     assert seen[-1].linear_velocity == 0.0
 
-    graph.params.set("/sim/background_b", 0)
+    graph.params.set("/sim/background_b", 0.4)  # roscpp rounds a double
     probe.call_service("/clear", "std_srvs/Empty")
     graph.run(duration=0.1)
     assert (colors[-1].r, colors[-1].g, colors[-1].b) == (5, 86, 0)

@@ -72,11 +72,14 @@ class TurtlesimNode:
             return self.world.image(), 1.0 / METER_PX
 
     def background(self) -> tuple[int, int, int]:
-        """``~background_r/g/b`` as turtlesim reads them: an integer 0-255 each, else its
-        default (with a warning naming the parameter)."""
+        """``~background_r/g/b`` as turtlesim reads them (roscpp's integer parameters: a
+        double is rounded, as roscpp rounds it): 0-255 each, else its default, with a warning
+        naming the parameter (Qt would wrap 300 round to 44)."""
         rgb = []
         for channel, default in zip("rgb", BACKGROUND, strict=True):
             value = self.node.get_param(f"~background_{channel}", default)
+            if isinstance(value, float) and math.isfinite(value):
+                value = math.floor(value) if math.fmod(value, 1.0) < 0.5 else math.ceil(value)
             if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= 255:
                 self.node.logger.warning(
                     "%s/background_%s is %r, not an integer 0-255: using %d",
