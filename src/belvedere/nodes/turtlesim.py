@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from belvedere.graph import Node, Publisher, ServiceFailedError, ServiceServer, Subscription
+from belvedere.msgs import types
 from belvedere.nodes._registry import NodeSpec, Session, Starter, end_when
 from belvedere.sim.turtlesim import (
     BACKGROUND,
@@ -179,18 +180,13 @@ class TurtlesimNode:
     def _update(self) -> None:
         with self.lock:
             reports = self.world.update(self.node.now())
-        for report in reports:
-            pose, color = self.publishers[report.name]
-            pose.publish_data(
-                {
-                    "x": report.x,
-                    "y": report.y,
-                    "theta": report.theta,
-                    "linear_velocity": report.linear_velocity,
-                    "angular_velocity": report.angular_velocity,
-                }
-            )
-            color.publish_data(dict(zip("rgb", report.color, strict=True)))
+        pose_msg, color_msg = types().cls("turtlesim/Pose"), types().cls("turtlesim/Color")
+        for r in reports:
+            pose, color = self.publishers[r.name]
+            if pose.wanted:  # nobody listening costs nothing
+                pose.publish(pose_msg(r.x, r.y, r.theta, r.linear_velocity, r.angular_velocity))
+            if color.wanted:
+                color.publish(color_msg(*r.color))
         for warning in self.world.warnings:
             self.node.logger.warning("%s", warning)
 
