@@ -18,7 +18,7 @@ from tests.conftest import free_port
 def test_the_canvas_is_drawn_where_the_turtles_are_and_follows_them() -> None:
     graph = Graph()
     sim = TurtlesimNode(graph.create_node("turtlesim"))
-    viewer = Viewer(graph, port=free_port(), fixed_frame="world", canvases=[sim])
+    viewer = Viewer(graph, port=free_port(), canvases=[sim])
     try:
         (drawing,) = viewer.canvases
         drawing.period = 0.0  # every frame, for the test
@@ -31,6 +31,7 @@ def test_the_canvas_is_drawn_where_the_turtles_are_and_follows_them() -> None:
         assert first.shape == (500, 500, 3)
         assert tuple(first[5, 5]) == BACKGROUND
         assert viewer.cmd_pub.name == "/turtle1/cmd_vel"
+        assert viewer.fixed_frame == "world"  # the tf demo's frame, which the canvas lies in
         viewer.render_once()
         assert drawing.handle is handle  # nothing changed: nothing sent
 

@@ -120,7 +120,9 @@ class Viewer(_DisplayHost):
         self.fixed_frame = (
             fixed_frame
             or (rviz.fixed_frame if rviz else None)
-            or (model.root_link.name if model else "map")
+            or (model.root_link.name if model else None)
+            # the canvas lies in the scene's own frame: the course's tf demo calls it world
+            or ("world" if canvases else "map")
         )
         self.ctx = DisplayContext(
             node=self.node,
