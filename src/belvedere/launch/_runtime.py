@@ -81,6 +81,8 @@ class LaunchRuntime:
     gui_joints: bool = False
     rviz_config: str | None = None
     want_viewer: bool = False
+    canvases: list[Any] = field(default_factory=list)
+    """2D simulations the viewer draws (turtlesim's window)."""
     world: Any = None
     processes: list[tuple[LaunchNode, subprocess.Popen[bytes]]] = field(default_factory=list)
     deferred: list[Callable[[], None]] = field(default_factory=list)
@@ -442,6 +444,7 @@ class LaunchRuntime:
             world=getattr(sim, "world", None),
             world_poses=sim.model_poses if sim is not None else None,
             fixed_frame=None if self.rviz_config else getattr(sim, "odom_frame", None),
+            canvases=self.canvases,
             **self.viewer_options,
         )
         if sim is not None and not self.rviz_config:

@@ -25,6 +25,7 @@ from belvedere.errors import BelvedereError
 from belvedere.msgs import _dynamic_reconfigure_types
 from belvedere.msgs._genmsg import PLACEHOLDER, Definition, typedef
 from belvedere.msgs._packages import PackageInterfaces
+from belvedere.msgs._turtlesim_types import TURTLESIM_MESSAGES, TURTLESIM_SERVICES
 
 __all__ = ["PLACEHOLDER", "MessageTypeError", "TypeRegistry", "types"]
 
@@ -123,6 +124,8 @@ _EXTRA_MESSAGES: Final = {
         "string name\nstring state\nstring type\n"
         "controller_manager_msgs/HardwareInterfaceResources[] claimed_resources"
     ),
+    **TURTLESIM_MESSAGES,
+    **_dynamic_reconfigure_types.MESSAGES,
 }
 _EXTRA_SERVICES: Final = {
     "controller_manager_msgs/srv/LoadController": ("string name", "bool ok"),
@@ -183,9 +186,9 @@ _EXTRA_SERVICES: Final = {
         "bool success\nstring status_message",
     ),
     "tf2_msgs/srv/FrameGraph": ("", "string frame_yaml"),
+    **TURTLESIM_SERVICES,
+    **_dynamic_reconfigure_types.SERVICES,
 }
-_EXTRA_MESSAGES.update(_dynamic_reconfigure_types.MESSAGES)
-_EXTRA_SERVICES.update(_dynamic_reconfigure_types.SERVICES)
 
 
 class MessageTypeError(BelvedereError):

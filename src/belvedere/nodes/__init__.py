@@ -24,6 +24,7 @@ from belvedere.nodes._registry import (
     files,
     find,
     joins_running_graph,
+    node_name,
     package_names,
     transforms,
 )
@@ -41,6 +42,7 @@ __all__ = [
     "files",
     "find",
     "joins_running_graph",
+    "node_name",
     "package_names",
     "transforms",
 ]

@@ -30,6 +30,7 @@ __all__ = [
     "find",
     "frame_claim",
     "joins_running_graph",
+    "node_name",
     "package_names",
     "stopping_on_bad_values",
     "transforms",
@@ -70,6 +71,8 @@ class Session(Protocol):
     gui_joints: bool
     rviz_config: str | None
     want_viewer: bool
+    canvases: list[Any]
+    """2D simulations for the viewer to draw (:class:`belvedere.viewer.Canvas`)."""
     deferred: list[Callable[[], None]]
     """Run after every node exists (spawn_model)."""
     controllers: list[Callable[[], None]]
@@ -149,6 +152,7 @@ MODULES: Final = {
     "teleop_twist_keyboard": "teleop_twist_keyboard",
     "tf": "tf",
     "tf2_ros": "tf2_ros",
+    "turtlesim": "turtlesim",
 }
 """ROS package → the module here that provides its executables."""
 
@@ -203,6 +207,14 @@ def anonymous(package: str, executable: str) -> bool:
     ``AnonymousName``: ``rosrun rviz rviz`` is ``/rviz_<nanoseconds>``), as the module's
     ``ANONYMOUS`` says."""
     return executable in _module_set(package, "ANONYMOUS")
+
+
+def node_name(package: str, executable: str) -> str:
+    """The name ``executable`` gives its node when nothing renames it: what its ``ros::init``
+    says, as the module's ``NAMES`` has it (``turtlesim_node`` is ``turtlesim``), else the
+    executable's own name."""
+    names: dict[str, str] = _table(package, "NAMES", {})
+    return names.get(executable, executable.removesuffix(".py"))
 
 
 def _module_set(package: str, attribute: str) -> frozenset[str]:

@@ -77,7 +77,7 @@ def rosrun(
             )
     plain, remaps, params, name, namespace = split_ros_args(words)
     if name is None:
-        name = executable.removesuffix(".py")
+        name = nodes.node_name(package, executable)
         if nodes.anonymous(package, executable):
             name += f"_{time.time_ns()}"  # rosrun rviz rviz beside a launch's /rviz
     spec = LaunchNode(

@@ -1,7 +1,7 @@
 """Keyboard teleoperation: teleop_twist_keyboard's layout and the course's mbot_teleop, read
 from a real terminal in raw mode."""
 
-from belvedere.teleop._layouts import LAYOUTS, Layout, MbotTeleop, Output, TwistKeyboard
+from belvedere.teleop._layouts import LAYOUTS, Layout, MbotTeleop, Output, TurtleKeys, TwistKeyboard
 from belvedere.teleop._terminal import raw_terminal, read_key, run_teleop
 
 __all__ = [
@@ -9,6 +9,7 @@ __all__ = [
     "Layout",
     "MbotTeleop",
     "Output",
+    "TurtleKeys",
     "TwistKeyboard",
     "raw_terminal",
     "read_key",

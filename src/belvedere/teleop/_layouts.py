@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Final, Protocol
 
-__all__ = ["LAYOUTS", "Layout", "MbotTeleop", "Output", "TwistKeyboard"]
+__all__ = ["LAYOUTS", "Layout", "MbotTeleop", "Output", "TurtleKeys", "TwistKeyboard"]
 
 CTRL_C: Final = "\x03"
 
@@ -215,6 +215,37 @@ def _towards(current: float, target: float, step: float) -> float:
     if target < current:
         return max(target, current - step)
     return target
+
+
+_TURTLE_HELP: Final = """Reading from keyboard
+---------------------------
+Use arrow keys to move the turtle. 'q' to quit."""
+
+# An arrow key is ESC [ A..D; turtlesim's teleop reads byte by byte and acts on the last one.
+_ARROWS: Final = {"A": (1.0, 0.0), "B": (-1.0, 0.0), "C": (0.0, -1.0), "D": (0.0, 1.0)}
+
+
+class TurtleKeys:
+    """turtlesim's ``turtle_teleop_key``: each arrow key sends one command (linear or angular
+    times its scale, 2.0 by default), other keys nothing; q quits."""
+
+    help = _TURTLE_HELP
+    poll: float | None = None
+
+    def __init__(self, scale_linear: float = 2.0, scale_angular: float = 2.0) -> None:
+        self.scale_linear = scale_linear
+        self.scale_angular = scale_angular
+
+    def key(self, key: str) -> Output:
+        if key in ("q", CTRL_C):
+            return Output(quit=True)
+        if key not in _ARROWS:
+            return Output()
+        linear, angular = _ARROWS[key]
+        return Output((self.scale_linear * linear, 0.0, 0.0, self.scale_angular * angular))
+
+    def idle(self) -> Output:
+        return Output()
 
 
 LAYOUTS: Final = {"twist_keyboard": TwistKeyboard, "mbot": MbotTeleop}

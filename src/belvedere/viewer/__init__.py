@@ -1,6 +1,7 @@
 """The browser viewer (rviz and joint_state_publisher_gui in any browser), built on viser."""
 
 from belvedere.viewer._access import ViewerError, viewer_access
+from belvedere.viewer._canvas import Canvas
 from belvedere.viewer._catalog import DISPLAYS
 from belvedere.viewer._display import Display
 from belvedere.viewer._robot import MeshAccessError, RobotDrawing, allowed_mesh_path
@@ -18,6 +19,7 @@ from belvedere.viewer._views import floor_point
 
 __all__ = [
     "DISPLAYS",
+    "Canvas",
     "Display",
     "MeshAccessError",
     "RobotDrawing",

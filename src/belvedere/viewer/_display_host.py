@@ -20,6 +20,7 @@ from belvedere.msgs import short
 from belvedere.sim import SAVE_WORLD, SAVE_WORLD_TYPE
 from belvedere.tf import Transform, TransformListener
 from belvedere.viewer._access import ViewerError
+from belvedere.viewer._canvas import CanvasDrawing
 from belvedere.viewer._catalog import DISPLAYS, UnsupportedDisplay, display_type
 from belvedere.viewer._display import Display, DisplayContext, color_tuple
 from belvedere.viewer._panel import DisplayPanel, global_status_markdown, set_handle
@@ -52,6 +53,7 @@ class _DisplayHost:
     fixed_frame: str
     world: WorldDrawing | None
     world_poses: Callable[[], Mapping[str, Transform]] | None
+    canvases: list[CanvasDrawing]
     displays: list[Display]
     panels: dict[int, DisplayPanel]
     global_status: Status
@@ -276,6 +278,8 @@ class _DisplayHost:
                 display.status.set("Display", Level.ERROR, f"drawing failed: {err!r}")
         if self.world is not None and self.world_poses is not None:
             self.world.update(self.world_poses())
+        for canvas in self.canvases:
+            canvas.update()
         for client, view in list(self.views.values()):
             view.follow(client.camera, buffer, fixed)
         now = time.monotonic()

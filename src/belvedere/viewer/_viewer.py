@@ -26,6 +26,7 @@ from belvedere.graph import NS, Graph, GraphTopics, Node, process_node_name
 from belvedere.packages import PackageIndex
 from belvedere.tf import JointStatePublisher, Transform, TransformListener, quat_xyzw_from_rpy
 from belvedere.viewer._access import ViewerError, guard_viser, viewer_access
+from belvedere.viewer._canvas import Canvas, CanvasDrawing
 from belvedere.viewer._catalog import DISPLAYS
 from belvedere.viewer._display import Display, DisplayContext
 from belvedere.viewer._display_host import _DisplayHost
@@ -80,12 +81,14 @@ class Viewer(_DisplayHost):
         token: str | None = None,
         cmd_vel: str = "/cmd_vel",
         rviz_path: str | Path | None = None,
+        canvases: Sequence[Canvas] = (),
     ) -> None:
         """``world``: models drawn in the fixed frame (Gazebo's world frame);
         ``world_poses``: where the movable ones are now (called each frame).
         ``allow_origins``: web origins besides the viewer's own page that may connect;
         ``token``: what a client must show (default: a new one when ``host`` is not loopback,
-        none when it is; it is in :attr:`url`)."""
+        none when it is; it is in :attr:`url`). ``canvases``: 2D simulations drawn on the floor
+        (turtlesim's window); the teleop drives the first one's ``cmd_vel`` unless told."""
         import viser  # heavy: only the viewer uses it
 
         self.graph = graph
@@ -117,7 +120,9 @@ class Viewer(_DisplayHost):
         self.fixed_frame = (
             fixed_frame
             or (rviz.fixed_frame if rviz else None)
-            or (model.root_link.name if model else "map")
+            or (model.root_link.name if model else None)
+            # the canvas lies in the scene's own frame: the course's tf demo calls it world
+            or ("world" if canvases else "map")
         )
         self.ctx = DisplayContext(
             node=self.node,
@@ -144,6 +149,11 @@ class Viewer(_DisplayHost):
             "/initialpose", "geometry_msgs/PoseWithCovarianceStamped"
         )
         self.point_pub = self.node.publisher("/clicked_point", "geometry_msgs/PointStamped")
+        self.canvases = [
+            CanvasDrawing(self.scene, c, f"/canvas{i}") for i, c in enumerate(canvases)
+        ]
+        if canvases and cmd_vel == "/cmd_vel":
+            cmd_vel = canvases[0].cmd_vel
         self.cmd_pub = self.node.publisher(cmd_vel, "geometry_msgs/Twist")
         self.command = (0.0, 0.0)
         self._last_click: tuple[float, float] | None = None
