@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 import re
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -414,3 +415,55 @@ def test_a_spawner_beside_the_running_room_dies_and_its_launch_ends(
         "[urdf_spawner-1] process has died [pid PID, exit code 1, cmd gazebo_ros/spawn_model "
     )
     assert "all processes on machine have died, roslaunch will exit" in done.stderr
+
+
+HOLD_MARKED = """#!/usr/bin/env python3
+import os, sys
+import rospy
+rospy.init_node("hold")
+with open(rospy.myargv()[1], "w") as f:
+    f.write(str(os.getpid()))
+rospy.spin()
+"""
+
+HELD = """<launch>
+  <node pkg="life" type="hold_marked.py" name="holder" args="{work}/holder.pid"/>
+</launch>
+"""
+
+
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGHUP, signal.SIGINT])
+def test_a_launch_ended_by_a_signal_ends_its_scripts(
+    tmp_path: Path, endpoint: str, own_log_dir: Path, signum: int
+) -> None:
+    """``kill`` (SIGTERM), a closed terminal (SIGHUP) and Ctrl-C end a launch as roslaunch
+    ends: its scripts' processes end with it, none is left running without it."""
+    pkg = tmp_path / "life"
+    (pkg / "scripts").mkdir(parents=True)
+    (pkg / "package.xml").write_text(PACKAGE_XML)
+    script = pkg / "scripts" / "hold_marked.py"
+    script.write_text(HOLD_MARKED)
+    script.chmod(0o755)
+    launch = pkg / "held.launch"
+    launch.write_text(HELD.format(work=tmp_path))
+    env = {**os.environ, "ROS_PACKAGE_PATH": str(tmp_path)}
+    mark = tmp_path / "holder.pid"
+    with subprocess.Popen(
+        [*BELVEDERE, "launch", str(launch), "--headless"],
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+    ) as running:
+        try:
+            wait_until(
+                lambda: (mark.is_file() and mark.read_text() != "") or running.poll() is not None,
+                what="the script's pid",
+            )
+            assert running.poll() is None, running.stderr.read() if running.stderr else ""
+            holder = int(mark.read_text())
+            running.send_signal(signum)
+            running.wait(timeout=DEADLINE)
+        finally:
+            if running.poll() is None:
+                running.kill()
+    wait_until(lambda: not Path(f"/proc/{holder}").exists(), what="the script's end")

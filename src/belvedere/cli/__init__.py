@@ -20,7 +20,7 @@ import signal
 import sys
 import threading
 from collections.abc import Callable, Iterator, Sequence
-from typing import NoReturn, TextIO
+from typing import Final, NoReturn, TextIO
 
 from belvedere import __version__
 from belvedere.errors import BelvedereError
@@ -214,11 +214,14 @@ def console() -> NoReturn:
     graph's ``/clock``) when it starts aborts the process ("FATAL: exception not
     rethrown")."""
     global _in_command
-    signal.signal(signal.SIGINT, _interrupted)
+    for signum in _ENDING_SIGNALS:
+        signal.signal(signum, _interrupted)
     _in_command = True
     code = main()
     if _handover:
         signal.signal(signal.SIGINT, signal.default_int_handler)
+        for signum in _ENDING_SIGNALS[1:]:
+            signal.signal(signum, signal.SIG_DFL)
         _handover[0]()
     gc.freeze()
     # Nothing hangs: a thread that does not end is named (its stack) and the process ends.
@@ -236,8 +239,15 @@ SHUTDOWN_S = 20.0
 prints every thread's stack and exits."""
 
 
+_ENDING_SIGNALS: Final = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+"""Ctrl-C, ``kill`` and a closed terminal: each ends a verb cleanly, as roslaunch ends on
+them, so a launch stopped by ``kill`` stops its nodes' processes too instead of leaving them
+running without it."""
+
+
 def _interrupted(signum: int, frame: object) -> None:
-    """Ctrl-C: end as Python would (KeyboardInterrupt), but never wait forever for it."""
+    """Ctrl-C (or SIGTERM, SIGHUP): end as Python would on Ctrl-C (KeyboardInterrupt), but
+    never wait forever for it."""
     faulthandler.dump_traceback_later(SHUTDOWN_S, exit=True)
     raise KeyboardInterrupt
 
