@@ -4,8 +4,6 @@ recording that was cut short, and the errors bad files give."""
 from __future__ import annotations
 
 import shutil
-import time
-from collections.abc import Iterator
 from datetime import datetime
 from pathlib import Path
 
@@ -26,16 +24,6 @@ from belvedere.cli import main
 from tests.bags._make import MS, odometry, scan, write_sample
 
 FORMATS = [("bag", "none"), ("bag", "lz4"), ("bag", "bz2"), ("mcap", "none"), ("mcap", "lz4")]
-
-
-@pytest.fixture
-def utc(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
-    """rosbag info prints local times: make them UTC."""
-    monkeypatch.setenv("TZ", "UTC")
-    time.tzset()
-    yield
-    monkeypatch.undo()
-    time.tzset()
 
 
 @pytest.mark.parametrize(("ext", "compression"), FORMATS)

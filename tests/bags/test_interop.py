@@ -7,8 +7,6 @@ from __future__ import annotations
 import json
 import os
 import subprocess
-import time
-from collections.abc import Iterator
 from functools import partial
 from pathlib import Path
 from typing import Any
@@ -27,15 +25,6 @@ ROSBAG = Path("/usr/bin/rosbag")
 MISSING = missing_debian_ros("rosbag, geometry_msgs.msg, std_msgs.msg")
 
 needs_rosbag = pytest.mark.skipif(MISSING is not None, reason=MISSING or "")
-
-
-@pytest.fixture
-def utc(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
-    monkeypatch.setenv("TZ", "UTC")
-    time.tzset()
-    yield
-    monkeypatch.undo()
-    time.tzset()
 
 
 def _oracle(*args: str) -> Any:

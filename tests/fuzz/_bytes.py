@@ -11,10 +11,11 @@ past the end, 2^31, 2^32 - 16, 2^33, 2^63.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import Final
 
 from hypothesis import strategies as st
+
+from tests.fuzz._mutate import Mutation
 
 __all__ = ["LIES", "ByteEdit", "byte_edits", "byte_mutant"]
 
@@ -40,17 +41,8 @@ LIES: Final = (
 KINDS: Final = ("flip", "lie", "lie-anywhere", "truncate", "delete", "duplicate", "splice")
 
 
-@dataclass(frozen=True)
-class ByteEdit:
-    """One edit: what kind, and numbers that pick where and what (taken modulo the sizes)."""
-
-    kind: str
-    a: int
-    b: int
-    c: int
-
-    def __repr__(self) -> str:
-        return f"{self.kind}({self.a}, {self.b}, {self.c})"
+ByteEdit = Mutation
+"""A byte edit is drawn as a tree or text edit is; only its kinds (:data:`KINDS`) differ."""
 
 
 def byte_edits(*, max_edits: int = 3) -> st.SearchStrategy[list[ByteEdit]]:

@@ -9,7 +9,7 @@ from typing import Any, Final
 from belvedere.ros1 import Duration, Message, Time, message_class
 from belvedere.ros1._spec import FieldSpec, message_spec
 
-_INT_RANGES: Final = {
+INT_RANGES: Final = {
     "byte": (-128, 127),
     "int8": (-128, 127),
     "char": (0, 255),
@@ -21,6 +21,8 @@ _INT_RANGES: Final = {
     "int64": (-(2**63), 2**63 - 1),
     "uint64": (0, 2**64 - 1),
 }
+"""ROS 1's integer types' bounds, stated here rather than taken from belvedere's own table, so
+that a wrong bound there shows."""
 FLOATS: Final = (0.1, -2.5, 1e-20, 123456.789, 3.0, -0.0, 1.5e300)
 FLOAT32S: Final = (0.5, -2.5, 1024.0, 3.0, -0.0)
 STRINGS: Final = ("", "a b", "it's", 'say "hi"', "yes", "1", "x: y", "- dash", "tab\there", "é")
@@ -54,8 +56,8 @@ def _single(field: FieldSpec, rng: random.Random) -> Any:
         return Time(rng.randint(0, 2**31), rng.randint(0, 999_999_999))
     if base == "duration":
         return Duration(rng.randint(-(2**30), 2**30), rng.randint(0, 999_999_999))
-    if base in _INT_RANGES:
-        low, high = _INT_RANGES[base]
+    if base in INT_RANGES:
+        low, high = INT_RANGES[base]
         return rng.choice((low, high, 0, rng.randint(low, high)))
     if base == "float64":
         return rng.choice(FLOATS)

@@ -14,18 +14,8 @@ from hypothesis import strategies as st
 import belvedere.ros1 as ros1
 from belvedere.ros1 import Duration, Time, from_store, message_class, serialize_message, to_store
 from belvedere.ros1._spec import FieldSpec, message_spec
+from tests.ros1.filling import INT_RANGES
 
-_INTS = {
-    "int8": (-(2**7), 2**7 - 1),
-    "byte": (-(2**7), 2**7 - 1),
-    "uint8": (0, 2**8 - 1),
-    "int16": (-(2**15), 2**15 - 1),
-    "uint16": (0, 2**16 - 1),
-    "int32": (-(2**31), 2**31 - 1),
-    "uint32": (0, 2**32 - 1),
-    "int64": (-(2**63), 2**63 - 1),
-    "uint64": (0, 2**64 - 1),
-}
 ROUND_TRIP_TYPES = [
     "sensor_msgs/msg/JointState",
     "sensor_msgs/msg/CameraInfo",
@@ -59,8 +49,8 @@ def _single(field: FieldSpec) -> st.SearchStrategy[Any]:
         return st.builds(Time, st.integers(0, 2**31 - 1), st.integers(0, 10**9 - 1))
     if base == "duration":
         return st.builds(Duration, st.integers(-(2**31), 2**31 - 1), st.integers(0, 10**9 - 1))
-    if base in _INTS:
-        return st.integers(*_INTS[base])
+    if base in INT_RANGES:
+        return st.integers(*INT_RANGES[base])
     if base == "float64":
         return st.floats(allow_nan=False)
     if base == "float32":

@@ -11,7 +11,7 @@ from hypothesis import given, settings
 
 from belvedere.ros1 import rospy, tf
 from tests.ros1.test_tf2_ros import TREE, at
-from tests.ros1.tf_client import TfOracle, oracle_fixture, same
+from tests.ros1.tf_client import TfOracle, check_steps, oracle_fixture
 from tests.ros1.tf_scenarios import run_steps, stamped, tf1_scenarios
 
 pytestmark = pytest.mark.oracle
@@ -30,9 +30,7 @@ def ours(scenario: dict[str, Any]) -> list[Any]:
 
 
 def check(oracle: TfOracle, scenario: dict[str, Any]) -> None:
-    (theirs,) = oracle.ask({"tf1": [scenario]})["tf1"]
-    for step, a, b in zip(scenario["steps"], ours(scenario), theirs, strict=True):
-        assert same(a, b, 1e-9), f"{step}:\n ours   {a}\n theirs {b}"
+    check_steps(oracle, "tf1", scenario, ours)
 
 
 POINT = {"msg": "geometry_msgs/Point", "fields": {"x": 1.0, "y": 2.0, "z": 3.0}}

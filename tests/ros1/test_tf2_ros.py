@@ -13,7 +13,7 @@ import pytest
 from hypothesis import given, settings
 
 from belvedere.ros1 import message_class, rospy, tf2_ros
-from tests.ros1.tf_client import TfOracle, oracle_fixture, same
+from tests.ros1.tf_client import TfOracle, check_steps, oracle_fixture
 from tests.ros1.tf_scenarios import run_steps, tf2_scenarios, transform_stamped
 
 pytestmark = pytest.mark.oracle
@@ -31,9 +31,7 @@ def ours(scenario: dict[str, Any]) -> list[Any]:
 
 
 def check(oracle: TfOracle, scenario: dict[str, Any]) -> None:
-    (theirs,) = oracle.ask({"scenarios": [scenario]})["scenarios"]
-    for step, a, b in zip(scenario["steps"], ours(scenario), theirs, strict=True):
-        assert same(a, b, 1e-9), f"{step}:\n ours   {a}\n theirs {b}"
+    check_steps(oracle, "scenarios", scenario, ours)
 
 
 def ts(parent: str, child: str, secs: float, x: float = 1.0, yaw: float = 0.0) -> dict[str, Any]:

@@ -7,7 +7,7 @@ from __future__ import annotations
 import json
 import math
 import subprocess
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -16,7 +16,7 @@ import pytest
 
 from tests.ros1.tf_steps import error
 
-__all__ = ["TfOracle", "encode", "error", "missing", "oracle_fixture", "same"]
+__all__ = ["TfOracle", "check_steps", "encode", "error", "missing", "oracle_fixture", "same"]
 
 SYSTEM_PYTHON = Path("/usr/bin/python3")
 SCRIPT = Path(__file__).with_name("tf_oracle.py")
@@ -76,6 +76,19 @@ def oracle_fixture() -> Iterator[TfOracle]:
         yield oracle
     finally:
         oracle.close()
+
+
+def check_steps(
+    oracle: TfOracle,
+    kind: str,
+    scenario: dict[str, Any],
+    ours: Callable[[dict[str, Any]], list[Any]],
+) -> None:
+    """The oracle's run of ``scenario`` against ``ours(scenario)``, step by step; ``kind``
+    is the request's key, which names the API the oracle runs it through."""
+    (theirs,) = oracle.ask({kind: [scenario]})[kind]
+    for step, a, b in zip(scenario["steps"], ours(scenario), theirs, strict=True):
+        assert same(a, b, 1e-9), f"{step}:\n ours   {a}\n theirs {b}"
 
 
 def encode(value: Any) -> Any:

@@ -138,14 +138,7 @@ class Decoder:
         except (TypesysError, ValueError, KeyError) as err:
             if known and conn.encoding == "cdr":
                 return None  # no definition to go by: the store's
-            logger.warning(
-                "%sskipping %s: cannot read its type %s: %s",
-                where,
-                conn.topic,
-                conn.msgtype,
-                _why(err),
-            )
-            return False
+            return self._unreadable(conn, where, err)
         if not found:
             return None if known else self._unknown(conn, where)
         differs = [
@@ -161,14 +154,7 @@ class Decoder:
             if not known:  # belvedere's version: the bag's fields, with the store's parts
                 store.register({n: d for n, d in found.items() if n not in store.fielddefs})
         except (TypesysError, MessageTypeError, ValueError, KeyError) as err:
-            logger.warning(
-                "%sskipping %s: cannot read its type %s: %s",
-                where,
-                conn.topic,
-                conn.msgtype,
-                _why(err),
-            )
-            return False
+            return self._unreadable(conn, where, err)
         logger.info(
             "%s: the bag's %s differs from belvedere's (%s): converting it field by field",
             conn.topic,
@@ -176,6 +162,13 @@ class Decoder:
             ", ".join(short(n) for n in differs),
         )
         return own
+
+    @staticmethod
+    def _unreadable(conn: Connection, where: str, err: Exception) -> bool:
+        logger.warning(
+            "%sskipping %s: cannot read its type %s: %s", where, conn.topic, conn.msgtype, _why(err)
+        )
+        return False
 
     @staticmethod
     def _unknown(conn: Connection, where: str) -> bool:

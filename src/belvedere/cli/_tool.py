@@ -4,12 +4,13 @@
 from __future__ import annotations
 
 import argparse
+import time
 from collections.abc import Callable
 
 from belvedere.graph import MAX_DOMAIN, TransportError, check_domain
 from belvedere.runtime import GraphAddress
 
-__all__ = ["action_parsers", "add_graph_options", "graph_address"]
+__all__ = ["action_parsers", "add_graph_options", "graph_address", "serve_for"]
 
 
 def _domain(text: str) -> int:
@@ -55,3 +56,14 @@ def action_parsers(
         return sub
 
     return action
+
+
+def serve_for(duration: float | None) -> None:
+    """Wait ``duration`` wall-clock seconds (None: for ever) while the graph's threads serve;
+    Ctrl-C ends the wait as the user's way to stop, not as an error."""
+    try:
+        deadline = None if duration is None else time.monotonic() + duration
+        while deadline is None or time.monotonic() < deadline:
+            time.sleep(0.2)
+    except KeyboardInterrupt:
+        pass

@@ -11,7 +11,7 @@ import webbrowser
 from belvedere.cli._args import add_viewer_options, mappings_only
 from belvedere.cli._foxglove import add_foxglove_options, bridge_options
 from belvedere.cli._report import notice, report_diagnostics
-from belvedere.cli._tool import add_graph_options, graph_address
+from belvedere.cli._tool import add_graph_options, graph_address, serve_for
 from belvedere.description.urdf import RobotModel
 from belvedere.graph import Graph
 from belvedere.packages import PackageIndex
@@ -72,11 +72,7 @@ def run(args: argparse.Namespace) -> int:
     if args.open:
         webbrowser.open(viewer.url)
     try:
-        deadline = None if args.duration is None else time.monotonic() + args.duration
-        while deadline is None or time.monotonic() < deadline:
-            time.sleep(0.2)
-    except KeyboardInterrupt:
-        pass
+        serve_for(args.duration)
     finally:
         if bridge is not None:
             bridge.close()

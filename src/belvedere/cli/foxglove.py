@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import time
 
 from belvedere.cli._foxglove import (
     DEFAULT_PORT,
@@ -14,7 +13,7 @@ from belvedere.cli._foxglove import (
     bridge_options,
     port,
 )
-from belvedere.cli._tool import add_graph_options, graph_address
+from belvedere.cli._tool import add_graph_options, graph_address, serve_for
 from belvedere.runtime import join_graph, start_bridge
 
 __all__ = ["add_parser", "run"]
@@ -53,11 +52,7 @@ def run(args: argparse.Namespace) -> int:
         assert bridge is not None
         graph.start(rtf=None)
         try:
-            deadline = None if args.duration is None else time.monotonic() + args.duration
-            while deadline is None or time.monotonic() < deadline:
-                time.sleep(0.2)
-        except KeyboardInterrupt:
-            pass
+            serve_for(args.duration)
         finally:
             bridge.close()
     finally:

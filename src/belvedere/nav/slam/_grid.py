@@ -253,21 +253,29 @@ class FieldGrid:
         fx = np.clip(ux - ix, 0.0, 1.0)
         fy = np.clip(uy - iy, 0.0, 1.0)
         flat = (iy * w + ix).astype(np.intp)
-        field = self.field.reshape(-1)
-        v00 = field[flat]
-        v10 = field[flat + 1]
-        v01 = field[flat + w]
-        v11 = field[flat + (w + 1)]
-        d0 = v10 - v00
-        d1 = v11 - v01
-        a = v00 + d0 * fx
-        b = v01 + d1 * fx
-        ba = b - a
-        value = a + ba * fy
+        value, gx, gy = bilinear(self.field.reshape(-1), w, flat, fx, fy)
         grad = np.empty((2, len(x)))
-        grad[0] = (d0 + (d1 - d0) * fy) * inv
-        grad[1] = ba * inv
+        grad[0] = gx * inv
+        grad[1] = gy * inv
         return value, grad
+
+
+def bilinear(
+    field: Array, width: int, flat: npt.NDArray[np.intp], fx: Array, fy: Array
+) -> tuple[Array, Array, Array]:
+    """A field flattened row by row (``width`` columns) interpolated between four cell
+    centres, the lower-left one at ``flat``, at fractions ``fx``, ``fy`` towards the others:
+    the value and its slopes along x and y, per cell. The corners are taken as they are (no
+    clamping): the scan matcher clamps only when a point leaves the grid, in its inner loop."""
+    v00 = field[flat]
+    v10 = field[flat + 1]
+    v01 = field[flat + width]
+    v11 = field[flat + (width + 1)]
+    d0 = v10 - v00
+    d1 = v11 - v01
+    a = v00 + d0 * fx
+    ba = v01 + d1 * fx - a
+    return a + ba * fy, d0 + (d1 - d0) * fy, ba
 
 
 class FreeGrid:

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from belvedere.nav.slam._grid import FieldGrid
+from belvedere.nav.slam._grid import FieldGrid, bilinear
 
 __all__ = ["Match", "refine"]
 
@@ -74,18 +74,7 @@ def refine(
             cell[1] = np.clip(cell[1], 0, h - 2)
             frac = np.clip(u - cell, 0.0, 1.0)
             flat = (rows @ cell).astype(np.intp)
-        fx = frac[0]
-        fy = frac[1]
-        v00 = field[flat]
-        v10 = field[flat + 1]
-        v01 = field[flat + w]
-        v11 = field[flat + (w + 1)]
-        d0 = v10 - v00
-        d1 = v11 - v01
-        a = v00 + d0 * fx
-        ba = v01 + d1 * fx - a
-        value = a + ba * fy
-        gx = d0 + (d1 - d0) * fy
+        value, gx, ba = bilinear(field, w, flat, frac[0], frac[1])
         jac[0] = gx
         jac[1] = ba
         jac[2] = ba * r[0] - gx * r[1]

@@ -107,6 +107,18 @@ class _Topic:
         self.name = self.resolved_name  # rospy's .name is the resolved one too
         self.closed = False
 
+    def _register_soon(self) -> None:
+        """Register with the node now, or when ``init_node`` makes it: rospy registers the
+        topics made before ``init_node`` then."""
+        runtime = _state.current()
+        if runtime is None:
+            _pending_runtime_actions.append(self._register)
+        else:
+            self._register(runtime)
+
+    def _register(self, runtime: _state.Runtime) -> None:
+        raise NotImplementedError
+
     def get_num_connections(self) -> int:
         raise NotImplementedError
 
@@ -136,12 +148,7 @@ class Publisher(_Topic):
         self.latch = latch
         self.queue_size = queue_size
         self._impl: GraphPublisher | None = None
-        runtime = _state.current()
-        if runtime is None:
-            # rospy registers publishers made before init_node when it runs
-            _pending_runtime_actions.append(self._register)
-        else:
-            self._register(runtime)
+        self._register_soon()
 
     def _register(self, runtime: _state.Runtime) -> None:
         node = runtime.node
@@ -232,11 +239,7 @@ class Subscriber(_Topic):
         self._ready = threading.Condition()
         self._impl: Subscription | None = None
         self._thread: threading.Thread | None = None
-        runtime = _state.current()
-        if runtime is None:
-            _pending_runtime_actions.append(self._register)
-        else:
-            self._register(runtime)
+        self._register_soon()
 
     def _register(self, runtime: _state.Runtime) -> None:
         self.resolved_name = self.name = runtime.node.resolve(self.given_name)

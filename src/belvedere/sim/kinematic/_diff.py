@@ -14,8 +14,8 @@ import math
 from typing import Any
 
 from belvedere.graph import NS, Node
-from belvedere.msgs import build
 from belvedere.sim._commands import CommandGate
+from belvedere.sim._odometry import publish_odometry
 from belvedere.sim.kinematic._config import DiffControllerConfig
 from belvedere.tf import TransformBroadcaster
 
@@ -86,18 +86,9 @@ class DiffController:
         quat = (0.0, 0.0, math.sin(self.th / 2), math.cos(self.th / 2))
         position = (self.x, self.y, 0.0)
         self.tf.send(self.odom_frame, self.base_frame, position, quat, now)
-        if self.odom_pub.wanted:
-            self.odom_pub.publish(
-                build.odometry(
-                    stamp_ns=now,
-                    frame_id=self.odom_frame,
-                    child_frame_id=self.base_frame,
-                    position=position,
-                    quat_xyzw=quat,
-                    linear=(self.dx, 0.0, 0.0),
-                    angular=(0.0, 0.0, self.dr),
-                )
-            )
+        frames = (self.odom_frame, self.base_frame)
+        twist = ((self.dx, 0.0, 0.0), (0.0, 0.0, self.dr))
+        publish_odometry(self.odom_pub, now, frames, position, quat, *twist)
 
     def reset(self) -> None:
         """Back to the origin, stopped (the viewer's Reset)."""

@@ -16,7 +16,8 @@ import math
 import numpy as np
 
 from belvedere.msgs import build
-from belvedere.sim.physics._engine import quat_xyzw
+from belvedere.sim._odometry import publish_odometry
+from belvedere.sim.physics._engine import planar_twist, quat_xyzw
 from belvedere.sim.physics._motor import MotorDrive, VelocityMotor
 from belvedere.sim.physics._plugin import PluginContext, RateGate
 from belvedere.sim.physics._spec import ModelError
@@ -202,29 +203,20 @@ class DiffDrive(MotorDrive):
             position, quat = self.engine.position_quat(*self.odom_body)
             qx, qy, qz, qw = quat
             yaw = math.atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
-            vel = self.engine.body_velocity(self.root_body)
-            vx, vy = float(vel[3]), float(vel[4])
-            linear = (
-                math.cos(yaw) * vx + math.sin(yaw) * vy,
-                math.cos(yaw) * vy - math.sin(yaw) * vx,
-                0.0,
-            )
-            angular = (0.0, 0.0, float(vel[2]))
+            linear, angular = planar_twist(self.engine.body_velocity(self.root_body), yaw)
         if self.publish_tf and self.publish_odom_tf:
             self.tf.send(self.odom_frame, self.base_frame, position, quat, now_ns)
-        if self.odom_pub is not None and self.odom_pub.wanted:
-            covariance = self.covariance.copy()
-            self.odom_pub.publish(
-                build.odometry(
-                    stamp_ns=now_ns,
-                    frame_id=self.odom_frame,
-                    child_frame_id=self.base_frame,
-                    position=position,
-                    quat_xyzw=quat,
-                    linear=linear,
-                    angular=angular,
-                    pose_covariance=covariance,
-                )
+        if self.odom_pub is not None:
+            frames = (self.odom_frame, self.base_frame)
+            publish_odometry(
+                self.odom_pub,
+                now_ns,
+                frames,
+                position,
+                quat,
+                linear,
+                angular,
+                pose_covariance=self.covariance.copy(),
             )
 
     def _publish_wheel_tf(self, now_ns: int) -> None:

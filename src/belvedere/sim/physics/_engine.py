@@ -249,6 +249,21 @@ def yaw_of(m: Matrix4) -> float:
     return math.atan2(float(m[1, 0]), float(m[0, 0]))
 
 
+def planar_twist(
+    velocity: npt.NDArray[np.float64], yaw: float
+) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+    """(linear, angular) of an odometry twist from :meth:`Engine.body_velocity` in world axes:
+    the ground velocity turned into the heading's frame, so roll and pitch do not leak in as
+    they would with the body's own axes."""
+    vx, vy = float(velocity[3]), float(velocity[4])
+    linear = (
+        math.cos(yaw) * vx + math.sin(yaw) * vy,
+        math.cos(yaw) * vy - math.sin(yaw) * vx,
+        0.0,
+    )
+    return linear, (0.0, 0.0, float(velocity[2]))
+
+
 def quat_xyzw(m: Matrix4) -> tuple[float, float, float, float]:
     q = np.zeros(4)
     mujoco.mju_mat2Quat(q, np.ascontiguousarray(m[:3, :3]).reshape(9))

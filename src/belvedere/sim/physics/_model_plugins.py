@@ -11,6 +11,7 @@ import numpy as np
 
 from belvedere.msgs import build
 from belvedere.sim._commands import CommandGate
+from belvedere.sim._odometry import publish_odometry
 from belvedere.sim.physics._engine import quat_xyzw, yaw_of
 from belvedere.sim.physics._plugin import IDLE, Plugin, PluginContext, RateGate
 from belvedere.sim.physics._spec import ModelError
@@ -70,18 +71,16 @@ class GroundTruth(Plugin):
             angular = angular + self.rng.normal(0.0, self.noise, 3)
         variance = [self.noise**2] * 6
         covariance = np.diag(variance).reshape(-1)
-        self.pub.publish(
-            build.odometry(
-                stamp_ns=now_ns,
-                frame_id=self.frame,
-                child_frame_id=self.link,
-                position=position,
-                quat_xyzw=quat_xyzw(pose),
-                linear=linear,
-                angular=angular,
-                pose_covariance=covariance,
-                twist_covariance=covariance,
-            )
+        publish_odometry(
+            self.pub,
+            now_ns,
+            (self.frame, self.link),
+            position,
+            quat_xyzw(pose),
+            linear,
+            angular,
+            pose_covariance=covariance,
+            twist_covariance=covariance,
         )
 
 
@@ -186,15 +185,6 @@ class PlanarMove(Plugin):
         quat = quat_xyzw(pose)
         if self.publish_tf:
             self.tf.send(self.odom_frame, self.base_frame, position, quat, now_ns)
-        if self.odom_pub.wanted:
-            self.odom_pub.publish(
-                build.odometry(
-                    stamp_ns=now_ns,
-                    frame_id=self.odom_frame,
-                    child_frame_id=self.base_frame,
-                    position=position,
-                    quat_xyzw=quat,
-                    linear=(x, y, 0.0),
-                    angular=(0.0, 0.0, rot),
-                )
-            )
+        frames = (self.odom_frame, self.base_frame)
+        twist = ((x, y, 0.0), (0.0, 0.0, rot))
+        publish_odometry(self.odom_pub, now_ns, frames, position, quat, *twist)

@@ -11,12 +11,11 @@ orientation; the twist in the body's yaw frame), the ``odom`` TF when ``broadcas
 from __future__ import annotations
 
 import logging
-import math
 
 import numpy as np
 
-from belvedere.msgs import build
-from belvedere.sim.physics._engine import quat_xyzw, yaw_of
+from belvedere.sim._odometry import publish_odometry
+from belvedere.sim.physics._engine import planar_twist, quat_xyzw, yaw_of
 from belvedere.sim.physics._motor import MotorDrive, VelocityMotor
 from belvedere.sim.physics._plugin import PluginContext, RateGate
 from belvedere.sim.physics._spec import ModelError
@@ -109,26 +108,18 @@ class SkidSteer(MotorDrive):
             self.tf.send(self.odom_frame, self.base_frame, transform, quat, now_ns)
         if not self.odom_pub.wanted:
             return
-        vel = self.engine.body_velocity(self.root_body)
-        yaw = yaw_of(pose)
-        vx, vy = float(vel[3]), float(vel[4])
+        linear, angular = planar_twist(self.engine.body_velocity(self.root_body), yaw_of(pose))
         cx, cy, cyaw = self.covariance
         covariance = np.zeros(36)
         covariance[[0, 7, 14, 21, 28, 35]] = (cx, cy, UNKNOWN, UNKNOWN, UNKNOWN, cyaw)
-        self.odom_pub.publish(
-            build.odometry(
-                stamp_ns=now_ns,
-                frame_id=self.odom_frame,
-                child_frame_id=self.base_frame,
-                position=position,
-                quat_xyzw=quat,
-                linear=(
-                    math.cos(yaw) * vx + math.sin(yaw) * vy,
-                    math.cos(yaw) * vy - math.sin(yaw) * vx,
-                    0.0,
-                ),
-                angular=(0.0, 0.0, float(vel[2])),
-                pose_covariance=covariance,
-                twist_covariance=covariance,
-            )
+        publish_odometry(
+            self.odom_pub,
+            now_ns,
+            (self.odom_frame, self.base_frame),
+            position,
+            quat,
+            linear,
+            angular,
+            pose_covariance=covariance,
+            twist_covariance=covariance,
         )

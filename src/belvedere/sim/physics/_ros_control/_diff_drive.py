@@ -7,8 +7,8 @@ import math
 from typing import Any
 
 from belvedere.graph import NS
-from belvedere.msgs import build
 from belvedere.sim._commands import CommandGate
+from belvedere.sim._odometry import publish_odometry
 from belvedere.sim.physics._plugin import RateGate
 from belvedere.sim.physics._ros_control._controllers import Controller
 from belvedere.sim.physics._ros_control._hardware import ControllerHost
@@ -107,20 +107,17 @@ class DiffDriveController(Controller):
             return
         quat = (0.0, 0.0, math.sin(self.heading / 2), math.cos(self.heading / 2))
         position = (self.x, self.y, 0.0)
-        if self.odom_pub.wanted:
-            self.odom_pub.publish(
-                build.odometry(
-                    stamp_ns=now_ns,
-                    frame_id=self.odom_frame,
-                    child_frame_id=self.base_frame,
-                    position=position,
-                    quat_xyzw=quat,
-                    linear=(self.velocity[0], 0.0, 0.0),
-                    angular=(0.0, 0.0, self.velocity[1]),
-                    pose_covariance=self.pose_cov,
-                    twist_covariance=self.twist_cov,
-                )
-            )
+        publish_odometry(
+            self.odom_pub,
+            now_ns,
+            (self.odom_frame, self.base_frame),
+            position,
+            quat,
+            (self.velocity[0], 0.0, 0.0),
+            (0.0, 0.0, self.velocity[1]),
+            pose_covariance=self.pose_cov,
+            twist_covariance=self.twist_cov,
+        )
         if self.enable_tf:
             self.tf.send(self.odom_frame, self.base_frame, position, quat, now_ns)
 
