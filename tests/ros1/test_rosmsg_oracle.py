@@ -21,7 +21,7 @@ from belvedere.cli import main
 from belvedere.ros1._show import Kind, type_names
 from tests.debian_ros import ROS_PYTHON
 
-pytestmark = pytest.mark.oracle
+pytestmark = [pytest.mark.oracle, pytest.mark.usefixtures("pristine_types")]
 
 ROSMSG = Path("/usr/bin/rosmsg")
 SCRIPT = Path(__file__).with_name("msgfiles_oracle.py")

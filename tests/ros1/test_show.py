@@ -10,6 +10,8 @@ from belvedere.cli import main
 from belvedere.msgs import TypeRegistry
 from belvedere.ros1 import _show, _spec
 
+pytestmark = pytest.mark.usefixtures("pristine_types")
+
 
 def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
     capsys.readouterr()
