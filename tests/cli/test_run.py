@@ -15,6 +15,8 @@ import pytest
 
 from belvedere.cli import main
 from belvedere.mappings import split_ros_args
+from belvedere.nodes import MODULES
+from belvedere.packages import BUILTIN_PACKAGES
 from tests.conftest import EXAMPLES
 
 BELVEDERE = [sys.executable, "-m", "belvedere"]
@@ -127,13 +129,35 @@ def test_rospack_find_list_and_dependencies(
     assert main(["rospack", "find", "top", *path]) == 0
     assert capsys.readouterr().out == f"{tmp_path / 'top'}\n"
     assert main(["rospack", "list-names", *path]) == 0
-    assert capsys.readouterr().out == "base_pkg\nmid\ntop\n"
+    names = capsys.readouterr().out.splitlines()
+    assert names == sorted(names)
+    assert {"base_pkg", "mid", "top"} <= set(names)
     assert main(["rospack", "depends1", "top", *path]) == 0
     assert capsys.readouterr().out == "mid\n"  # build-only and system dependencies left out
     assert main(["rospack", "depends", "top", *path]) == 0
     assert capsys.readouterr().out == "base_pkg\nmid\n"
-    assert main(["rospack", "find", "gazebo_ros", *path]) == 1  # not on the path
-    assert "not found" in capsys.readouterr().err
+    assert main(["rospack", "find", "nowhere", *path]) == 1
+    assert "package 'nowhere' not found" in capsys.readouterr().err
+
+
+def test_rospack_finds_the_packages_belvedere_provides_after_the_path(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """As ROS's rospack finds every installed package: belvedere's own (turtlesim, amcl …)
+    after the package path, so a user's copy of one wins."""
+    path = ["--package-path", str(tmp_path)]
+    assert main(["rospack", "find", "turtlesim", *path]) == 0
+    assert capsys.readouterr().out == f"{BUILTIN_PACKAGES / 'turtlesim'}\n"
+    _package(tmp_path, "amcl")
+    assert main(["rospack", "find", "amcl", *path]) == 0
+    assert capsys.readouterr().out == f"{tmp_path / 'amcl'}\n"
+    assert main(["rospack", "list", *path]) == 0
+    listed = dict(line.split(" ") for line in capsys.readouterr().out.splitlines())
+    assert listed["amcl"] == str(tmp_path / "amcl")
+    assert listed["gazebo_ros"] == str(BUILTIN_PACKAGES / "gazebo_ros")
+    assert set(MODULES) <= set(listed)  # every package with executables belvedere has
+    assert main(["rospack", "depends1", "gazebo_ros", *path]) == 0
+    assert capsys.readouterr().out == ""
 
 
 @pytest.mark.skipif(shutil.which("rospack", path="/usr/bin") is None, reason="no rospack")
@@ -145,7 +169,8 @@ def test_rospack_answers_as_debians(
     """Over the examples and Debian's ROS packages (/usr/share): the same lines in the same
     order as the real rospack."""
     env = {**os.environ, "PATH": "/usr/bin:" + os.environ["PATH"], "ROS_HOME": str(tmp_path)}
-    env["ROS_PACKAGE_PATH"] = f"{EXAMPLES}:/usr/share"
+    # belvedere's own packages last, where belvedere finds them (mbot_gazebo needs gazebo_ros)
+    env["ROS_PACKAGE_PATH"] = f"{EXAMPLES}:/usr/share:{BUILTIN_PACKAGES}"
     real = subprocess.run(
         ["rospack", command, package], capture_output=True, text=True, env=env, check=True
     ).stdout
