@@ -7,6 +7,7 @@ from __future__ import annotations
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -68,6 +69,37 @@ def test_a_script_by_its_path(tmp_path: Path) -> None:
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
     assert done.stdout == "ran\n"
+
+
+def test_echo_of_a_scripts_topic_waits_for_the_script_to_advertise_it() -> None:
+    """A script's topics are known once its process advertises them: ``--echo`` of one
+    prints its messages instead of refusing the run before the script starts."""
+    run = subprocess.Popen(
+        [*BELVEDERE, "run", "--package-path", str(EXAMPLES), "--headless",
+         "--echo", "/person_info", "learning_topic", "person_publisher.py"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    assert run.stdout is not None
+    try:
+        lines = iter(run.stdout.readline, "")
+        assert next(line for line in lines if line.startswith("name:")) == 'name: "Tom"\n'
+        assert next(lines) == "age: 18\n"
+        assert next(lines) == "sex: 1\n"
+    finally:
+        run.send_signal(signal.SIGINT)  # Ctrl-C
+        _, err = run.communicate(timeout=60)
+    assert "Traceback" not in err, err
+
+
+def test_echo_of_a_topic_no_script_advertises_ends_with_the_duration() -> None:
+    done = subprocess.run(
+        [*BELVEDERE, "run", "--headless", "--duration", "0.5", "--echo", "/nobody",
+         str(EXAMPLES / "learning_topic/scripts/person_subscriber.py")],
+        capture_output=True, text=True, timeout=60, check=False,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    assert done.stdout == ""
+    assert "--echo /nobody: no node of this run published it\n" in done.stderr
 
 
 def test_a_registry_node_runs_in_process(capsys: pytest.CaptureFixture[str]) -> None:
