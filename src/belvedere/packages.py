@@ -6,7 +6,8 @@ name. Directories are searched in this order, the first package of a name winnin
 1. ``--package-path`` directories given by the user,
 2. ``BELVEDERE_PACKAGE_PATH``, then ``ROS_PACKAGE_PATH`` (``os.pathsep``-separated),
 3. the workspace of the input file: the package containing the file, and everything under
-   that package's parent directory (a catkin ``src/``).
+   that package's parent directory (a catkin ``src/``),
+4. the packages belvedere provides itself (:data:`BUILTIN_PACKAGES`).
 
 Each directory is crawled as rospack does: hidden directories are skipped, a package's
 subdirectories are not searched, and a ``CATKIN_IGNORE`` or ``rospack_nosubdirs`` file stops
@@ -144,11 +145,16 @@ class PackageIndex:
                 )
         return self._found[name]
 
-    def packages(self) -> dict[str, Path]:
-        """Every package on the search path (crawls everything)."""
+    def packages(self, *, builtin: bool = False) -> dict[str, Path]:
+        """Every package on the search path (crawls everything); with ``builtin``, then the
+        packages belvedere provides that the path does not shadow, as :meth:`find` orders
+        them (what rospack lists: every package installed)."""
         while self._index_next():
             pass
-        return dict(self._found)
+        found = dict(self._found)
+        for name in builtin_package_names() if builtin else ():
+            found.setdefault(name, BUILTIN_PACKAGES / name)
+        return found
 
     def resolve_uri(self, uri: str, *, requested_at: SourceLocation | None = None) -> Path:
         """A ``package://pkg/rel``, ``file://abs`` or plain path, as a filesystem path."""

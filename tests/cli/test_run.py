@@ -7,6 +7,7 @@ from __future__ import annotations
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -15,6 +16,8 @@ import pytest
 
 from belvedere.cli import main
 from belvedere.mappings import split_ros_args
+from belvedere.nodes import MODULES
+from belvedere.packages import BUILTIN_PACKAGES
 from tests.conftest import EXAMPLES
 
 BELVEDERE = [sys.executable, "-m", "belvedere"]
@@ -66,6 +69,37 @@ def test_a_script_by_its_path(tmp_path: Path) -> None:
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
     assert done.stdout == "ran\n"
+
+
+def test_echo_of_a_scripts_topic_waits_for_the_script_to_advertise_it() -> None:
+    """A script's topics are known once its process advertises them: ``--echo`` of one
+    prints its messages instead of refusing the run before the script starts."""
+    run = subprocess.Popen(
+        [*BELVEDERE, "run", "--package-path", str(EXAMPLES), "--headless",
+         "--echo", "/person_info", "learning_topic", "person_publisher.py"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    assert run.stdout is not None
+    try:
+        lines = iter(run.stdout.readline, "")
+        assert next(line for line in lines if line.startswith("name:")) == 'name: "Tom"\n'
+        assert next(lines) == "age: 18\n"
+        assert next(lines) == "sex: 1\n"
+    finally:
+        run.send_signal(signal.SIGINT)  # Ctrl-C
+        _, err = run.communicate(timeout=60)
+    assert "Traceback" not in err, err
+
+
+def test_echo_of_a_topic_no_script_advertises_ends_with_the_duration() -> None:
+    done = subprocess.run(
+        [*BELVEDERE, "run", "--headless", "--duration", "0.5", "--echo", "/nobody",
+         str(EXAMPLES / "learning_topic/scripts/person_subscriber.py")],
+        capture_output=True, text=True, timeout=60, check=False,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    assert done.stdout == ""
+    assert "--echo /nobody: no node of this run published it\n" in done.stderr
 
 
 def test_a_registry_node_runs_in_process(capsys: pytest.CaptureFixture[str]) -> None:
@@ -127,13 +161,35 @@ def test_rospack_find_list_and_dependencies(
     assert main(["rospack", "find", "top", *path]) == 0
     assert capsys.readouterr().out == f"{tmp_path / 'top'}\n"
     assert main(["rospack", "list-names", *path]) == 0
-    assert capsys.readouterr().out == "base_pkg\nmid\ntop\n"
+    names = capsys.readouterr().out.splitlines()
+    assert names == sorted(names)
+    assert {"base_pkg", "mid", "top"} <= set(names)
     assert main(["rospack", "depends1", "top", *path]) == 0
     assert capsys.readouterr().out == "mid\n"  # build-only and system dependencies left out
     assert main(["rospack", "depends", "top", *path]) == 0
     assert capsys.readouterr().out == "base_pkg\nmid\n"
-    assert main(["rospack", "find", "gazebo_ros", *path]) == 1  # not on the path
-    assert "not found" in capsys.readouterr().err
+    assert main(["rospack", "find", "nowhere", *path]) == 1
+    assert "package 'nowhere' not found" in capsys.readouterr().err
+
+
+def test_rospack_finds_the_packages_belvedere_provides_after_the_path(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """As ROS's rospack finds every installed package: belvedere's own (turtlesim, amcl …)
+    after the package path, so a user's copy of one wins."""
+    path = ["--package-path", str(tmp_path)]
+    assert main(["rospack", "find", "turtlesim", *path]) == 0
+    assert capsys.readouterr().out == f"{BUILTIN_PACKAGES / 'turtlesim'}\n"
+    _package(tmp_path, "amcl")
+    assert main(["rospack", "find", "amcl", *path]) == 0
+    assert capsys.readouterr().out == f"{tmp_path / 'amcl'}\n"
+    assert main(["rospack", "list", *path]) == 0
+    listed = dict(line.split(" ") for line in capsys.readouterr().out.splitlines())
+    assert listed["amcl"] == str(tmp_path / "amcl")
+    assert listed["gazebo_ros"] == str(BUILTIN_PACKAGES / "gazebo_ros")
+    assert set(MODULES) <= set(listed)  # every package with executables belvedere has
+    assert main(["rospack", "depends1", "gazebo_ros", *path]) == 0
+    assert capsys.readouterr().out == ""
 
 
 @pytest.mark.skipif(shutil.which("rospack", path="/usr/bin") is None, reason="no rospack")
@@ -145,7 +201,8 @@ def test_rospack_answers_as_debians(
     """Over the examples and Debian's ROS packages (/usr/share): the same lines in the same
     order as the real rospack."""
     env = {**os.environ, "PATH": "/usr/bin:" + os.environ["PATH"], "ROS_HOME": str(tmp_path)}
-    env["ROS_PACKAGE_PATH"] = f"{EXAMPLES}:/usr/share"
+    # belvedere's own packages last, where belvedere finds them (mbot_gazebo needs gazebo_ros)
+    env["ROS_PACKAGE_PATH"] = f"{EXAMPLES}:/usr/share:{BUILTIN_PACKAGES}"
     real = subprocess.run(
         ["rospack", command, package], capture_output=True, text=True, env=env, check=True
     ).stdout

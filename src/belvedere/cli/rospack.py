@@ -1,5 +1,7 @@
 """``belvedere rospack find|list|depends|depends1 …``: what rospack answers, over belvedere's
-package path (``--package-path``, ``BELVEDERE_PACKAGE_PATH``, ``ROS_PACKAGE_PATH``)."""
+package path (``--package-path``, ``BELVEDERE_PACKAGE_PATH``, ``ROS_PACKAGE_PATH``), then the
+packages belvedere provides (turtlesim, amcl, gazebo_ros …): they are installed with it, as
+ROS's are with ROS, and found after the path as ``$(find)`` finds them."""
 
 from __future__ import annotations
 
@@ -7,8 +9,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from belvedere.errors import BelvedereError, SourceLocation
-from belvedere.packages import BUILTIN_PACKAGES, PackageIndex, PackageNotFoundError
+from belvedere.errors import BelvedereError
+from belvedere.packages import PackageIndex
 from belvedere.xmldom import parse_file
 
 __all__ = ["add_parser", "run"]
@@ -86,21 +88,8 @@ def _known(packages: PackageIndex, names: list[str]) -> list[str]:
     return out
 
 
-class _PathOnly(PackageIndex):
-    def __init__(self, index: PackageIndex) -> None:
-        super().__init__(index.search_path)
-
-    def find(self, name: str, *, requested_at: SourceLocation | None = None) -> Path:
-        found = super().find(name, requested_at=requested_at)
-        if found.is_relative_to(BUILTIN_PACKAGES):
-            msg = f"package {name!r} not found on the package path"
-            raise PackageNotFoundError(msg, requested_at, hint="set ROS_PACKAGE_PATH")
-        return found
-
-
 def run(args: argparse.Namespace) -> int:
-    # the path only, as rospack: not the packages belvedere itself provides
-    packages = _PathOnly(PackageIndex.from_environment(package_path=args.package_path))
+    packages = PackageIndex.from_environment(package_path=args.package_path)
     needs_package = args.command in ("find", "depends", "depends1")
     if needs_package and not args.package:
         msg = f"rospack {args.command} needs a package name"
@@ -108,7 +97,7 @@ def run(args: argparse.Namespace) -> int:
     if args.command == "find":
         sys.stdout.write(f"{packages.find(args.package)}\n")
     elif args.command in ("list", "list-names"):
-        found = sorted(packages.packages().items())
+        found = sorted(packages.packages(builtin=True).items())
         if args.command == "list":
             sys.stdout.write("".join(f"{name} {path}\n" for name, path in found))
         else:

@@ -79,5 +79,9 @@ def run(args: argparse.Namespace) -> int:
             if args.count is None or printed < args.count:
                 time.sleep(1.0)
         return 0
+    except KeyboardInterrupt:
+        if tool.ended_by is None:
+            raise
+        return 0  # node kill: tf_echo's loop ends with its node
     finally:
         tool.close()

@@ -75,6 +75,10 @@ def run(args: argparse.Namespace) -> int:
         }[args.action]
         tool.graph.start(rtf=None)
         return action(tool, args)
+    except KeyboardInterrupt:
+        if tool.ended_by is None:
+            raise
+        return 0  # node kill: rostopic's clean end
     finally:
         tool.close()
 

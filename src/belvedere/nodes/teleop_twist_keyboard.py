@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import logging
 import sys
-import threading
 
 from belvedere.graph import Node
 from belvedere.msgs import types
+from belvedere.nodes._keyboard import drive_from_terminal
 from belvedere.nodes._registry import NodeSpec, Session, Starter
 
 __all__ = ["EXECUTABLES", "JOINING", "PACKAGE"]
@@ -23,7 +23,7 @@ def _start(session: Session, spec: NodeSpec, node: Node) -> None:
             spec.source,
         )
         return
-    from belvedere.teleop import TwistKeyboard, run_teleop
+    from belvedere.teleop import TwistKeyboard
 
     pub = node.publisher("cmd_vel", "geometry_msgs/Twist", queue_size=1)
     twist, vector = types().cls("geometry_msgs/Twist"), types().cls("geometry_msgs/Vector3")
@@ -33,12 +33,8 @@ def _start(session: Session, spec: NodeSpec, node: Node) -> None:
     def publish(t: tuple[float, float, float, float]) -> None:
         pub.publish(twist(vector(t[0], t[1], t[2]), vector(0.0, 0.0, t[3])))
 
-    thread = threading.Thread(
-        target=run_teleop,
-        args=(TwistKeyboard(speed, turn), publish, sys.stdin.fileno(), sys.stdout),
-        daemon=True,
-    )
-    thread.start()
+    # q or Ctrl-C ends the key loop, and the node with it, as teleop_twist_keyboard.py exits
+    drive_from_terminal(session, node, TwistKeyboard(speed, turn), publish)
 
 
 EXECUTABLES: dict[str, Starter] = {"teleop_twist_keyboard.py": _start}

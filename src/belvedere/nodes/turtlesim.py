@@ -32,7 +32,8 @@ from belvedere.graph import (
     Subscription,
 )
 from belvedere.msgs import types
-from belvedere.nodes._registry import NodeSpec, Session, Starter, end_when
+from belvedere.nodes._keyboard import drive_from_terminal
+from belvedere.nodes._registry import NodeSpec, Session, Starter
 from belvedere.sim.turtlesim import (
     BACKGROUND,
     METER_PX,
@@ -294,7 +295,7 @@ def _teleop(session: Session, spec: NodeSpec, node: Node) -> None:
             spec.source,
         )
         return
-    from belvedere.teleop import TurtleKeys, run_teleop
+    from belvedere.teleop import TurtleKeys
 
     pub = node.publisher("turtle1/cmd_vel", _TWIST, queue_size=1)
     keys = TurtleKeys(
@@ -304,11 +305,7 @@ def _teleop(session: Session, spec: NodeSpec, node: Node) -> None:
     def publish(t: tuple[float, float, float, float]) -> None:
         pub.publish_data({"linear": {"x": t[0]}, "angular": {"z": t[3]}})
 
-    thread = threading.Thread(
-        target=run_teleop, args=(keys, publish, sys.stdin.fileno(), sys.stdout), daemon=True
-    )
-    thread.start()
-    end_when(session, node, lambda: not thread.is_alive())  # q quits, as turtlesim's does
+    drive_from_terminal(session, node, keys, publish)  # q quits, as turtlesim's does
 
 
 def _on_node(make: Callable[[Node], object]) -> Starter:

@@ -3,11 +3,13 @@ and a tool's small graph of its own, joined to the others by Zenoh."""
 
 from __future__ import annotations
 
+import _thread
 import logging
 import os
+import sys
 import threading
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from belvedere.errors import BelvedereError
@@ -57,11 +59,20 @@ def open_transport(address: GraphAddress, **options: Any) -> ZenohTransport:
 
 @dataclass
 class Tool:
-    """A tool's graph (``belvedere topic``, ``tf``, ``param`` …): one anonymous node on it."""
+    """A tool's graph (``belvedere topic``, ``tf``, ``param`` …): one anonymous node on it.
+
+    A tool ends when its node is asked to (``node kill``), as rostopic ends on ``rosnode
+    kill``: it prints rospy's ``shutdown request: user request`` and its main thread is
+    interrupted as by Ctrl-C; a verb that sees :attr:`ended_by` set then exits 0, as
+    rostopic does."""
 
     graph: Graph
     transport: ZenohTransport
     node: Node
+    ended_by: str | None = None
+    """Why the tool's node was shut down from outside ("user request"), if it was."""
+    _closing: threading.Event = field(default_factory=threading.Event)
+    _lock: threading.Lock = field(default_factory=threading.Lock)
 
     def info(self, timeout: float = 0.5) -> GraphInfo:
         return self.transport.info(timeout=timeout)
@@ -73,7 +84,26 @@ class Tool:
             wait_for(lambda: self.graph.now_ns() > 0, timeout, step=0.01)
 
     def close(self) -> None:
+        with self._lock:  # the node the tool closes itself is no request to end
+            self._closing.set()
         self.graph.shutdown()
+
+    def _end_when_asked(self) -> None:
+        """rospy's watch of its node: once shut down from outside, end the tool."""
+        while not self._closing.wait(WATCH_S):
+            with self._lock:
+                if self._closing.is_set() or not self.node.closed:
+                    continue
+                asked = self.node.shutdown_request
+                self.ended_by = asked[1] if asked else "new node registered with same name"
+                sys.stdout.write(f"shutdown request: {self.ended_by}\n")  # as rospy says it
+                sys.stdout.flush()
+                _thread.interrupt_main()  # wherever the verb waits, as Ctrl-C ends it
+                return
+
+
+WATCH_S = 0.2
+"""How often a tool looks whether its node was shut down (rospy's watcher looks as often)."""
 
 
 def open_tool(address: GraphAddress, kind: str) -> Tool:
@@ -86,7 +116,9 @@ def open_tool(address: GraphAddress, kind: str) -> Tool:
     node = graph.create_node(f"belvedere_{kind}_{os.getpid()}")
     if sim_time:
         graph.follow_clock(node)
-    return Tool(graph, transport, node)
+    tool = Tool(graph, transport, node)
+    threading.Thread(target=tool._end_when_asked, name="belvedere-tool-watch", daemon=True).start()
+    return tool
 
 
 def join_graph(address: GraphAddress, *, seed: int = 0, alone: bool | None = None) -> Graph:

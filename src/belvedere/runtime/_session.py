@@ -17,7 +17,7 @@ from belvedere.graph import Graph, GraphError, graph_running
 from belvedere.runtime._bridge import BridgeOptions, start_bridge
 from belvedere.runtime._clock import hold_time_base, open_clock_transport
 from belvedere.runtime._join import GraphAddress, join_graph
-from belvedere.runtime._scripted import ScriptOptions, install_script
+from belvedere.runtime._scripted import EchoWait, ScriptOptions, install_script
 
 if TYPE_CHECKING:
     from belvedere.launch import LaunchConfig, LaunchNode
@@ -146,6 +146,7 @@ def run_session(
     )
     status = 0
     bridge = None
+    echo_wait: EchoWait | None = None
     try:
         if join:
             _share_params(graph, config)
@@ -155,7 +156,12 @@ def run_session(
             return 1
         suffix = f"_{os.getpid()}" if join else ""
         scripted = ScriptOptions.parse(options.pubs, options.echoes, duration=options.duration)
-        install_script(graph, scripted, name=f"belvedere_script{suffix}")
+        # a script's topics are known once its process advertises them; the built-in
+        # nodes' are known now, so a misspelt --echo is refused before the run
+        learns = join or script is not None or _has_scripts(config)
+        echo_wait = install_script(
+            graph, scripted, name=f"belvedere_script{suffix}", learns_topics=learns
+        )
         ended = _run(graph, runtime, options, quiet_end=quiet_end)
         if ended is not None and quiet_end:
             status = runtime.exit_status(ended)
@@ -163,6 +169,8 @@ def run_session(
         pass
     finally:
         sys.stdout.flush()
+        for topic in echo_wait.close() if echo_wait is not None else ():
+            sys.stderr.write(f"--echo {topic}: no node of this run published it\n")
         if bridge is not None:
             bridge.close()
         runtime.close()
@@ -182,6 +190,13 @@ def _share_params(graph: Graph, config: LaunchConfig) -> None:
             request({"op": "set", "name": name, "value": param.value})
         except GraphError as err:
             logger.warning("cannot set %s on the running graph: %s", name, err.message)
+
+
+def _has_scripts(config: LaunchConfig) -> bool:
+    """Whether a launch runs a script (a node belvedere does not have: its own process)."""
+    from belvedere import nodes
+
+    return any(nodes.find(n.pkg, n.type) is None for n in config.nodes)
 
 
 def _nothing() -> None:
