@@ -11,6 +11,7 @@ import signal
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -58,6 +59,34 @@ def test_a_users_script_runs_as_its_node(tmp_path: Path) -> None:
     # as rosrun passes them: verbatim (rospy reads its remaps, _params and __ns itself)
     assert "argv ['one', 'chatter:=/talk', '__ns:=/r', '_k:=2']" in done.stdout
     assert "required node" not in done.stderr  # the run ends with its script, as rosrun's
+
+
+@pytest.mark.parametrize(
+    ("options", "named"),
+    [
+        (["--echo", "/chatter"], "--echo"),
+        (["--pub", "/chatter std_msgs/String {data: hi}", "--duration", "1"], "--pub, --duration"),
+        (["--rtf", "max"], "--rtf"),
+    ],
+)
+def test_run_options_beside_a_running_graph_are_refused_not_ignored(
+    peer: Any, tmp_path: Path, options: list[str], named: str
+) -> None:
+    """A script joining a running graph keeps that graph's time and runs until it ends: the
+    options that shape a run of its own are refused, naming them, and the script never
+    starts."""
+    pkg = _package(tmp_path, "learner")
+    script = pkg / "scripts" / "hello.py"
+    script.write_text(f"open({str(tmp_path / 'ran')!r}, 'w').close()\n")
+    done = subprocess.run(
+        [*BELVEDERE, "run", "--package-path", str(tmp_path), *options, "learner", "hello.py"],
+        capture_output=True, text=True, timeout=60, check=False,
+    )  # fmt: skip
+    assert done.returncode == 1
+    assert done.stderr.startswith(f"error: {named}: a script run beside a running graph"), (
+        done.stderr
+    )
+    assert not (tmp_path / "ran").exists()
 
 
 def test_a_script_by_its_path(tmp_path: Path) -> None:

@@ -52,6 +52,7 @@ def rosrun(
     address = options.address
     # (this process imports no more than a script beside a running graph needs)
     if script is not None and holds_parameters(address):
+        _refuse_run_options(options)
         return run_alone(script, words, packages, address, argv0=argv0, take_over=take_over)
     from belvedere import nodes
     from belvedere.launch import LaunchConfig, LaunchNode
@@ -102,10 +103,33 @@ def rosrun(
         )
         return run_session(config, packages, options, quiet_end=True, join=join)
     if holds_parameters(address):
+        _refuse_run_options(options)
         return run_alone(script, words, packages, address, take_over=take_over)
     return run_session(
         config, packages, options, script=(spec, script, words), sim_time=False, quiet_end=True
     )
+
+
+def _refuse_run_options(options: SessionOptions) -> None:
+    """A script joining a running graph runs as ``python3 script.py`` would, in that graph's
+    time: the options that shape a run of its own would be ignored, so they are refused."""
+    given = [
+        word
+        for word, used in (
+            ("--pub", bool(options.pubs)),
+            ("--echo", bool(options.echoes)),
+            ("--duration", options.duration is not None),
+            ("--rtf", options.rtf != 1.0),
+        )
+        if used
+    ]
+    if given:
+        msg = (
+            f"{', '.join(given)}: a script run beside a running graph keeps that graph's time "
+            "and runs until it ends"
+        )
+        hint = "use 'belvedere topic pub' or 'belvedere topic echo' in another terminal"
+        raise BelvedereError(msg, hint=hint)
 
 
 def run_alone(
