@@ -261,6 +261,17 @@ class TypeRegistry:
             self.services = self.services | found.services
             return True
 
+    def adopt(self, definitions: dict[str, Definition]) -> None:
+        """Make known the types of ``definitions`` this registry lacks (read from a text that
+        came with the data: a bag's, another process's), with their text as written, as
+        :meth:`learn` does for a package's files. The caller has checked them (MD5 sums,
+        no clash with a type known here)."""
+        with self._learning:
+            new = {n: d for n, d in definitions.items() if n not in self.store.fielddefs}
+            if new:
+                self.store.register({name: typedef(d) for name, d in new.items()})
+                self.definitions.update(new)
+
     # --- names ---------------------------------------------------------------------------------
     def message_names(self) -> Iterator[str]:
         return (n for n in self.store.fielddefs if "/msg/" in n)
