@@ -9,6 +9,7 @@ from __future__ import annotations
 import hashlib
 import logging
 import os
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -75,7 +76,7 @@ recorder.stop()
     assert path.is_file()
 
 
-def test_a_bag_of_a_type_not_on_this_machine_is_read_and_played(
+def test_a_bag_of_a_type_not_on_this_machine_is_read_played_and_echoed(
     tmp_path: Path, endpoint: str
 ) -> None:
     bag = tmp_path / "person.bag"
@@ -89,6 +90,32 @@ def test_a_bag_of_a_type_not_on_this_machine_is_read_and_played(
     play = _run(["bag", "play", "--immediate", str(bag)], elsewhere, env)
     assert play.returncode == 0, play.stderr
     assert "warning" not in play.stderr, play.stderr
+    # another bare terminal echoes the playing: it learns the type from the player
+    echo = subprocess.Popen(
+        [sys.executable, "-m", "belvedere", "topic", "echo", "-n", "1", "/person_info"],
+        cwd=elsewhere,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    player = subprocess.Popen(
+        [sys.executable, "-m", "belvedere", "bag", "play", "-q", "-l", str(bag)],
+        cwd=elsewhere,
+        env=env,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        out, err = echo.communicate(timeout=DEADLINE)
+    finally:
+        echo.kill()
+        player.send_signal(signal.SIGINT)
+        _, said = player.communicate(timeout=DEADLINE)
+    assert echo.returncode == 0, err
+    assert 'name: "Tom"\nage: ' in out
+    assert "sex: 1\n---" in out
+    assert "warning" not in said, said
 
 
 # --- definitions that lie -------------------------------------------------------------------

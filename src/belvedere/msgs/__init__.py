@@ -16,6 +16,7 @@ from belvedere.msgs._fulltext import (
     DefinitionError,
     FullText,
     learn_full_text,
+    learn_service_text,
     read_full_text,
 )
 from belvedere.msgs._genmsg import InterfaceError
@@ -43,6 +44,7 @@ __all__ = [
     "canonical",
     "default_message",
     "learn_full_text",
+    "learn_service_text",
     "message_from_args",
     "message_from_data",
     "message_to_data",

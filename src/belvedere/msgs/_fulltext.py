@@ -25,7 +25,6 @@ from belvedere.msgs._genmsg import (
     InterfaceError,
     parse_message,
     store_type,
-    typedef,
 )
 from belvedere.msgs._ros1text import ros1_name, ros1_text
 from belvedere.msgs._types import canonical, types
@@ -36,6 +35,7 @@ __all__ = [
     "FullText",
     "Mismatch",
     "learn_full_text",
+    "learn_service_text",
     "read_full_text",
 ]
 
@@ -207,6 +207,15 @@ def learn_full_text(text: str, msgtype: str, md5sum: str, where: str) -> list[st
     return list(new)
 
 
-def store_typedefs(definitions: dict[str, Definition]) -> dict[str, object]:
-    """The store's field definitions of ``definitions``."""
-    return {name: typedef(d) for name, d in definitions.items()}
+def learn_service_text(service: str, halves: dict[str, tuple[str, str]], where: str) -> list[str]:
+    """Make service ``service`` (``pkg/srv/Name``) known from its halves' full texts and MD5
+    sums (``{"Request": (text, md5), "Response": (text, md5)}``), each checked as
+    :func:`learn_full_text` checks a message's."""
+    new: list[str] = []
+    for half in ("Request", "Response"):
+        if half not in halves:
+            raise DefinitionError(where, f"the answer has no {half.lower()} of {service}")
+        text, md5sum = halves[half]
+        new += learn_full_text(text, f"{service}_{half}", md5sum, f"{where} ({half.lower()})")
+    types().adopt({}, services=[service])
+    return new
