@@ -5,6 +5,7 @@ read, never a traceback, a hang or unbounded memory, and the user's file untouch
 
 from __future__ import annotations
 
+import hashlib
 import logging
 import os
 import re
@@ -399,8 +400,9 @@ def test_play_of_unreadable_types_is_one_error_and_one_line_each(
     assert main(["bag", "play", "-q", str(path)]) == 1
     assert capsys.readouterr().err.splitlines() == [
         f"warning: {path}: skipping /u: its type foo_msgs/msg/Bar is unknown here",
-        f"warning: {path}: skipping /v: cannot read its type foo_msgs/msg/Baz: its definition "
-        "does not parse",
+        f"warning: {path}: skipping /v (connection 1): cannot read its type foo_msgs/msg/Baz: "
+        "its definition does not parse (line 2: malformed declaration '@@@ what ( [': "
+        "expected TYPE NAME (or TYPE NAME=VALUE))",
         "error: nothing to play: belvedere cannot read the type of any topic chosen in "
         f"{path} (the warnings above say why)",
     ]
@@ -464,8 +466,8 @@ def test_a_type_that_holds_itself_is_skipped(
     path.write_bytes(ros1_bag([Chunk(loop + message(0, SECOND), [(0, SECOND)])], [loop]))
     assert main(["bag", "play", "-q", str(path)]) == 1
     assert capsys.readouterr().err.splitlines() == [
-        f"warning: {path}: skipping /r: cannot read its type loop_msgs/msg/Node: "
-        "loop_msgs/msg/Node holds itself",
+        f"warning: {path}: skipping /r (connection 0): cannot read its type loop_msgs/msg/Node: "
+        "its definition does not parse (line 1: type 'loop_msgs/Node' contains itself)",
         "error: nothing to play: belvedere cannot read the type of any topic chosen in "
         f"{path} (the warnings above say why)",
     ]
@@ -478,7 +480,8 @@ def test_definitions_past_what_one_run_parses_are_skipped(
 
     decoder = Decoder()
     text = "".join(f"int32 x{i}\n" for i in range(60_000))  # 0.75 MiB: ~5 s to parse
-    first = Connection(0, "/a", "big_msgs/msg/A", "ros1", "0" * 32, "int32 x\n")
+    first_md5 = hashlib.md5(b"int32 x").hexdigest()  # genmsg's: the declarations' text
+    first = Connection(0, "/a", "big_msgs/msg/A", "ros1", first_md5, "int32 x\n")
     huge = Connection(1, "/b", "big_msgs/msg/B", "ros1", "0" * 32, text * 2)
     assert decoder.usable(first)
     assert not decoder.usable(huge)

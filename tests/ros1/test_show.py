@@ -7,7 +7,7 @@ import pytest
 from rosbags.typesys import get_types_from_msg
 
 from belvedere.cli import main
-from belvedere.msgs import TypeRegistry
+from belvedere.msgs import TypeRegistry, _ros1text
 from belvedere.ros1 import _show, _spec
 
 pytestmark = pytest.mark.usefixtures("pristine_types")
@@ -35,6 +35,7 @@ def test_types_added_to_the_store_are_listed_and_shown(
     registry.store.register(added)
     monkeypatch.setattr(_show, "types", lambda: registry)
     monkeypatch.setattr(_spec, "types", lambda: registry)
+    monkeypatch.setattr(_ros1text, "types", lambda: registry)
     assert "learner_msgs/Reading" in run(capsys, "msg", "list")[1].split()
     assert run(capsys, "msg", "package", "learner_msgs")[1] == "learner_msgs/Reading\n"
     assert "learner_msgs" in run(capsys, "msg", "packages")[1].split()

@@ -19,7 +19,16 @@ from rosbags.typesys.store import Typestore
 
 from belvedere.bounded import DEFINITION_BYTES, describe_size
 from belvedere.errors import BelvedereError
-from belvedere.msgs import MessageTypeError, message_from_data, short, types
+from belvedere.msgs import (
+    DefinitionError,
+    InterfaceError,
+    MessageTypeError,
+    message_from_data,
+    read_full_text,
+    short,
+    types,
+)
+from belvedere.msgs._genmsg import typedef
 
 __all__ = [
     "BagError",
@@ -132,6 +141,8 @@ class Decoder:
             )
             return False
         self._parse_budget -= size
+        if conn.encoding == "ros1" and conn.definition:
+            return self._full_text(conn, where, known)
         try:
             found = get_types_from_msg(conn.definition, conn.msgtype) if conn.definition else {}
             _check_acyclic(found, store.fielddefs)
@@ -144,6 +155,44 @@ class Decoder:
         differs = [
             n for n, d in found.items() if n in store.fielddefs and d[1] != store.fielddefs[n][1]
         ]
+        return self._layout(conn, where, known, found, [short(n) for n in differs])
+
+    def _full_text(self, conn: Connection, where: str, known: bool) -> Typestore | bool | None:
+        """A ROS 1 definition (a bag's ``message_definition``, an MCAP ``ros1msg`` schema),
+        read by genmsg's rules and checked against the connection's MD5 sum: a type the
+        store lacks is learnt from it; one it lays out otherwise is read in the bag's
+        layout and converted."""
+        source = f"{where}connection {conn.id} ({conn.topic})"
+        try:
+            full = read_full_text(conn.definition, conn.msgtype, source)
+        except (InterfaceError, DefinitionError) as err:
+            return self._unreadable(conn, where, err)
+        given = conn.md5sum
+        if given not in ("", "*") and given != full.md5sum:
+            logger.warning(
+                "%sskipping %s (connection %d): its definition of %s does not match the "
+                "connection's MD5 sum (%s given, %s computed from the definition)",
+                where,
+                conn.topic,
+                conn.id,
+                short(conn.msgtype),
+                given,
+                full.md5sum,
+            )
+            return False
+        mismatches = full.mismatches()
+        if not mismatches:
+            types().adopt(full.new_types())
+            return None
+        found = {name: typedef(d) for name, d in full.definitions.items()}
+        return self._layout(conn, where, known, found, [m.describe() for m in mismatches])
+
+    def _layout(
+        self, conn: Connection, where: str, known: bool, found: dict[str, Any], differs: list[str]
+    ) -> Typestore | bool | None:
+        """Types of the bag (``found``: the store's field definitions), some of them
+        (``differs``) other than the store's, or none."""
+        store = types().store
         try:
             if not differs:
                 store.register({n: d for n, d in found.items() if n not in store.fielddefs})
@@ -155,18 +204,24 @@ class Decoder:
                 store.register({n: d for n, d in found.items() if n not in store.fielddefs})
         except (TypesysError, MessageTypeError, ValueError, KeyError) as err:
             return self._unreadable(conn, where, err)
-        logger.info(
-            "%s: the bag's %s differs from belvedere's (%s): converting it field by field",
+        logger.warning(
+            "%s%s: the bag's %s differs from belvedere's (%s): converting it field by field",
+            where,
             conn.topic,
             short(conn.msgtype),
-            ", ".join(short(n) for n in differs),
+            ", ".join(differs),
         )
         return own
 
     @staticmethod
     def _unreadable(conn: Connection, where: str, err: Exception) -> bool:
         logger.warning(
-            "%sskipping %s: cannot read its type %s: %s", where, conn.topic, conn.msgtype, _why(err)
+            "%sskipping %s (connection %d): cannot read its type %s: %s",
+            where,
+            conn.topic,
+            conn.id,
+            conn.msgtype,
+            _why(err),
         )
         return False
 
@@ -225,7 +280,17 @@ def _why(err: BaseException) -> str:
     the whole definition, which is the bag's text, over many lines)."""
     if str(err).strip().startswith("Could not parse"):
         return "its definition does not parse"
+    if isinstance(err, InterfaceError):  # genmsg's rules: the line of the definition
+        line = f"line {err.location.line}: " if err.location and err.location.line else ""
+        return f"its definition does not parse ({line}{_short(err.message)})"
+    if isinstance(err, DefinitionError):  # the source is the warning's own start
+        return _short(err.reason)
     return one_line(err)
+
+
+def _short(text: str) -> str:
+    line = text.strip().splitlines()[0] if text.strip() else ""
+    return line if len(line) <= 160 else line[:157] + "..."
 
 
 def one_line(err: BaseException) -> str:

@@ -4,7 +4,8 @@ across processes, CDR-encoded as ROS 2 sends them.
 This module is the transport itself (:class:`ZenohTransport`) and its traffic: topics and
 services. Its other parts: domains, sessions and the key layout (``_zenoh_session``); who is
 on the graph (``_zenoh_discovery``); what a message carries and latching (``_zenoh_latch``);
-the newest-only outbox (``_zenoh_outbox``); the parameter service (``_zenoh_params``).
+the newest-only outbox (``_zenoh_outbox``); the parameter service (``_zenoh_params``); the
+definitions of types other processes do not know (``_zenoh_types``).
 
 Messages are serialized only when a subscriber in another process wants them. Publications
 use BLOCK congestion control, so commands are never silently dropped.
@@ -44,6 +45,7 @@ from belvedere.graph._zenoh_latch import _STAMP, Sent, _LatchedSeen, _sender, _s
 from belvedere.graph._zenoh_outbox import NEWEST_ONLY, TopicStats, _bulky, _Outbox
 from belvedere.graph._zenoh_params import _ParamService
 from belvedere.graph._zenoh_session import check_domain, domain_endpoint, open_session
+from belvedere.graph._zenoh_types import _TypeService
 from belvedere.msgs import short, types
 
 __all__ = ["ZenohTransport"]
@@ -61,7 +63,7 @@ def _close_at_exit(ref: weakref.ref[ZenohTransport]) -> None:
         transport.close()
 
 
-class ZenohTransport(_Discovery, _ParamService, _NodeControl):
+class ZenohTransport(_Discovery, _ParamService, _NodeControl, _TypeService):
     """Carries a graph's traffic to and from other processes."""
 
     def __init__(
@@ -96,6 +98,8 @@ class ZenohTransport(_Discovery, _ParamService, _NodeControl):
         self._param_queryable: Any = None
         self._node_watch: Any = None
         self._control: Any = None
+        self._unanswered: dict[str, float] = {}
+        self._asker: Callable[[str], bool] | None = None
         self._own_nodes: dict[str, tuple[int, Node]] = {}
         """full name → (when taken, node)"""
         self._clashes: set[tuple[str, str]] = set()
@@ -111,6 +115,20 @@ class ZenohTransport(_Discovery, _ParamService, _NodeControl):
         # session would wait for it forever at exit. Close it first (threading's own hook
         # runs before that wait; atexit runs after it).
         threading._register_atexit(partial(_close_at_exit, weakref.ref(self)))  # type: ignore[attr-defined]
+        # Types: every process answers for those it knows, graph or not (a recorder too)
+        self._type_queryable = self.session.declare_queryable(
+            self._key("y/**"), self._on_type_query
+        )
+        # a type no package here defines: asked of the other processes before it is unknown
+        # (weakly: the registry lives as long as the process, a transport may not)
+        method = weakref.WeakMethod(self.ask_type)
+
+        def ask(name: str) -> bool:
+            bound = method()
+            return bound is not None and bound(name)
+
+        self._asker = ask
+        types().add_asker(ask)
 
     # --- lifecycle -----------------------------------------------------------------------------
     def attach(self, graph: Graph) -> None:
@@ -131,6 +149,8 @@ class ZenohTransport(_Discovery, _ParamService, _NodeControl):
         if self._closed:
             return
         self._closed = True
+        if self._asker is not None:
+            types().remove_asker(self._asker)
         self._outbox.close()
         with contextlib.suppress(zenoh.ZError):
             self.session.close()  # type: ignore[no-untyped-call]

@@ -7,10 +7,11 @@ is an error that suggests close ones.
 
 from __future__ import annotations
 
+import contextlib
 import difflib
 import struct
 import threading
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import replace
 from functools import cache
 from pathlib import Path
@@ -235,6 +236,7 @@ class TypeRegistry:
         """The types read from those files, by store name (their text as written)."""
         self._asked: set[str] = set()
         self._learning = threading.RLock()
+        self._askers: list[Callable[[str], bool]] = []
 
     # --- the user's own packages -------------------------------------------------------------
     def add_package_path(self, dirs: Iterable[Path]) -> None:
@@ -261,6 +263,32 @@ class TypeRegistry:
             self.services = self.services | found.services
             return True
 
+    def adopt(self, definitions: dict[str, Definition], services: Iterable[str] = ()) -> None:
+        """Make known the types of ``definitions`` this registry lacks (read from a text that
+        came with the data: a bag's, another process's), with their text as written, as
+        :meth:`learn` does for a package's files. The caller has checked them (MD5 sums,
+        no clash with a type known here)."""
+        with self._learning:
+            new = {n: d for n, d in definitions.items() if n not in self.store.fielddefs}
+            if new:
+                self.store.register({name: typedef(d) for name, d in new.items()})
+                self.definitions.update(new)
+            self.services = self.services | set(services)
+
+    # --- types from elsewhere ------------------------------------------------------------------
+    def add_asker(self, asker: Callable[[str], bool]) -> None:
+        """Ask ``asker`` for a type no package on the path defines (a store name: a message,
+        or a service ``pkg/srv/Name``) before calling it unknown; it answers whether it made
+        the type known. The graph's transport is one: it asks the other processes."""
+        self._askers.append(asker)
+
+    def remove_asker(self, asker: Callable[[str], bool]) -> None:
+        with contextlib.suppress(ValueError):
+            self._askers.remove(asker)
+
+    def _ask(self, full: str) -> bool:
+        return any(asker(full) for asker in list(self._askers))
+
     # --- names ---------------------------------------------------------------------------------
     def message_names(self) -> Iterator[str]:
         return (n for n in self.store.fielddefs if "/msg/" in n)
@@ -283,7 +311,10 @@ class TypeRegistry:
             return full
         if self.learn(full.split("/", 1)[0]):
             return self.resolve(name)
-        if "/srv/" in full and full.rsplit("_", 1)[-1] in ("Request", "Response"):
+        service = "/srv/" in full and full.rsplit("_", 1)[-1] in ("Request", "Response")
+        if self._ask(full.rsplit("_", 1)[0] if service else full) and full in self.store.fielddefs:
+            return full
+        if service:
             msg = f"unknown service message type {name!r}"
             raise MessageTypeError(msg)
         known = sorted(self.message_names())
@@ -301,6 +332,8 @@ class TypeRegistry:
             return full
         if self.learn(full.split("/", 1)[0]):
             return self.resolve_service(name)
+        if self._ask(full) and full in self.services:
+            return full
         close = difflib.get_close_matches(full, sorted(self.services), n=3)
         hint = "did you mean " + ", ".join(short(c) for c in close) + "?" if close else None
         msg = (

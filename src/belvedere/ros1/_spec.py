@@ -13,13 +13,24 @@ import hashlib
 import keyword
 from dataclasses import dataclass
 from functools import cache
-from typing import Any, Final
+from typing import Any
 
 from rosbags.interfaces import Nodetype
 
 from belvedere.msgs import PLACEHOLDER, types
+from belvedere.msgs._ros1text import (
+    DURATION,
+    SEPARATOR,
+    SPECIAL,
+    TIME,
+    field_shape,
+    ros1_name,
+    ros1_text,
+)
 
 __all__ = [
+    "DURATION",
+    "TIME",
     "FieldSpec",
     "MessageSpec",
     "message_spec",
@@ -27,11 +38,6 @@ __all__ = [
     "service_md5",
     "store_name",
 ]
-
-TIME: Final = "builtin_interfaces/msg/Time"
-DURATION: Final = "builtin_interfaces/msg/Duration"
-_SPECIAL: Final = {TIME: "time", DURATION: "duration"}
-_SEPARATOR: Final = "=" * 80
 
 
 @dataclass(frozen=True)
@@ -81,7 +87,7 @@ class MessageSpec:
     def full_text(self) -> str:
         parts = [self.text]
         for dep in self.dependencies:
-            parts.append(f"{_SEPARATOR}\nMSG: {ros1_name(dep)}\n{message_spec(dep).text}")
+            parts.append(f"{SEPARATOR}\nMSG: {ros1_name(dep)}\n{message_spec(dep).text}")
         return "\n".join(parts)
 
     @property
@@ -93,16 +99,6 @@ class MessageSpec:
             and first.array is None
             and first.base == "std_msgs/msg/Header"
         )
-
-
-def ros1_name(name: str) -> str:
-    """``pkg/msg/Type`` → ``pkg/Type``; ``pkg/srv/Name_Request`` → ``pkg/NameRequest``."""
-    if name in _SPECIAL:
-        return _SPECIAL[name]
-    pkg, kind, base = name.split("/")
-    if kind == "srv":
-        base = base.replace("_Request", "Request").replace("_Response", "Response")
-    return f"{pkg}/{base}"
 
 
 def store_name(name: str) -> str:
@@ -121,12 +117,6 @@ def store_name(name: str) -> str:
     return types().resolve(name)
 
 
-def _constant_text(typ: str, value: Any) -> str:
-    if typ == "bool":
-        return str(int(value))
-    return str(value)
-
-
 @cache
 def message_spec(name: str) -> MessageSpec:
     """The spec of a message type, by its store name."""
@@ -135,58 +125,35 @@ def message_spec(name: str) -> MessageSpec:
     if [f[0] for f in fielddefs] == [PLACEHOLDER]:
         fielddefs = []  # how the store keeps a message with no fields
     fields: list[FieldSpec] = []
-    own = types().definitions.get(full)  # a type of the user's: its text and values as written
-    if own is not None:
-        md5_lines = [f"{c.type} {c.name}={c.text}" for c in own.constants]
-    else:
-        md5_lines = [f"{t} {c}={_constant_text(t, value)}" for c, t, value in constants]
-    text_lines = list(md5_lines)
-    direct: list[str] = []
     for fname, desc in fielddefs:
-        node: Any = desc[0]
-        detail: Any = desc[1]
-        array: int | None = None
-        if node in (Nodetype.ARRAY, Nodetype.SEQUENCE):
-            (node, detail), length = detail
-            array = int(length) if desc[0] == Nodetype.ARRAY else 0
+        node, detail, array = field_shape(desc)
         if node == Nodetype.NAME:
             base = str(detail)
-            is_message = base not in _SPECIAL
+            is_message = base not in SPECIAL
             if not is_message:
-                base = _SPECIAL[base]
+                base = SPECIAL[base]
         else:
             base = str(detail[0])
             is_message = False
-        spec = FieldSpec(
-            name=f"{fname}_" if keyword.iskeyword(fname) or fname == "self" else fname,
-            ros_name=fname,
-            base=base,
-            is_message=is_message,
-            array=array,
+        fields.append(
+            FieldSpec(
+                name=f"{fname}_" if keyword.iskeyword(fname) or fname == "self" else fname,
+                ros_name=fname,
+                base=base,
+                is_message=is_message,
+                array=array,
+            )
         )
-        fields.append(spec)
-        text_lines.append(f"{spec.slot_type} {fname}")
-        if is_message:
-            md5_lines.append(f"{message_spec(base).md5sum} {fname}")
-            if base not in direct:
-                direct.append(base)
-        else:
-            md5_lines.append(f"{spec.slot_type} {fname}")
-    md5_text = "\n".join(md5_lines)
-    deps: list[str] = []
-    for dep in direct:
-        for item in (dep, *message_spec(dep).dependencies):
-            if item not in deps:
-                deps.append(item)
+    described = ros1_text(full)
     return MessageSpec(
         store_name=full,
-        name=ros1_name(full),
+        name=described.name,
         constants=tuple((c, t, v) for c, t, v in constants),
         fields=tuple(fields),
-        md5_text=md5_text,
-        md5sum=hashlib.md5(md5_text.encode()).hexdigest(),
-        text=own.text if own is not None else "\n".join(text_lines) + "\n",
-        dependencies=tuple(deps),
+        md5_text=described.md5_text,
+        md5sum=described.md5sum,
+        text=described.text,
+        dependencies=described.dependencies,
     )
 
 
