@@ -169,6 +169,24 @@ def test_xacro_runs_the_xacro_verb(capsys: pytest.CaptureFixture[str]) -> None:
     assert '<robot name="mbot">' in capsys.readouterr().out
 
 
+def test_ros_tools_run_as_their_verbs(peer: Any, capsys: pytest.CaptureFixture[str]) -> None:
+    """``rosrun rostopic rostopic list`` and the like: the tools ROS installs in their
+    packages are belvedere's verbs, the same output."""
+    for package, tool, verb, words in [
+        ("rostopic", "rostopic", "topic", ["list"]),
+        ("rosparam", "rosparam", "param", ["get", "/robot/speed"]),
+        ("rosnode", "rosnode", "node", ["list"]),
+        ("rosservice", "rosservice", "service", ["list"]),
+        ("rosmsg", "rosmsg", "msg", ["md5", "std_msgs/String"]),
+        ("rosmsg", "rossrv", "srv", ["show", "std_srvs/Trigger"]),
+    ]:
+        assert main([verb, *words]) == 0
+        direct = capsys.readouterr().out
+        assert main(["run", package, tool, *words]) == 0
+        assert capsys.readouterr().out == direct, (package, tool)
+        assert direct
+
+
 def test_what_run_cannot_find(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     _package(tmp_path, "learner")
     assert main(["run", "--package-path", str(tmp_path), "learner", "nope.py"]) == 1

@@ -25,8 +25,19 @@ from belvedere.runtime import rosrun
 
 __all__ = ["add_parser", "run"]
 
-TOOLS = {("xacro", "xacro"): "xacro", ("xacro", "xacro.py"): "xacro"}
-"""Executables that are belvedere verbs rather than nodes."""
+TOOLS = {
+    ("xacro", "xacro"): "xacro",
+    ("xacro", "xacro.py"): "xacro",
+    ("rostopic", "rostopic"): "topic",
+    ("rosservice", "rosservice"): "service",
+    ("rosnode", "rosnode"): "node",
+    ("rosparam", "rosparam"): "param",
+    ("rosmsg", "rosmsg"): "msg",
+    ("rosmsg", "rossrv"): "srv",
+    ("roswtf", "roswtf"): "wtf",
+}
+"""Executables that are belvedere verbs rather than nodes: ``rosrun rostopic rostopic list``
+is ``belvedere topic list``, as ROS installs its tools in their packages too."""
 
 
 def add_parser(
