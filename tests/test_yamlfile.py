@@ -86,3 +86,10 @@ def test_a_character_yaml_does_not_allow_is_an_error_at_its_place() -> None:
         "not allowed$",
     ):
         load_yaml("a: 1\nb: \x00\n", path="x.yaml")
+
+
+def test_rosparam_angles_deg_rad_and_pi_expressions() -> None:
+    data = load_yaml("a: !radians pi/2\nb: deg(180)\nc: rad(-pi)\nd: !degrees 90\ne: degx\n").data
+    assert data == {"a": math.pi / 2, "b": math.pi, "c": -math.pi, "d": math.pi / 2, "e": "degx"}
+    with pytest.raises(ParseError, match="numbers and pi"):
+        load_yaml("a: !radians __import__('os')\n")

@@ -3,7 +3,8 @@
 Configuration (rosparam files, controller YAML) is plain YAML, but a bad value must be
 reported at its line. :func:`load_yaml` keeps PyYAML's node tree beside the data so any value
 can be located later; a syntax error is a :class:`~belvedere.errors.ParseError` at its line.
-``!degrees``/``!radians`` tags are understood, as ``rosparam`` does.
+``!degrees``/``!radians`` tags (and plain ``deg(90)``, ``rad(pi/2)``) are understood, as
+``rosparam`` does.
 
 Every YAML belvedere reads goes through :class:`Loader`, which bounds what a document can
 cost: collections nest at most :data:`MAX_DEPTH` levels, and aliases may expand to at most
@@ -13,7 +14,11 @@ before anything is built), and an alias may not refer to the value that contains
 
 from __future__ import annotations
 
+import ast
 import math
+import operator
+import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Final
@@ -30,6 +35,7 @@ __all__ = [
     "YamlDocument",
     "describe_error",
     "load_yaml",
+    "load_yaml_documents",
     "load_yaml_file",
 ]
 
@@ -113,23 +119,57 @@ class Loader(yaml.SafeLoader):
             raise yaml.constructor.ConstructorError(None, None, msg, node.start_mark) from None
 
 
-def _angle(factor: float) -> Any:
+_ARITHMETIC: Final[dict[type[ast.AST], Callable[..., float]]] = {
+    ast.Add: operator.add,
+    ast.Sub: operator.sub,
+    ast.Mult: operator.mul,
+    ast.Div: operator.truediv,
+    ast.Pow: operator.pow,
+    ast.USub: operator.neg,
+    ast.UAdd: operator.pos,
+}
+
+
+def _arithmetic(node: ast.AST) -> float:
+    """rosparam evaluates ``!radians pi/2`` with Python's ``eval``; this is the arithmetic
+    of it (numbers, ``pi``, + - * / **, parentheses) without running anything else."""
+    if isinstance(node, ast.Expression):
+        return _arithmetic(node.body)
+    if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)):
+        return float(node.value)
+    if isinstance(node, ast.Name) and node.id == "pi":
+        return math.pi
+    if isinstance(node, ast.BinOp) and type(node.op) in _ARITHMETIC:
+        return float(_ARITHMETIC[type(node.op)](_arithmetic(node.left), _arithmetic(node.right)))
+    if isinstance(node, ast.UnaryOp) and type(node.op) in _ARITHMETIC:
+        return float(_ARITHMETIC[type(node.op)](_arithmetic(node.operand)))
+    raise ValueError
+
+
+def _angle(factor: float, call: str, *, expressions: bool) -> Any:
     def construct(loader: yaml.SafeLoader, node: yaml.Node) -> float:
         if not isinstance(node, yaml.ScalarNode):
             msg = f"{node.tag} needs a number, not a collection"
             raise yaml.constructor.ConstructorError(None, None, msg, node.start_mark)
-        text = str(loader.construct_scalar(node))
+        text = str(loader.construct_scalar(node)).strip()
+        inner = text[len(call) + 1 : -1] if text.startswith(call + "(") else text
         try:
-            return float(text) * factor
-        except ValueError:
-            msg = f"{node.tag} needs a number, got {text!r}"
+            if expressions:
+                return _arithmetic(ast.parse(inner, mode="eval")) * factor
+            return float(inner) * factor
+        except (ValueError, SyntaxError, ArithmeticError, RecursionError):
+            what = "an expression of numbers and pi" if expressions else "a number"
+            msg = f"{node.tag} needs {what}, got {text!r}"
             raise yaml.constructor.ConstructorError(None, None, msg, node.start_mark) from None
 
     return construct
 
 
-Loader.add_constructor("!degrees", _angle(math.pi / 180.0))
-Loader.add_constructor("!radians", _angle(1.0))
+Loader.add_constructor("!degrees", _angle(math.pi / 180.0, "deg", expressions=False))
+Loader.add_constructor("!radians", _angle(1.0, "rad", expressions=True))
+# rosparam's plain ``deg(90)`` and ``rad(pi/2)``: resolved to the tags above, as its loader does
+Loader.add_implicit_resolver("!degrees", re.compile(r"^deg\([^\)]*\)$"), list("d"))
+Loader.add_implicit_resolver("!radians", re.compile(r"^rad\([^\)]*\)$"), list("r"))
 
 
 @dataclass(frozen=True)
@@ -229,6 +269,25 @@ def load_yaml(text: str, *, path: str = "<yaml>") -> YamlDocument:
     finally:
         loader.dispose()
     return YamlDocument(data, path, root)
+
+
+def load_yaml_documents(text: str, *, path: str = "<yaml>") -> list[Any]:
+    """Every document of a ``---``-separated stream (``rosparam load`` reads them all), within
+    the bounds :func:`load_yaml` keeps; errors name ``path:line:col``."""
+    if len(text) > YAML_TEXT_BYTES:
+        msg = (
+            f"the YAML is {describe_size(len(text))}, more than the "
+            f"{describe_size(YAML_TEXT_BYTES)} belvedere reads"
+        )
+        raise ParseError(msg, SourceLocation(path))
+    try:
+        return list(yaml.load_all(text, Loader=Loader))
+    except yaml.reader.ReaderError as err:
+        msg = f"invalid YAML: character U+{err.character:04X}: {err.reason}"
+        raise ParseError(msg, SourceLocation(path)) from None
+    except yaml.YAMLError as err:
+        msg, where = describe_error(err, path)
+        raise ParseError(msg, where) from None
 
 
 def load_yaml_file(path: str | Path, *, requested_at: SourceLocation | None = None) -> YamlDocument:

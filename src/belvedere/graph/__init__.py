@@ -14,6 +14,12 @@ from belvedere.graph._log import NodeLogger
 from belvedere.graph._names import RosArgs, did_you_mean, parse_ros_args, resolve_name
 from belvedere.graph._names import validate as validate_name
 from belvedere.graph._params import ParamError, ParamTree
+from belvedere.graph._params import leaves as param_leaves
+from belvedere.graph._rosparam import documents as param_documents
+from belvedere.graph._rosparam import dump_text as param_dump_text
+from belvedere.graph._rosparam import get_text as param_get_text
+from belvedere.graph._rosparam import leaf_lines as param_leaf_lines
+from belvedere.graph._rosparam import shown as param_shown
 from belvedere.graph._topics import GraphTopics
 from belvedere.graph._zenoh import ZenohTransport
 from belvedere.graph._zenoh_discovery import GraphInfo
@@ -63,6 +69,12 @@ __all__ = [
     "did_you_mean",
     "domain_endpoint",
     "graph_running",
+    "param_documents",
+    "param_dump_text",
+    "param_get_text",
+    "param_leaf_lines",
+    "param_leaves",
+    "param_shown",
     "parse_ros_args",
     "process_node_name",
     "resolve_name",

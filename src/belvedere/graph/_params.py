@@ -15,7 +15,7 @@ import yaml
 from belvedere.errors import BelvedereError
 from belvedere.yamlfile import load_yaml
 
-__all__ = ["ParamError", "ParamTree"]
+__all__ = ["ParamError", "ParamTree", "leaves"]
 
 
 class ParamError(BelvedereError):
@@ -68,6 +68,13 @@ class ParamTree:
                 node = child
             node[parts[-1]] = copy.deepcopy(value)
         self.version += 1
+
+    def update(self, name: str, value: Any) -> None:
+        """rosparam's ``set`` and ``load``: a dictionary sets each leaf below ``name`` and
+        keeps what it does not name (ROS's #1098: an update, not a replacement, so an empty
+        dictionary sets nothing); anything else is set as :meth:`set` does."""
+        for leaf, leaf_value in leaves(name, value):
+            self.set(leaf, leaf_value)
 
     def delete(self, name: str) -> None:
         parts = _parts(name)
@@ -124,6 +131,27 @@ class ParamTree:
 
         close = difflib.get_close_matches(name, self.names(), n=3)
         return ", ".join(close)
+
+
+def leaves(name: str, value: Any) -> list[tuple[str, Any]]:
+    """The (name, value) pairs rosparam sets for ``value`` at ``name``, in its order: each
+    leaf of a dictionary, or the value itself. ROS's parameter server has no null, so a null
+    (YAML ``~`` or nothing) is refused as rosparam's server refuses it."""
+    if isinstance(value, dict):
+        out: list[tuple[str, Any]] = []
+        for key, child in value.items():
+            if not isinstance(key, str):
+                msg = f"YAML dictionaries must have string keys, not {key!r}"
+                raise ParamError(msg)
+            out += leaves(f"{name.rstrip('/')}/{key}", child)
+        return out
+    if name == "/":
+        msg = "global / can only be set to a dictionary"
+        raise ParamError(msg)
+    if value is None:
+        msg = f"{name}: the parameter server has no null value (write '' for an empty string)"
+        raise ParamError(msg)
+    return [(name, value)]
 
 
 class _Absent:
