@@ -28,8 +28,9 @@ case "${1:-}" in
 esac
 
 # What MuJoCo's offscreen rendering loads through MUJOCO_GL=egl (the physics cameras and
-# Kinects): libglvnd's EGL and OpenGL dispatchers and Mesa's EGL with its llvmpipe driver.
-RUNTIME_DEBIAN=(libegl1 libegl-mesa0 libgl1-mesa-dri libopengl0)
+# Kinects): libglvnd's EGL and OpenGL dispatchers and Mesa's EGL with its llvmpipe driver;
+# Graphviz's dot lays out rqt_graph's, view_frames' and urdf_to_graphiz's pictures.
+RUNTIME_DEBIAN=(libegl1 libegl-mesa0 libgl1-mesa-dri libopengl0 graphviz)
 
 # check_urdf (the URDF oracle), Chromium (the viewer's browser tests), and Debian's ROS 1
 # (ros_comm 1.15: roscore, roslaunch, rospy, robot_state_publisher, tf, rosbag, rviz) with

@@ -148,11 +148,15 @@ MODULES: Final = {
     "move_base": "move_base",
     "robot_state_publisher": "robot_state_publisher",
     "rosbag": "rosbag",
+    "rqt_graph": "rqt_graph",
+    "rqt_tf_tree": "rqt_tf_tree",
     "rviz": "rviz",
     "teleop_twist_keyboard": "teleop_twist_keyboard",
     "tf": "tf",
     "tf2_ros": "tf2_ros",
     "turtlesim": "turtlesim",
+    "urdf": "urdfdom",
+    "urdfdom": "urdfdom",
 }
 """ROS package → the module here that provides its executables."""
 
