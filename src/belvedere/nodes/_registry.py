@@ -148,6 +148,7 @@ MODULES: Final = {
     "move_base": "move_base",
     "robot_state_publisher": "robot_state_publisher",
     "rosbag": "rosbag",
+    "rqt_reconfigure": "rqt_reconfigure",
     "rviz": "rviz",
     "teleop_twist_keyboard": "teleop_twist_keyboard",
     "tf": "tf",
