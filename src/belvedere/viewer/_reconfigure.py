@@ -66,6 +66,7 @@ class ReconfigurePage:
         self.gui = self.server.gui
         self.gui.configure_theme(control_width="large", show_share_button=False)
         self.gui.set_panel_label("rqt_reconfigure")
+        self.gui.main_panel.dock_left()  # beside the (empty) 3D view, as the viewer's panel
         self.server.scene.set_up_direction("+z")
         self.topics = GraphTopics(node.graph)
         self.poll = poll

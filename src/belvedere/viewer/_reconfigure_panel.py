@@ -1,6 +1,6 @@
 """One dynamic_reconfigure server's parameters as rqt_reconfigure shows them: a widget per
-parameter of its ``parameter_descriptions`` (a slider and a number field for a bounded int or
-double, a number field for an unbounded one, a checkbox for a bool, a dropdown for an enum, a
+parameter of its ``parameter_descriptions`` (a slider with its number field for a bounded int
+or double, a number field for an unbounded one, a checkbox for a bool, a dropdown for an enum, a
 text field for a string), its groups as folders or tabs, the values following
 ``parameter_updates``, and each edit sent through ``set_parameters`` with the value the
 server kept shown in its place."""
@@ -62,23 +62,18 @@ class _Widget:
 
     def _add_number(self, gui: Any, param: Param, value: Any, hint: str) -> None:
         whole = param.type == "int"
-        bounded = math.isfinite(param.min) and math.isfinite(param.max) and param.min < param.max
-        if bounded:
+        if math.isfinite(param.min) and math.isfinite(param.max) and param.min < param.max:
+            # viser's slider has its number field beside it, bounded to the slider's range
             step = 1 if whole else (param.max - param.min) / SLIDER_STEPS
             shown = min(max(value, param.min), param.max)
             self.handles.append(
                 gui.add_slider(param.name, param.min, param.max, step, shown, hint=hint)
             )
-        # The field takes any number, unbounded: what is outside the range the server clamps,
-        # and the field then shows what it kept, as rqt_reconfigure's line edit does.
-        self.handles.append(
-            gui.add_number(
-                "" if bounded else param.name,
-                int(value) if whole else float(value),
-                step=1 if whole else None,
-                hint=hint,
-            )
-        )
+            return
+        # Unbounded: any number, and what the server clamps or corrects shows up in its place.
+        number = int(value) if whole else float(value)
+        step = 1 if whole else None
+        self.handles.append(gui.add_number(param.name, number, step=step, hint=hint))
 
     def _label_of(self, value: Any) -> str:
         for label, option in self._labels.items():
