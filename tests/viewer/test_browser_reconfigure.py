@@ -38,7 +38,7 @@ def rqt_reconfigure(*args: str) -> Iterator[str]:
             what="rqt_reconfigure to print its URL",
             detail=lambda: out.lines,
         )
-        url = line.split(": ", 1)[1]
+        url = str(line).split(": ", 1)[1]
         assert re.fullmatch(r"http://127\.0\.0\.1:\d+", url), url
         yield url
     finally:
