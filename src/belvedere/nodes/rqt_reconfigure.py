@@ -18,6 +18,7 @@ from belvedere.nodes._registry import (
     Starter,
     StartError,
     end_node,
+    port_param,
     stopping_on_bad_values,
 )
 
@@ -38,14 +39,6 @@ options:
 """
 
 
-def _port(node: Node) -> int:
-    port = node.get_param("~port", 0)
-    if isinstance(port, bool) or not isinstance(port, int) or not 0 <= port <= 65535:
-        msg = f"parameter ~port: expected a port number (0 to 65535), got {port!r}"
-        raise ValueError(msg)
-    return port
-
-
 def _start(session: Session, spec: NodeSpec, node: Node) -> None:
     from belvedere.viewer import ReconfigurePage, ViewerError
 
@@ -58,12 +51,16 @@ def _start(session: Session, spec: NodeSpec, node: Node) -> None:
     if unknown:
         msg = f"{spec.full_name}: rqt_reconfigure takes no option {', '.join(unknown)}"
         raise StartError(msg, spec.source, hint="rqt_reconfigure [NODE ...]; see --help")
+    port = port_param(node, 0)
     try:
-        page = ReconfigurePage(node, port=_port(node), select=words)
+        page = ReconfigurePage(node, port=port, select=words)
     except (ViewerError, OSError) as err:
         msg = f"{spec.full_name}: cannot serve the page: {err}"
         raise StartError(msg, spec.source) from None
     session.closers.append(page.close)
+    served = page.server.get_port()
+    if port and served != port:  # viser moves on to the next free port
+        sys.stderr.write(f"rqt_reconfigure: port {port} is taken; serving on {served}\n")
     sys.stderr.write(f"rqt_reconfigure: {page.url}\n")
 
 
