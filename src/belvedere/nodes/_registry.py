@@ -32,6 +32,7 @@ __all__ = [
     "joins_running_graph",
     "node_name",
     "package_names",
+    "port_param",
     "stopping_on_bad_values",
     "transforms",
 ]
@@ -107,6 +108,20 @@ def stopping_on_bad_values(start: Callable[[Session, NodeSpec, Node], object]) -
     return starter
 
 
+def port_param(node: Node, default: int) -> int:
+    """The node's ``~port`` parameter (``default`` when unset).
+
+    Raises:
+        ValueError: it is no port number (naming the parameter, for
+            :func:`stopping_on_bad_values`).
+    """
+    port = node.get_param("~port", default)
+    if isinstance(port, bool) or not isinstance(port, int) or not 0 <= port <= 65535:
+        msg = f"parameter ~port: expected a port number (0 to 65535), got {port!r}"
+        raise ValueError(msg)
+    return port
+
+
 ParamLookup = Callable[[str, Any], Any]
 """A node's private parameter (name without ``~``) with a default."""
 FileClaim = Callable[[NodeSpec], list[tuple[str, str]]]
@@ -150,6 +165,7 @@ MODULES: Final = {
     "rosbag": "rosbag",
     "rqt_graph": "rqt_graph",
     "rqt_tf_tree": "rqt_tf_tree",
+    "rqt_reconfigure": "rqt_reconfigure",
     "rviz": "rviz",
     "teleop_twist_keyboard": "teleop_twist_keyboard",
     "tf": "tf",

@@ -19,6 +19,7 @@ from belvedere.nodes._registry import (
     Session,
     Starter,
     StartError,
+    port_param,
     stopping_on_bad_values,
 )
 
@@ -43,14 +44,6 @@ NOT_APPLIED = (
     "num_threads",
 )
 """foxglove_bridge's parameters this bridge reads past (it serves every capability it has)."""
-
-
-def _port(node: Node) -> int:
-    port = node.get_param("~port", 8765)
-    if isinstance(port, bool) or not isinstance(port, int) or not 0 <= port <= 65535:
-        msg = f"parameter ~port: expected a port number (0 to 65535), got {port!r}"
-        raise ValueError(msg)
-    return port
 
 
 def _patterns(node: Node) -> Sequence[str]:
@@ -78,7 +71,11 @@ def _start(session: Session, spec: NodeSpec, node: Node) -> None:
         )
     try:
         bridge = FoxgloveBridge(
-            session.graph, host=host, port=_port(node), node=node, topic_whitelist=_patterns(node)
+            session.graph,
+            host=host,
+            port=port_param(node, 8765),
+            node=node,
+            topic_whitelist=_patterns(node),
         )
     except FoxgloveBridgeError as err:
         msg = f"{spec.full_name}: {err.message}"

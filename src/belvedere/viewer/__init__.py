@@ -4,6 +4,7 @@ from belvedere.viewer._access import ViewerError, viewer_access
 from belvedere.viewer._canvas import Canvas
 from belvedere.viewer._catalog import DISPLAYS
 from belvedere.viewer._display import Display
+from belvedere.viewer._reconfigure import ReconfigurePage
 from belvedere.viewer._robot import MeshAccessError, RobotDrawing, allowed_mesh_path
 from belvedere.viewer._rviz import (
     RvizConfig,
@@ -22,6 +23,7 @@ __all__ = [
     "Canvas",
     "Display",
     "MeshAccessError",
+    "ReconfigurePage",
     "RobotDrawing",
     "RvizConfig",
     "RvizDisplay",
