@@ -92,6 +92,11 @@ def _topic_of(path: str, topics: Mapping[str, str]) -> str | None:
     return best
 
 
+def _fields(value: Any) -> list[str]:
+    """A message's field names (rosbags' classes also carry ``__msgtype__``)."""
+    return [f.name for f in dataclasses.fields(value) if not f.name.startswith("__")]
+
+
 def _numeric(value: Any) -> bool:
     return isinstance(value, _NUMERIC)
 
@@ -99,9 +104,9 @@ def _numeric(value: Any) -> bool:
 def _walk(path: str, value: Any, steps: Iterable[tuple[str, int | None]]) -> Any:
     """Follow ``steps`` through a default message; errors name what the path expected."""
     for name, index in steps:
-        if not dataclasses.is_dataclass(value) or not hasattr(value, name):
+        if not dataclasses.is_dataclass(value) or name not in _fields(value):
             fields = (
-                ", ".join(f.name for f in dataclasses.fields(value))
+                ", ".join(_fields(value))
                 if dataclasses.is_dataclass(value)
                 else "none: it is a number"
             )
@@ -139,7 +144,7 @@ def resolve_series(path: str, topics: Mapping[str, str]) -> list[Series] | None:
     if leaf is None or _numeric(leaf):
         return [Series(topic, msg_type, steps)]
     if dataclasses.is_dataclass(leaf):
-        numeric = [f.name for f in dataclasses.fields(leaf) if _numeric(getattr(leaf, f.name))]
+        numeric = [name for name in _fields(leaf) if _numeric(getattr(leaf, name))]
         if numeric:
             return [Series(topic, msg_type, (*steps, (name, None))) for name in numeric]
     msg = f"{path}: not a number (a {type(leaf).__name__}); name a numeric field below it"
