@@ -25,7 +25,7 @@ def test_filters_pick_severities_node_and_text_and_highlight() -> None:
         LogRow(4, "/b/driver", 2, "Battery low", "f:g:2", ()),
         LogRow(8, "/b/driver", 3, "motor stalled", "f:g:3", ()),
     ]
-    assert [r.stamp for r in rows][0] == "0.000000001"
+    assert next(r.stamp for r in rows) == "0.000000001"
     assert [r.message for r in rows if LogFilter().shows(r)] == [r.message for r in rows]
     warn_up = LogFilter(levels={4, 8, 16})
     assert [r.node for r in rows if warn_up.shows(r)] == ["/b/driver", "/b/driver"]

@@ -35,7 +35,8 @@ def test_colour_encodings_keep_their_colours_and_drop_row_padding() -> None:
 def test_grey_is_grey() -> None:
     grey = np.array([[0, 128], [200, 255]], dtype=np.uint8)
     shown = image_rgb(image("mono8", grey, pad=2))
-    assert np.array_equal(shown[..., 0], grey) and np.array_equal(shown[..., 2], grey)
+    assert np.array_equal(shown[..., 0], grey)
+    assert np.array_equal(shown[..., 2], grey)
 
 
 @pytest.mark.parametrize(
@@ -50,7 +51,8 @@ def test_depth_is_coloured_near_blue_far_red_unknown_black(
 ) -> None:
     shown = image_rgb(image(encoding, depth))
     near, far, unknown = shown[0, 0], shown[1, 0], shown[1, 1]
-    assert near[2] > near[0] and far[0] > far[2]
+    assert near[2] > near[0]
+    assert far[0] > far[2]
     assert list(unknown) == [0, 0, 0]
     assert not np.array_equal(shown[0, 1], near)
 

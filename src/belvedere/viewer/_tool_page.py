@@ -14,6 +14,8 @@ from belvedere.viewer._access import serve_viser, viewer_access
 
 __all__ = ["ToolPage"]
 
+_WIDE = 'div[style*="width: 388px"] { width: min(1200px, 98vw) !important; }'
+
 
 class ToolPage:
     """A page titled ``title`` on ``host:port``; :meth:`refresh` runs ``rate_hz`` times a
@@ -34,10 +36,12 @@ class ToolPage:
         self.server = serve_viser(self.access, host, port)
         self.gui = self.server.gui
         # The page is the panel: wide, always open, no 3D scene to look at behind it.
-        self.gui.configure_theme(
-            control_layout="fixed", control_width="large", show_logo=False, show_share_button=False
-        )
+        self.gui.configure_theme(control_width="large", show_logo=False, show_share_button=False)
+        self.gui.main_panel.dock_right()
         self.gui.set_panel_label(title)
+        # viser sizes its panel for controls beside a 3D view; here the panel is the page, so
+        # widen it (viser has no option for that: the panel's inline width, overridden).
+        self.gui.add_html(f"<style>{_WIDE}</style>")
         self.server.scene.set_up_direction("+z")
         self.server.scene.world_axes.visible = False
         self._stop = threading.Event()
