@@ -97,6 +97,8 @@ class PlotPage:
             try:
                 self.add(path)
             except FieldPathError as err:
+                # the node runs already: its log says it, as rqt_plot's status line does
+                self.node.logger.warning("%s", err.message)
                 self.notes.append(err.message)
                 self._dirty = True
 
