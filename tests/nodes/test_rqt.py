@@ -33,7 +33,9 @@ def _launch(tmp_path: Path, body: str) -> tuple[Graph, LaunchRuntime]:
 
 
 def _page(runtime: LaunchRuntime, kind: type) -> Any:
-    return next(c.__self__ for c in runtime.closers if isinstance(getattr(c, "__self__", 0), kind))
+    """The page a node of the launch opened (its closer is the page's ``close``)."""
+    owners = [getattr(closer, "__self__", None) for closer in runtime.closers]
+    return next(owner for owner in owners if isinstance(owner, kind))
 
 
 def test_rqt_plot_in_a_launch_file_plots_every_pose_of_the_turtle(tmp_path: Path) -> None:
