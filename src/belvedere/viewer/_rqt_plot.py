@@ -53,7 +53,11 @@ class PlotPage:
         self.notes: list[str] = []
         gui = page.gui
         self.plot = gui.add_uplot(
-            (np.zeros(0), np.zeros(0)), ({"label": "time (s)"}, {"label": "none"}), aspect=1.6
+            (np.zeros(0), np.zeros(0)),
+            ({"label": "time (s)"}, {"label": "none"}),
+            scales={"x": {"time": False}},  # seconds of the graph's time, not dates
+            axes=({"label": "time (s)"}, {}),
+            aspect=2.2,
         )
         self.paused = gui.add_checkbox("Pause", False)
         self.autoscroll = gui.add_checkbox("Autoscroll", True)
