@@ -13,7 +13,7 @@ from typing import Any
 from belvedere.access import ServerAccess
 from belvedere.errors import BelvedereError
 
-__all__ = ["ViewerError", "guard_viser", "serve_viser", "viewer_access"]
+__all__ = ["ViewerError", "guard_viser", "page_url", "serve_viser", "viewer_access"]
 
 
 class ViewerError(BelvedereError):
@@ -82,3 +82,9 @@ def serve_viser(access: ServerAccess, host: str, port: int) -> Any:
         )
         raise ViewerError(msg)
     return server
+
+
+def page_url(server: Any, access: ServerAccess) -> str:
+    """Where to open a viser ``server``'s page (with ``?token=…`` when it needs one)."""
+    base = f"http://{server.get_host()}:{server.get_port()}"
+    return f"{base}/?token={access.token}" if access.token else base

@@ -10,7 +10,7 @@ import threading
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from belvedere.viewer._access import serve_viser, viewer_access
+from belvedere.viewer._access import page_url, serve_viser, viewer_access
 
 __all__ = ["ToolPage"]
 
@@ -61,9 +61,7 @@ class ToolPage:
     @property
     def url(self) -> str:
         """Where to open the page (with ``?token=…`` when it needs one)."""
-        base = f"http://{self.server.get_host()}:{self.server.get_port()}"
-        token = self.access.token
-        return f"{base}/?token={token}" if token else base
+        return page_url(self.server, self.access)
 
     def close(self) -> None:
         self._stop.set()

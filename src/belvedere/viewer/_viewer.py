@@ -25,7 +25,7 @@ from belvedere.errors import BelvedereError
 from belvedere.graph import NS, Graph, GraphTopics, Node, process_node_name
 from belvedere.packages import PackageIndex
 from belvedere.tf import JointStatePublisher, Transform, TransformListener, quat_xyzw_from_rpy
-from belvedere.viewer._access import serve_viser, viewer_access
+from belvedere.viewer._access import page_url, serve_viser, viewer_access
 from belvedere.viewer._canvas import Canvas, CanvasDrawing
 from belvedere.viewer._catalog import DISPLAYS
 from belvedere.viewer._display import Display, DisplayContext
@@ -173,9 +173,7 @@ class Viewer(_DisplayHost):
     @property
     def url(self) -> str:
         """Where to open the viewer (with ``?token=…`` when it needs one)."""
-        base = f"http://{self.server.get_host()}:{self.server.get_port()}"
-        token = self.access.token
-        return f"{base}/?token={token}" if token else base
+        return page_url(self.server, self.access)
 
     # --- GUI -----------------------------------------------------------------------------------
     def _build_gui(self, jsp: JointStatePublisher | None, sim: SimControls | None) -> None:
