@@ -11,6 +11,7 @@ from belvedere.graph._errors import GraphError, ServiceFailedError, ServiceUnava
 from belvedere.graph._executor import NS, Executor, Timer
 from belvedere.graph._graph import Graph, Node, Rate, Transport, process_node_name
 from belvedere.graph._log import NodeLogger
+from belvedere.graph._log_rows import SEVERITIES, LogFilter, LogRow, log_row
 from belvedere.graph._names import RosArgs, did_you_mean, parse_ros_args, resolve_name
 from belvedere.graph._names import validate as validate_name
 from belvedere.graph._params import ParamError, ParamTree
@@ -37,6 +38,7 @@ __all__ = [
     "DEFAULT_ENDPOINT",
     "MAX_DOMAIN",
     "NS",
+    "SEVERITIES",
     "ActionClient",
     "ActionServer",
     "Executor",
@@ -47,6 +49,8 @@ __all__ = [
     "GraphInfo",
     "GraphTopics",
     "LatchedOnce",
+    "LogFilter",
+    "LogRow",
     "Node",
     "NodeLogger",
     "ParamError",
@@ -69,6 +73,7 @@ __all__ = [
     "did_you_mean",
     "domain_endpoint",
     "graph_running",
+    "log_row",
     "param_documents",
     "param_dump_text",
     "param_get_text",

@@ -12,6 +12,13 @@ from belvedere.msgs._convert import (
     message_to_data,
     message_to_yaml,
 )
+from belvedere.msgs._fieldpath import (
+    FieldPathError,
+    Series,
+    field_value,
+    resolve_series,
+    split_plot_args,
+)
 from belvedere.msgs._fulltext import (
     DefinitionError,
     FullText,
@@ -20,6 +27,13 @@ from belvedere.msgs._fulltext import (
     read_full_text,
 )
 from belvedere.msgs._genmsg import InterfaceError
+from belvedere.msgs._images import (
+    IMAGE_ENCODINGS,
+    ImageError,
+    compressed_rgb,
+    depth_rgb,
+    image_rgb,
+)
 from belvedere.msgs._ros1text import Ros1Text, ros1_name, ros1_text
 from belvedere.msgs._types import (
     PLACEHOLDER,
@@ -31,18 +45,26 @@ from belvedere.msgs._types import (
 )
 
 __all__ = [
+    "IMAGE_ENCODINGS",
     "NUMPY_DTYPES",
     "PLACEHOLDER",
     "DefinitionError",
+    "FieldPathError",
     "FullText",
+    "ImageError",
     "InterfaceError",
     "MessageTypeError",
     "MessageValueError",
     "Ros1Text",
+    "Series",
     "TypeRegistry",
     "build",
     "canonical",
+    "compressed_rgb",
     "default_message",
+    "depth_rgb",
+    "field_value",
+    "image_rgb",
     "learn_full_text",
     "learn_service_text",
     "message_from_args",
@@ -50,8 +72,10 @@ __all__ = [
     "message_to_data",
     "message_to_yaml",
     "read_full_text",
+    "resolve_series",
     "ros1_name",
     "ros1_text",
     "short",
+    "split_plot_args",
     "types",
 ]

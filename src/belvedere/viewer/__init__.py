@@ -6,6 +6,9 @@ from belvedere.viewer._catalog import DISPLAYS
 from belvedere.viewer._display import Display
 from belvedere.viewer._reconfigure import ReconfigurePage
 from belvedere.viewer._robot import MeshAccessError, RobotDrawing, allowed_mesh_path
+from belvedere.viewer._rqt_console import ConsolePage
+from belvedere.viewer._rqt_image import ImagePage
+from belvedere.viewer._rqt_plot import PlotPage
 from belvedere.viewer._rviz import (
     RvizConfig,
     RvizDisplay,
@@ -15,20 +18,25 @@ from belvedere.viewer._rviz import (
     read_rviz,
     write_rviz,
 )
+from belvedere.viewer._tool_page import ToolPage
 from belvedere.viewer._viewer import SimControls, Viewer
 from belvedere.viewer._views import floor_point
 
 __all__ = [
     "DISPLAYS",
     "Canvas",
+    "ConsolePage",
     "Display",
+    "ImagePage",
     "MeshAccessError",
+    "PlotPage",
     "ReconfigurePage",
     "RobotDrawing",
     "RvizConfig",
     "RvizDisplay",
     "RvizView",
     "SimControls",
+    "ToolPage",
     "Viewer",
     "ViewerError",
     "allowed_mesh_path",

@@ -5,6 +5,7 @@ and how they are put into viser's server, which has no hook of its own."""
 from __future__ import annotations
 
 import contextlib
+import io
 import threading
 from collections.abc import Iterable, Iterator
 from typing import Any
@@ -12,7 +13,7 @@ from typing import Any
 from belvedere.access import ServerAccess
 from belvedere.errors import BelvedereError
 
-__all__ = ["ViewerError", "guard_viser", "viewer_access"]
+__all__ = ["ViewerError", "guard_viser", "page_url", "serve_viser", "viewer_access"]
 
 
 class ViewerError(BelvedereError):
@@ -59,3 +60,31 @@ def guard_viser(access: ServerAccess) -> Iterator[None]:
             yield
         finally:
             setattr(ws_server, "serve", original)  # noqa: B010
+
+
+def serve_viser(access: ServerAccess, host: str, port: int) -> Any:
+    """A ``viser.ViserServer`` on ``host:port`` under ``access``'s rules.
+
+    Raises:
+        ViewerError: this viser serves its page in a way the rules cannot be put into.
+    """
+    import viser  # heavy: only the browser pages use it
+
+    # viser prints a banner on stdout whatever ``verbose`` says: stdout is for data (the
+    # URL, echoed messages), and the banner's URL lacks the token.
+    with guard_viser(access), contextlib.redirect_stdout(io.StringIO()):
+        server = viser.ViserServer(host=host, port=port, verbose=False)
+    if not access.installed:
+        server.stop()
+        msg = (
+            f"viser {viser.__version__} serves its page in a way belvedere cannot guard "
+            "(the origin and token checks were not installed); not serving the viewer"
+        )
+        raise ViewerError(msg)
+    return server
+
+
+def page_url(server: Any, access: ServerAccess) -> str:
+    """Where to open a viser ``server``'s page (with ``?token=…`` when it needs one)."""
+    base = f"http://{server.get_host()}:{server.get_port()}"
+    return f"{base}/?token={access.token}" if access.token else base

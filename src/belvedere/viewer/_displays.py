@@ -9,6 +9,7 @@ import numpy as np
 import numpy.typing as npt
 
 from belvedere.graph import NS
+from belvedere.msgs import ImageError, image_rgb
 from belvedere.tf import Transform
 from belvedere.viewer._display import Display, Prop, transform_points
 from belvedere.viewer._status import Level
@@ -328,21 +329,10 @@ class ImageDisplay(Display):
         if msg is None or msg is self.drawn:
             return
         self.drawn = msg
-        data = np.frombuffer(bytes(msg.data), dtype=np.uint8)
-        enc = msg.encoding.lower()
-        if enc in ("rgb8", "bgr8"):
-            rows = data.reshape(msg.height, msg.step)[:, : msg.width * 3]
-            image = rows.reshape(msg.height, msg.width, 3)
-            if enc == "bgr8":
-                image = image[..., ::-1]
-        elif enc in ("mono8", "8uc1"):
-            image = np.repeat(data.reshape(msg.height, msg.step)[:, : msg.width, None], 3, axis=2)
-        else:
-            self.status.set(
-                "Image",
-                Level.ERROR,
-                f"encoding {msg.encoding!r} is not shown (rgb8, bgr8, mono8 are)",
-            )
+        try:
+            image = image_rgb(msg)
+        except ImageError as err:
+            self.status.set("Image", Level.ERROR, err.message)
             return
         self.status.set("Image", Level.OK, f"{msg.width} x {msg.height} {msg.encoding}")
         panel = self.handles.get("panel")

@@ -25,7 +25,7 @@ from belvedere.errors import BelvedereError
 from belvedere.graph import NS, Graph, GraphTopics, Node, process_node_name
 from belvedere.packages import PackageIndex
 from belvedere.tf import JointStatePublisher, Transform, TransformListener, quat_xyzw_from_rpy
-from belvedere.viewer._access import ViewerError, guard_viser, viewer_access
+from belvedere.viewer._access import page_url, serve_viser, viewer_access
 from belvedere.viewer._canvas import Canvas, CanvasDrawing
 from belvedere.viewer._catalog import DISPLAYS
 from belvedere.viewer._display import Display, DisplayContext
@@ -89,21 +89,9 @@ class Viewer(_DisplayHost):
         ``token``: what a client must show (default: a new one when ``host`` is not loopback,
         none when it is; it is in :attr:`url`). ``canvases``: 2D simulations drawn on the floor
         (turtlesim's window); the teleop drives the first one's ``cmd_vel`` unless told."""
-        import viser  # heavy: only the viewer uses it
-
         self.graph = graph
         self.access = viewer_access(host, allow_origins=allow_origins, token=token)
-        # viser prints a banner on stdout whatever ``verbose`` says: stdout is for data (the
-        # URL, echoed messages), and the banner's URL lacks the token.
-        with guard_viser(self.access), contextlib.redirect_stdout(io.StringIO()):
-            self.server = viser.ViserServer(host=host, port=port, verbose=False)
-        if not self.access.installed:
-            self.server.stop()
-            msg = (
-                f"viser {viser.__version__} serves its page in a way belvedere cannot guard "
-                "(the origin and token checks were not installed); not serving the viewer"
-            )
-            raise ViewerError(msg)
+        self.server = serve_viser(self.access, host, port)
         self.scene, self.gui = self.server.scene, self.server.gui
         # rviz lights the scene with plain lights and draws no shadows; viser's image-based
         # lighting and shadow pass cost a software renderer (no GPU) half its frame rate.
@@ -185,9 +173,7 @@ class Viewer(_DisplayHost):
     @property
     def url(self) -> str:
         """Where to open the viewer (with ``?token=…`` when it needs one)."""
-        base = f"http://{self.server.get_host()}:{self.server.get_port()}"
-        token = self.access.token
-        return f"{base}/?token={token}" if token else base
+        return page_url(self.server, self.access)
 
     # --- GUI -----------------------------------------------------------------------------------
     def _build_gui(self, jsp: JointStatePublisher | None, sim: SimControls | None) -> None:
