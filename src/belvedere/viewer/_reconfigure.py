@@ -18,7 +18,7 @@ from typing import Any
 
 from belvedere.graph import GraphTopics, Node
 from belvedere.ros1.dynamic_reconfigure.graph_client import GraphClient, find_servers
-from belvedere.viewer._access import ViewerError, guard_viser, viewer_access
+from belvedere.viewer._access import page_url, serve_viser, viewer_access
 from belvedere.viewer._reconfigure_panel import ServerPanel
 
 __all__ = ["ReconfigurePage"]
@@ -51,18 +51,9 @@ class ReconfigurePage:
         token: str | None = None,
         poll: float = 1.0,
     ) -> None:
-        import viser  # heavy: only the browser pages use it
-
         self.node = node
         self.access = viewer_access(host, allow_origins=allow_origins, token=token)
-        # viser's banner goes to stdout whatever ``verbose`` says; the URL with its token is
-        # printed by whoever opened the page.
-        with guard_viser(self.access), contextlib.redirect_stdout(io.StringIO()):
-            self.server = viser.ViserServer(host=host, port=port, verbose=False)
-        if not self.access.installed:
-            self.server.stop()
-            msg = f"viser {viser.__version__} serves its page in a way belvedere cannot guard"
-            raise ViewerError(msg)
+        self.server = serve_viser(self.access, host, port)
         self.gui = self.server.gui
         self.gui.configure_theme(control_width="large", show_share_button=False)
         self.gui.set_panel_label("rqt_reconfigure")
@@ -93,9 +84,7 @@ class ReconfigurePage:
     @property
     def url(self) -> str:
         """Where to open the page (with ``?token=…`` when it needs one)."""
-        base = f"http://{self.server.get_host()}:{self.server.get_port()}"
-        token = self.access.token
-        return f"{base}/?token={token}" if token else base
+        return page_url(self.server, self.access)
 
     # --- the tree of servers ---------------------------------------------------------------------
     def _look(self) -> None:
