@@ -89,7 +89,11 @@ class _CloudDisplay(Display):
         n = len(pts)
         if transformer == "RGB8" and own is not None:
             return own
-        if transformer == "FlatColor" or (transformer == "Intensity" and intensity is None):
+        if (
+            transformer == "FlatColor"
+            or (transformer == "Intensity" and intensity is None)
+            or (transformer == "RGB8" and own is None)
+        ):
             return np.tile(np.array(self.values["Color"], dtype=np.uint8), (n, 1))
         if transformer == "AxisColor":
             values = pts[:, "XYZ".index(self.values["Axis"])]
@@ -198,8 +202,26 @@ class PointCloud2Display(_CloudDisplay):
     msg_type = "sensor_msgs/PointCloud2"
     default_topic = "/points"
 
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        given = kwargs.get("values") or {}
+        self.transformer_given = bool(given.get("Color Transformer"))
+        """A config (or the user) chose the colour transformer: the cloud's fields do not
+        (rviz saves an unchosen one as "")."""
+        super().__init__(*args, **kwargs)
+
+    def set_value(self, key: str, value: Any) -> None:
+        if key == "Color Transformer" and hasattr(self, "handles"):
+            self.transformer_given = True  # the user's choice, after the display was made
+        super().set_value(key, value)
+
     def points(self, msg: Any) -> tuple[F64, F64 | None, U8 | None]:
         offsets = {f.name: f.offset for f in msg.fields}
+        colour = next((name for name in ("rgb", "rgba") if name in offsets), None)
+        if not self.transformer_given:
+            # rviz picks a new display's transformer from the first cloud's fields: a
+            # Kinect's x, y, z, rgb shows its colours, not a flat Intensity without intensity
+            self.transformer_given = True
+            self.values["Color Transformer"] = "RGB8" if colour is not None else "Intensity"
         if not {"x", "y", "z"} <= set(offsets):
             self.status.set("Points", Level.ERROR, "the cloud has no x, y, z fields")
             return np.zeros((0, 3)), None, None
@@ -215,8 +237,8 @@ class PointCloud2Display(_CloudDisplay):
         ok = np.isfinite(pts).all(axis=1)
         intensity = column("intensity")[ok] if "intensity" in offsets else None
         own = None
-        if "rgb" in offsets:
-            at = offsets["rgb"]
+        if colour is not None:
+            at = offsets[colour]
             raw = data[ok, at : at + 4]
             # packed as float bytes b, g, r, (pad) in little-endian order
             own = np.ascontiguousarray(raw[:, [2, 1, 0]] if order == "<" else raw[:, [1, 2, 3]])

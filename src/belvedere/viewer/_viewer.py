@@ -97,6 +97,14 @@ class Viewer(_DisplayHost):
         # URL, echoed messages), and the banner's URL lacks the token.
         with guard_viser(self.access), contextlib.redirect_stdout(io.StringIO()):
             self.server = viser.ViserServer(host=host, port=port, verbose=False)
+        if port and self.server.get_port() != port:
+            # viser quietly takes the next free port: a user opening the one they asked for
+            # would find another program (or an older viewer) there
+            logger.warning(
+                "viewer: port %d is taken; serving on port %d instead",
+                port,
+                self.server.get_port(),
+            )
         if not self.access.installed:
             self.server.stop()
             msg = (
@@ -204,7 +212,7 @@ class Viewer(_DisplayHost):
                 "Fixed Frame", [self.fixed_frame], initial_value=self.fixed_frame
             )
             self.frame_dropdown.on_update(lambda _: self.set_fixed_frame(self.frame_dropdown.value))
-            self.background = gui.add_rgb("Background Color", (255, 255, 255))
+            self.background = gui.add_rgb("Background Color", RvizConfig.background)
             self.background.on_update(lambda _: self.set_background(self.background.value))
             self.rate_box = gui.add_number("Frame Rate", int(self.rate_hz), min=1, max=60, step=1)
             self.rate_box.on_update(lambda _: setattr(self, "rate_hz", float(self.rate_box.value)))

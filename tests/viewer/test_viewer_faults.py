@@ -1,0 +1,136 @@
+"""The viewer faults a new user meets (issue 33 §2), without a browser: a Kinect's coloured
+cloud shown in its colours, rviz's dark background, ``rviz --help``, a taken port."""
+
+from __future__ import annotations
+
+import logging
+import os
+import socket
+import subprocess
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from belvedere.cli import main
+from belvedere.graph import Graph
+from belvedere.nodes.rviz import usage
+from belvedere.viewer import Viewer
+from tests.conftest import free_port
+from tests.waiting import wait_until
+
+RVIZ = Path("/usr/bin/rviz")
+
+
+def kinect_cloud(frame: str = "camera") -> dict[str, Any]:
+    """A 20 x 20 cloud 2 m ahead, as a Kinect publishes it (x, y, z, rgb): the top half red,
+    the bottom half green."""
+    rows = []
+    for i in range(20):
+        for j in range(20):
+            rgb = bytes((0, 0, 255, 0)) if i < 10 else bytes((0, 255, 0, 0))  # b, g, r, pad
+            xyz = np.array([2.0, (j - 10) * 0.05, (10 - i) * 0.05], dtype="<f4").tobytes()
+            rows.append(xyz + rgb)
+    field = {"datatype": 7, "count": 1}
+    return {
+        "header": {"frame_id": frame},
+        "height": 1,
+        "width": len(rows),
+        "fields": [
+            {"name": "x", "offset": 0, **field},
+            {"name": "y", "offset": 4, **field},
+            {"name": "z", "offset": 8, **field},
+            {"name": "rgb", "offset": 12, **field},
+        ],
+        "point_step": 16,
+        "row_step": 16 * len(rows),
+        "data": list(b"".join(rows)),
+        "is_dense": True,
+    }
+
+
+def _drawn_colours(values: dict[str, Any] | None) -> tuple[str, set[tuple[int, ...]]]:
+    graph = Graph(sim_time=False)
+    viewer = Viewer(graph, port=free_port(), fixed_frame="camera")
+    try:
+        display = viewer.add_display("PointCloud2", "/points", values=values)
+        pub = graph.create_node("kinect").publisher("/points", "sensor_msgs/PointCloud2")
+        graph.start(rtf=None)
+        graph.executor.post(lambda: pub.publish_data(kinect_cloud()))
+        wait_until(lambda: "points" in display.handles, what="the cloud drawn")
+        handle = display.handles["points"]
+        colours = {tuple(c) for c in np.asarray(handle.colors).reshape(-1, 3).tolist()}
+        return str(display.values["Color Transformer"]), colours
+    finally:
+        viewer.close()
+        graph.shutdown()
+
+
+def test_a_new_cloud_display_shows_a_kinects_colours() -> None:
+    """rviz picks RGB8 for a new display of a cloud with an rgb field."""
+    transformer, colours = _drawn_colours(None)
+    assert transformer == "RGB8"
+    assert colours == {(255, 0, 0), (0, 255, 0)}
+
+
+@pytest.mark.parametrize("chosen", ["", "Intensity"])
+def test_a_chosen_transformer_is_kept(chosen: str) -> None:
+    """A config's own choice stays (rviz saves an unchosen one as "", which is no choice)."""
+    transformer, colours = _drawn_colours({"Color Transformer": chosen})
+    if chosen:
+        assert transformer == "Intensity"
+        assert colours == {(255, 255, 255)}  # no intensity field: the flat colour
+    else:
+        assert transformer == "RGB8"
+
+
+def test_the_background_without_a_config_is_rvizs_grey() -> None:
+    graph = Graph(sim_time=False)
+    viewer = Viewer(graph, port=free_port())
+    try:
+        assert tuple(viewer.background.value) == (48, 48, 48)
+    finally:
+        viewer.close()
+        graph.shutdown()
+
+
+def test_rviz_help_prints_the_usage_and_starts_no_viewer(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    assert main(["run", "--headless", "rviz", "rviz", "--help"]) == 1  # as rviz exits
+    out = capsys.readouterr().out
+    assert out == usage()
+    assert out.startswith("rviz command line options:\n  -h [ --help ]")
+
+
+@pytest.mark.skipif(not RVIZ.exists(), reason="Debian's rviz is not installed")
+def test_rviz_help_is_debian_rvizs() -> None:
+    done = subprocess.run(
+        [str(RVIZ), "--help"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+        env={**os.environ, "QT_QPA_PLATFORM": "offscreen"},
+    )
+    assert done.returncode == 1
+    theirs = "".join(line for line in done.stdout.splitlines(True) if "[ INFO]" not in line)
+    assert usage() == theirs
+
+
+def test_a_viewer_on_a_taken_port_says_where_it_went(caplog: pytest.LogCaptureFixture) -> None:
+    graph = Graph(sim_time=False)
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        with caplog.at_level(logging.WARNING):
+            viewer = Viewer(graph, port=port)
+        try:
+            moved = viewer.server.get_port()
+            assert moved != port
+            assert f"viewer: port {port} is taken; serving on port {moved} instead" in caplog.text
+        finally:
+            viewer.close()
+            graph.shutdown()
