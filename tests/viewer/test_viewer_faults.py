@@ -18,36 +18,10 @@ from belvedere.graph import Graph
 from belvedere.nodes.rviz import usage
 from belvedere.viewer import Viewer
 from tests.conftest import free_port
+from tests.viewer.kinect import kinect_cloud
 from tests.waiting import wait_until
 
 RVIZ = Path("/usr/bin/rviz")
-
-
-def kinect_cloud(frame: str = "camera") -> dict[str, Any]:
-    """A 20 x 20 cloud 2 m ahead, as a Kinect publishes it (x, y, z, rgb): the top half red,
-    the bottom half green."""
-    rows = []
-    for i in range(20):
-        for j in range(20):
-            rgb = bytes((0, 0, 255, 0)) if i < 10 else bytes((0, 255, 0, 0))  # b, g, r, pad
-            xyz = np.array([2.0, (j - 10) * 0.05, (10 - i) * 0.05], dtype="<f4").tobytes()
-            rows.append(xyz + rgb)
-    field = {"datatype": 7, "count": 1}
-    return {
-        "header": {"frame_id": frame},
-        "height": 1,
-        "width": len(rows),
-        "fields": [
-            {"name": "x", "offset": 0, **field},
-            {"name": "y", "offset": 4, **field},
-            {"name": "z", "offset": 8, **field},
-            {"name": "rgb", "offset": 12, **field},
-        ],
-        "point_step": 16,
-        "row_step": 16 * len(rows),
-        "data": list(b"".join(rows)),
-        "is_dense": True,
-    }
 
 
 def _drawn_colours(values: dict[str, Any] | None) -> tuple[str, set[tuple[int, ...]]]:
