@@ -127,3 +127,43 @@ def test_a_kinect_cloud_shows_its_colours_on_rvizs_background() -> None:
     finally:
         viewer.close()
         graph.shutdown()
+
+
+def odometry_with_covariance() -> dict[str, Any]:
+    """An odometry message at the origin heading +x: standard deviations 0.2 m along x, 0.1 m
+    along y, 0.3 rad of heading."""
+    covariance = [0.0] * 36
+    covariance[0], covariance[7], covariance[35] = 0.04, 0.01, 0.09
+    pose = {"position": {"x": 0.0}, "orientation": {"w": 1.0}}
+    return {"header": {"frame_id": "odom"}, "pose": {"pose": pose, "covariance": covariance}}
+
+
+def test_odometry_shows_a_solid_arrow_and_its_covariance() -> None:
+    graph = Graph(sim_time=False)
+    viewer = Viewer(graph, port=free_port(), fixed_frame="odom")
+    display = viewer.add_display("Odometry", "/odom")
+    pub = graph.create_node("base").publisher("/odom", "nav_msgs/Odometry", latch=True)
+    graph.start(rtf=None)
+    graph.executor.post(lambda: pub.publish_data(odometry_with_covariance()))
+    try:
+        with browser_page(viewer.url) as page:
+            wait_until(lambda: "orientation" in display.handles, what="the odometry drawn")
+
+            def counts() -> tuple[int, int, int]:
+                rgb = _screenshot(page)[:-120, round(VIEW["x"]) + 2 :].astype(int)
+                r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]
+                arrow = (r > 150) & (g < 80) & (b < 60)  # rviz's 255; 25; 0, lit
+                ellipse = (r > 90) & (b > 90) & (g < r - 40) & (g < b - 40)  # magenta over grey
+                fan = (r > 120) & (g > 120) & (b < r - 40)  # yellow over grey
+                return int(arrow.sum()), int(ellipse.sum()), int(fan.sum())
+
+            wait_until(
+                lambda: min(counts()) > 500,
+                what="a solid arrow, a position ellipse and a heading fan in the view",
+                timeout=BROWSER_DEADLINE,
+                detail=counts,
+            )
+            docs_screenshot(page, "viewfix-odometry-after")
+    finally:
+        viewer.close()
+        graph.shutdown()

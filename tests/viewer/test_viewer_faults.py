@@ -108,3 +108,48 @@ def test_a_viewer_on_a_taken_port_says_where_it_went(caplog: pytest.LogCaptureFi
         finally:
             viewer.close()
             graph.shutdown()
+
+
+def test_odometry_draws_solid_arrows_and_its_covariance() -> None:
+    """rviz's Odometry defaults: an arrow of shaft 1 m (radius 0.05) and head 0.3 m (radius
+    0.1), the position's covariance as an ellipse of two standard deviations each way, the
+    heading's as a fan of two each side."""
+    graph = Graph(sim_time=False)
+    viewer = Viewer(graph, port=free_port(), fixed_frame="odom")
+    try:
+        display = viewer.add_display("Odometry", "/odom")
+        pub = graph.create_node("base").publisher("/odom", "nav_msgs/Odometry")
+        graph.start(rtf=None)
+        covariance = [0.0] * 36
+        covariance[0], covariance[7], covariance[35] = 0.04, 0.01, 0.09  # std 0.2 m, 0.1 m, 0.3 rad
+        graph.executor.post(
+            lambda: pub.publish_data(
+                {
+                    "header": {"frame_id": "odom"},
+                    "pose": {
+                        "pose": {"position": {"x": 1.0}, "orientation": {"w": 1.0}},
+                        "covariance": covariance,
+                    },
+                }
+            )
+        )
+        wait_until(lambda: "orientation" in display.handles, what="the odometry drawn")
+        arrows = display.handles["arrows"]
+        assert np.asarray(arrows.points) == pytest.approx(np.array([[[1, 0, 0], [2.3, 0, 0]]]))
+        assert (arrows.shaft_radius, arrows.head_radius, arrows.head_length) == (0.05, 0.1, 0.3)
+        ellipse = np.asarray(display.handles["position"].vertices)
+        spans = ellipse.max(axis=0) - ellipse.min(axis=0)
+        assert spans == pytest.approx([0.8, 0.4, 2e-3], abs=1e-3)  # two std each way; flat in z
+        fan = np.asarray(display.handles["orientation"].vertices)
+        angles = np.arctan2(fan[1:, 1], fan[1:, 0] - 1.0)
+        assert angles.max() == pytest.approx(0.6)
+        assert angles.min() == pytest.approx(-0.6)
+        display.set_value("Covariance", False)
+        assert "position" not in display.handles
+        assert "orientation" not in display.handles
+        display.set_value("Shape", "Axes")
+        assert "axes" in display.handles
+        assert "arrows" not in display.handles
+    finally:
+        viewer.close()
+        graph.shutdown()
