@@ -167,3 +167,65 @@ def test_odometry_shows_a_solid_arrow_and_its_covariance() -> None:
     finally:
         viewer.close()
         graph.shutdown()
+
+
+def camera_image(width: int = 640, height: int = 480) -> dict[str, Any]:
+    """A camera's rgb8 picture: the left half magenta, the right half cyan."""
+    pixels = np.zeros((height, width, 3), dtype=np.uint8)
+    pixels[:, : width // 2] = (255, 0, 255)
+    pixels[:, width // 2 :] = (0, 255, 255)
+    return {
+        "header": {"frame_id": "camera"},
+        "height": height,
+        "width": width,
+        "encoding": "rgb8",
+        "step": width * 3,
+        "data": list(pixels.tobytes()),
+    }
+
+
+def test_a_camera_image_is_shown_beside_the_view_and_in_it() -> None:
+    """rviz docks an Image display's panel beside the 3D view; a Camera display's picture
+    stands in the scene as well. Before, the picture was the last item of the side panel,
+    below the fold."""
+    graph = Graph(sim_time=False)
+    viewer = Viewer(graph, port=free_port(), fixed_frame="camera")
+    image = viewer.add_display("Image", "/camera/image_raw")
+    camera = viewer.add_display("Camera", "/camera/image_raw")
+    pub = graph.create_node("camera").publisher("/camera/image_raw", "sensor_msgs/Image")
+    graph.start(rtf=None)
+    graph.executor.post(lambda: pub.publish_data(camera_image()))
+    try:
+        with browser_page(viewer.url) as page:
+            wait_until(
+                lambda: "panel" in image.handles and "frustum" in camera.handles,
+                what="the image's panel and the camera's frustum",
+            )
+
+            def pictures() -> list[dict[str, float]]:
+                """The page's pictures bigger than an icon, top first."""
+                found = page.locator("img")
+                boxes = (found.nth(k).bounding_box() for k in range(found.count()))
+                return sorted((b for b in boxes if b and b["width"] > 100), key=lambda b: b["y"])
+
+            wait_until(lambda: len(pictures()) == 2, what="the two pictures in the page")
+            height = page.viewport_size["height"]
+            rgb = _screenshot(page)
+            for box in pictures():
+                assert box["y"] + box["height"] <= height, box  # seen without scrolling
+                assert box["x"] > VIEW["x"], box  # beside the side panel, not in it
+                y = round(box["y"] + box["height"] / 2)
+                left = rgb[y, round(box["x"] + box["width"] / 4)].astype(int)
+                right = rgb[y, round(box["x"] + box["width"] * 3 / 4)].astype(int)
+                assert np.abs(left - (255, 0, 255)).max() <= 4, left  # the picture's colours
+                assert np.abs(right - (0, 255, 255)).max() <= 4, right
+            # the camera's picture in the scene too
+            view = rgb[:, round(VIEW["x"]) + 2 : round(pictures()[0]["x"]) - 20]
+            magenta = (view == (255, 0, 255)).all(axis=2) | (view[..., 1] < 60) & (
+                view[..., 0] > 150
+            )
+            assert magenta.sum() > 200
+            docs_screenshot(page, "viewfix-image-after")
+    finally:
+        viewer.close()
+        graph.shutdown()

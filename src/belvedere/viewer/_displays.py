@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections import deque
 from typing import Any
 
@@ -336,8 +337,28 @@ class MapDisplay(Display):
         self.drawn = None  # redraw with the new colours
 
 
+IMAGE_PANEL_WIDTH = 360
+"""Pixels: a 640 x 480 camera shown half size beside the 3D view, as rviz's docked Image
+panel first opens (the user drags its edge to resize it)."""
+
+
+def image_rgb(msg: Any) -> U8 | str:
+    """A sensor_msgs/Image as (height, width, 3) RGB, or why it cannot be shown."""
+    data = np.frombuffer(bytes(msg.data), dtype=np.uint8)
+    enc = msg.encoding.lower()
+    if enc in ("rgb8", "bgr8"):
+        rows = data.reshape(msg.height, msg.step)[:, : msg.width * 3]
+        image = rows.reshape(msg.height, msg.width, 3)
+        return np.ascontiguousarray(image[..., ::-1] if enc == "bgr8" else image)
+    if enc in ("mono8", "8uc1"):
+        grey = data.reshape(msg.height, msg.step)[:, : msg.width, None]
+        return np.ascontiguousarray(np.repeat(grey, 3, axis=2))
+    return f"encoding {msg.encoding!r} is not shown (rgb8, bgr8, mono8 are)"
+
+
 class ImageDisplay(Display):
-    """An image in the side panel (rviz's Image panel)."""
+    """An image in a panel of its own docked beside the 3D view (rviz's Image panel): the
+    user can resize it, move it or float it over the view."""
 
     cls = "rviz/Image"
     type_name = "Image"
@@ -345,37 +366,78 @@ class ImageDisplay(Display):
     default_topic = "/camera/image_raw"
     stamped = False
     drawn: Any = None
+    picture: Any = None
+    """The panel's image (it goes with the panel)."""
 
     def update(self, msg: Any, fixed: str) -> None:
         if msg is None or msg is self.drawn:
             return
         self.drawn = msg
-        data = np.frombuffer(bytes(msg.data), dtype=np.uint8)
-        enc = msg.encoding.lower()
-        if enc in ("rgb8", "bgr8"):
-            rows = data.reshape(msg.height, msg.step)[:, : msg.width * 3]
-            image = rows.reshape(msg.height, msg.width, 3)
-            if enc == "bgr8":
-                image = image[..., ::-1]
-        elif enc in ("mono8", "8uc1"):
-            image = np.repeat(data.reshape(msg.height, msg.step)[:, : msg.width, None], 3, axis=2)
-        else:
-            self.status.set(
-                "Image",
-                Level.ERROR,
-                f"encoding {msg.encoding!r} is not shown (rgb8, bgr8, mono8 are)",
-            )
+        image = image_rgb(msg)
+        if isinstance(image, str):
+            self.status.set("Image", Level.ERROR, image)
             return
         self.status.set("Image", Level.OK, f"{msg.width} x {msg.height} {msg.encoding}")
-        panel = self.handles.get("panel")
-        if panel is None:
-            self.handles["panel"] = self.ctx.gui.add_image(
-                np.ascontiguousarray(image), label=self.name
-            )
+        self.show_image(image)
+        self.overlay(msg, image, fixed)
+
+    def show_image(self, image: U8) -> None:
+        if "panel" not in self.handles:
+            gui = self.ctx.gui
+            panel = gui.add_panel()
+            with panel.add_tab(self.name):
+                self.picture = gui.add_image(image, label=None)
+            # one column of pictures beside the view, as rviz stacks its docked panels
+            if self.ctx.docked:
+                panel.dock_below(self.ctx.docked[-1])
+            else:
+                panel.dock_right()
+                panel.set_width(IMAGE_PANEL_WIDTH)
+            self.ctx.docked.append(panel)
+            self.keep("panel", panel)
         else:
-            panel.image = np.ascontiguousarray(image)
+            self.picture.image = image
+
+    def overlay(self, msg: Any, image: U8, fixed: str) -> None:
+        """What the display draws in the 3D view besides its panel (an Image: nothing)."""
+
+    def forget(self, key: str) -> None:
+        if key == "panel" and "panel" in self.handles:
+            self.ctx.docked.remove(self.handles["panel"])
+            self.picture = None
+        super().forget(key)
 
 
 class CameraDisplay(ImageDisplay):
+    """An Image display whose picture also stands in the 3D view, on the camera's frustum
+    where the camera is (rviz's overlay of the image on the scene it sees)."""
+
     cls = "rviz/Camera"
     type_name = "Camera"
+    props = (
+        Prop("Overlay Alpha", 0.5, "float"),
+        Prop("Zoom Factor", 1.0, "float", low=0.1, high=10.0),
+    )
+    FOV = math.radians(60.0)
+    """The frustum's vertical angle: the Gazebo camera plugin's default (rviz reads the
+    camera_info; this display has the image only)."""
+
+    def overlay(self, msg: Any, image: U8, fixed: str) -> None:
+        pose = self.latest_pose(str(msg.header.frame_id), fixed)
+        if pose is None:
+            return
+        handle = self.handles.get("frustum")
+        if handle is None:
+            handle = self.ctx.scene.add_camera_frustum(
+                f"{self.base}/frustum",
+                fov=self.FOV,
+                aspect=msg.width / max(1, msg.height),
+                scale=0.3 * float(self.values["Zoom Factor"]),
+                image=image,
+                color=(255, 255, 255),
+                cast_shadow=False,
+                receive_shadow=False,
+            )
+        else:
+            handle.image = image
+        self.keep("frustum", handle, pose)
