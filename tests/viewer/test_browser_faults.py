@@ -229,3 +229,45 @@ def test_a_camera_image_is_shown_beside_the_view_and_in_it() -> None:
     finally:
         viewer.close()
         graph.shutdown()
+
+
+def test_the_arbotix_launchs_viewer_has_reset_pause_and_step() -> None:
+    """The tutorial's §3: the course's ArbotiX launch opens a viewer whose Simulation folder
+    resets the driven robot to the origin, as `belvedere sim`'s does."""
+    from belvedere.launch import load_launch
+    from belvedere.launch._runtime import LaunchRuntime
+
+    launch = EXAMPLES / "mbot_description/launch/arbotix_mbot_with_camera_xacro.launch"
+    packages = PackageIndex.from_environment(near=launch)
+    graph = Graph()
+    runtime = LaunchRuntime(
+        load_launch(launch, packages=packages),
+        graph,
+        packages,
+        viewer_options={"port": free_port()},
+    )
+    odom: list[Any] = []
+    graph.create_node("probe").subscribe(
+        "/odom", "nav_msgs/Odometry", lambda m: odom.append(m.pose.pose.position.x)
+    )
+    cmd = graph.create_node("driver").publisher("/cmd_vel", "geometry_msgs/Twist")
+    try:
+        runtime.start()
+        graph.start(rtf=1.0)
+        with browser_page(runtime.viewer.url) as page:
+            page.get_by_text("Simulation", exact=True).wait_for()
+            graph.executor.post(lambda: cmd.publish_data({"linear": {"x": 0.5}}))
+            wait_until(lambda: odom and odom[-1] > 0.3, what="the robot driven past x = 0.3")
+            graph.executor.post(lambda: cmd.publish_data({}))
+            page.get_by_role("button", name="Reset").click()
+            wait_until(
+                lambda: abs(odom[-1]) < 0.05,
+                what="the robot back at the origin",
+                detail=lambda: odom[-1:],
+            )
+            page.get_by_text("Paused", exact=True).wait_for()
+            page.get_by_role("button", name="Step").wait_for()
+            docs_screenshot(page, "viewfix-arbotix-simulation")
+    finally:
+        runtime.close()
+        graph.shutdown()
