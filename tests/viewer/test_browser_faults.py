@@ -35,6 +35,13 @@ def _screenshot(page: Any) -> Image:
     return np.asarray(PILImage.open(BytesIO(page.screenshot())).convert("RGB"))
 
 
+def _view_rgb(page: Any) -> tuple[Any, Any, Any]:
+    """The 3D view's red, green and blue (as ints), without the side panel and the axes
+    gizmo in its bottom corner."""
+    rgb = _screenshot(page)[:-120, round(VIEW["x"]) + 2 :].astype(int)
+    return rgb[..., 0], rgb[..., 1], rgb[..., 2]
+
+
 def _blue_room(path: Path) -> Path:
     """Two blue walls behind the origin, 1 m high: the grid runs on under them."""
     walls = [((2.05, 0.0), (0.1, 4.2)), ((0.0, 2.05), (4.2, 0.1))]
@@ -106,8 +113,7 @@ def test_a_kinect_cloud_shows_its_colours_on_rvizs_background() -> None:
             wait_until(lambda: "points" in display.handles, what="the cloud drawn")
 
             def counts() -> tuple[int, int]:
-                rgb = _screenshot(page)[:-120, round(VIEW["x"]) + 2 :].astype(int)  # no gizmo
-                r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]
+                r, g, b = _view_rgb(page)
                 red = (r > 150) & (g < 80) & (b < 80)
                 green = (g > 150) & (r < 80) & (b < 80)
                 return int(red.sum()), int(green.sum())
@@ -150,8 +156,7 @@ def test_odometry_shows_a_solid_arrow_and_its_covariance() -> None:
             wait_until(lambda: "orientation" in display.handles, what="the odometry drawn")
 
             def counts() -> tuple[int, int, int]:
-                rgb = _screenshot(page)[:-120, round(VIEW["x"]) + 2 :].astype(int)
-                r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]
+                r, g, b = _view_rgb(page)
                 arrow = (r > 150) & (g < 80) & (b < 60)  # rviz's 255; 25; 0, lit
                 ellipse = (r > 90) & (b > 90) & (g < r - 40) & (g < b - 40)  # magenta over grey
                 fan = (r > 120) & (g > 120) & (b < r - 40)  # yellow over grey
