@@ -276,3 +276,41 @@ def test_the_arbotix_launchs_viewer_has_reset_pause_and_step() -> None:
     finally:
         runtime.close()
         graph.shutdown()
+
+
+def test_top_down_ortho_shows_the_map_at_the_files_scale() -> None:
+    """A TopDownOrtho view as rviz writes it (Scale 25 px/m): the cloister's 20 m map is
+    500 pixels across, seen from above."""
+    from belvedere.maps import grid_message, load_map
+    from belvedere.viewer import read_rviz
+
+    config = Path(__file__).resolve().parents[1] / "data" / "course_gmapping.rviz"
+    graph = Graph(sim_time=False)
+    viewer = Viewer(graph, port=free_port(), rviz=read_rviz(config))
+    grid = load_map(EXAMPLES / "mbot_navigation/maps/cloister_gmapping.yaml")
+    pub = graph.create_node("map_server").publisher("/map", "nav_msgs/OccupancyGrid", latch=True)
+    graph.start(rtf=None)
+    graph.executor.post(lambda: pub.publish(grid_message(grid)))
+    try:
+        with browser_page(viewer.url) as page:
+
+            def extent() -> tuple[int, int]:
+                # the view but its left 80 px, where the axes gizmo is
+                rgb = _screenshot(page)[:, round(VIEW["x"]) + 80 :].astype(int)
+                r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]
+                drawn = (abs(r - 48) > 8) | (abs(g - 48) > 8) | (abs(b - 48) > 8)
+                rows, cols = drawn.any(axis=1).nonzero()[0], drawn.any(axis=0).nonzero()[0]
+                if len(rows) == 0:
+                    return (0, 0)
+                return int(cols[-1] - cols[0] + 1), int(rows[-1] - rows[0] + 1)
+
+            wait_until(
+                lambda: all(abs(n - 500) <= 6 for n in extent()),
+                what="the 20 m map drawn 500 px across",
+                timeout=BROWSER_DEADLINE,
+                detail=extent,
+            )
+            docs_screenshot(page, "viewfix-topdown")
+    finally:
+        viewer.close()
+        graph.shutdown()
