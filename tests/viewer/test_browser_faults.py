@@ -299,7 +299,7 @@ def test_top_down_ortho_shows_the_map_at_the_files_scale() -> None:
                 rgb = _screenshot(page)[:, round(VIEW["x"]) + 80 :].astype(int)
                 r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]
                 drawn = (abs(r - 48) > 8) | (abs(g - 48) > 8) | (abs(b - 48) > 8)
-                rows, cols = drawn.any(axis=1).nonzero()[0], drawn.any(axis=0).nonzero()[0]
+                rows, cols = np.flatnonzero(drawn.any(axis=1)), np.flatnonzero(drawn.any(axis=0))
                 if len(rows) == 0:
                     return (0, 0)
                 return int(cols[-1] - cols[0] + 1), int(rows[-1] - rows[0] + 1)
