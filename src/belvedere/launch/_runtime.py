@@ -76,6 +76,7 @@ class LaunchRuntime:
     headless: bool = False
     viewer_options: dict[str, Any] = field(default_factory=dict)
     sim: Any = None
+    sim_controls: Any = None
     viewer: Any = None
     joint_publisher: JointStatePublisher | None = None
     gui_joints: bool = False
@@ -439,7 +440,7 @@ class LaunchRuntime:
             rviz=read_rviz(self.rviz_config) if self.rviz_config else None,
             rviz_path=self.rviz_config,
             joint_publisher=self.joint_publisher if self.gui_joints else None,
-            sim=sim,
+            sim=sim if sim is not None else self.sim_controls,
             packages=self.packages,
             world=getattr(sim, "world", None),
             world_poses=sim.model_poses if sim is not None else None,

@@ -68,6 +68,9 @@ class Session(Protocol):
     graph: Graph
     packages: PackageIndex
     sim: Any
+    sim_controls: Any
+    """The viewer's Simulation folder when the simulation is not a physics one (ArbotiX's
+    fake drivers: :class:`belvedere.sim.kinematic.DriverControls`)."""
     joint_publisher: JointStatePublisher | None
     gui_joints: bool
     rviz_config: str | None

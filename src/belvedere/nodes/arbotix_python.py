@@ -11,9 +11,13 @@ PACKAGE = "arbotix_python"
 
 
 def _start(session: Session, spec: NodeSpec, node: Node) -> None:
-    from belvedere.sim.kinematic import ArbotixDriver
+    from belvedere.sim.kinematic import ArbotixDriver, DriverControls
 
-    ArbotixDriver(node)
+    driver = ArbotixDriver(node)
+    # the viewer's Reset, Pause and Step, as `belvedere sim` has them
+    if session.sim_controls is None:
+        session.sim_controls = DriverControls(session.graph)
+    session.sim_controls.drivers.append(driver)
 
 
 EXECUTABLES: dict[str, Starter] = {"arbotix_driver": _start}

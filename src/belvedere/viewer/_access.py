@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import logging
 import threading
 from collections.abc import Iterable, Iterator
 from typing import Any
@@ -14,6 +15,8 @@ from belvedere.access import ServerAccess
 from belvedere.errors import BelvedereError
 
 __all__ = ["ViewerError", "guard_viser", "page_url", "serve_viser", "viewer_access"]
+
+logger = logging.getLogger(__name__)
 
 
 class ViewerError(BelvedereError):
@@ -74,6 +77,12 @@ def serve_viser(access: ServerAccess, host: str, port: int) -> Any:
     # URL, echoed messages), and the banner's URL lacks the token.
     with guard_viser(access), contextlib.redirect_stdout(io.StringIO()):
         server = viser.ViserServer(host=host, port=port, verbose=False)
+    if port and server.get_port() != port:
+        # viser quietly takes the next free port: a user opening the one they asked for
+        # would find another program (or an older viewer) there
+        logger.warning(
+            "viewer: port %d is taken; serving on port %d instead", port, server.get_port()
+        )
     if not access.installed:
         server.stop()
         msg = (

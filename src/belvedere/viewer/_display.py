@@ -13,7 +13,7 @@ from __future__ import annotations
 import threading
 from collections import deque
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, ClassVar, Literal
 
 import numpy as np
@@ -59,6 +59,8 @@ class DisplayContext:
     """The type of a topic on the graph (here or in another process), None if unknown."""
     model: RobotModel | None = None
     packages: PackageIndex | None = None
+    docked: list[Any] = field(default_factory=list)
+    """The image panels docked beside the 3D view, top first: a new one goes below them."""
 
     def now_ns(self) -> int:
         return self.node.now_ns()

@@ -100,6 +100,8 @@ class _DisplayHost:
 
     # --- displays ------------------------------------------------------------------------------
     def _add_initial_displays(self, rviz: RvizConfig | None) -> None:
+        # rviz's dark grey without a config too: the scene's own white hides a white grid
+        self.set_background(RvizConfig.background if rviz is None else rviz.background)
         if rviz is None:
             self.add_display("Grid", values={"Cell Size": 0.5, "Plane Cell Count": 40})
             if self.model is not None:
@@ -108,8 +110,6 @@ class _DisplayHost:
             return
         for d in rviz.displays:
             self.add_config_display(d)
-        if rviz.background is not None:
-            self.set_background(rviz.background)
 
     def add_config_display(
         self, d: RvizDisplay, *, enabled: bool = True, groups: tuple[RvizDisplay, ...] = ()

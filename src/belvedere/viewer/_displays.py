@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections import deque
 from typing import Any
 
@@ -90,7 +91,11 @@ class _CloudDisplay(Display):
         n = len(pts)
         if transformer == "RGB8" and own is not None:
             return own
-        if transformer == "FlatColor" or (transformer == "Intensity" and intensity is None):
+        if (
+            transformer == "FlatColor"
+            or (transformer == "Intensity" and intensity is None)
+            or (transformer == "RGB8" and own is None)
+        ):
             return np.tile(np.array(self.values["Color"], dtype=np.uint8), (n, 1))
         if transformer == "AxisColor":
             values = pts[:, "XYZ".index(self.values["Axis"])]
@@ -199,8 +204,26 @@ class PointCloud2Display(_CloudDisplay):
     msg_type = "sensor_msgs/PointCloud2"
     default_topic = "/points"
 
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        given = kwargs.get("values") or {}
+        self.transformer_given = bool(given.get("Color Transformer"))
+        """A config (or the user) chose the colour transformer: the cloud's fields do not
+        (rviz saves an unchosen one as "")."""
+        super().__init__(*args, **kwargs)
+
+    def set_value(self, key: str, value: Any) -> None:
+        if key == "Color Transformer" and hasattr(self, "handles"):
+            self.transformer_given = True  # the user's choice, after the display was made
+        super().set_value(key, value)
+
     def points(self, msg: Any) -> tuple[F64, F64 | None, U8 | None]:
         offsets = {f.name: f.offset for f in msg.fields}
+        colour = next((name for name in ("rgb", "rgba") if name in offsets), None)
+        if not self.transformer_given:
+            # rviz picks a new display's transformer from the first cloud's fields: a
+            # Kinect's x, y, z, rgb shows its colours, not a flat Intensity without intensity
+            self.transformer_given = True
+            self.values["Color Transformer"] = "RGB8" if colour is not None else "Intensity"
         if not {"x", "y", "z"} <= set(offsets):
             self.status.set("Points", Level.ERROR, "the cloud has no x, y, z fields")
             return np.zeros((0, 3)), None, None
@@ -216,8 +239,8 @@ class PointCloud2Display(_CloudDisplay):
         ok = np.isfinite(pts).all(axis=1)
         intensity = column("intensity")[ok] if "intensity" in offsets else None
         own = None
-        if "rgb" in offsets:
-            at = offsets["rgb"]
+        if colour is not None:
+            at = offsets[colour]
             raw = data[ok, at : at + 4]
             # packed as float bytes b, g, r, (pad) in little-endian order
             own = np.ascontiguousarray(raw[:, [2, 1, 0]] if order == "<" else raw[:, [1, 2, 3]])
@@ -315,8 +338,14 @@ class MapDisplay(Display):
         self.drawn = None  # redraw with the new colours
 
 
+IMAGE_PANEL_WIDTH = 360
+"""Pixels: a 640 x 480 camera shown half size beside the 3D view, as rviz's docked Image
+panel first opens (the user drags its edge to resize it)."""
+
+
 class ImageDisplay(Display):
-    """An image in the side panel (rviz's Image panel)."""
+    """An image in a panel of its own docked beside the 3D view (rviz's Image panel): the
+    user can resize it, move it or float it over the view."""
 
     cls = "rviz/Image"
     type_name = "Image"
@@ -324,6 +353,8 @@ class ImageDisplay(Display):
     default_topic = "/camera/image_raw"
     stamped = False
     drawn: Any = None
+    picture: Any = None
+    """The panel's image (it goes with the panel)."""
 
     def update(self, msg: Any, fixed: str) -> None:
         if msg is None or msg is self.drawn:
@@ -335,15 +366,66 @@ class ImageDisplay(Display):
             self.status.set("Image", Level.ERROR, err.message)
             return
         self.status.set("Image", Level.OK, f"{msg.width} x {msg.height} {msg.encoding}")
-        panel = self.handles.get("panel")
-        if panel is None:
-            self.handles["panel"] = self.ctx.gui.add_image(
-                np.ascontiguousarray(image), label=self.name
-            )
+        self.show_image(image)
+        self.overlay(msg, image, fixed)
+
+    def show_image(self, image: U8) -> None:
+        if "panel" not in self.handles:
+            gui = self.ctx.gui
+            panel = gui.add_panel()
+            with panel.add_tab(self.name):
+                self.picture = gui.add_image(image, label=None)
+            # one column of pictures beside the view, as rviz stacks its docked panels
+            if self.ctx.docked:
+                panel.dock_below(self.ctx.docked[-1])
+            else:
+                panel.dock_right()
+                panel.set_width(IMAGE_PANEL_WIDTH)
+            self.ctx.docked.append(panel)
+            self.keep("panel", panel)
         else:
-            panel.image = np.ascontiguousarray(image)
+            self.picture.image = image
+
+    def overlay(self, msg: Any, image: U8, fixed: str) -> None:
+        """What the display draws in the 3D view besides its panel (an Image: nothing)."""
+
+    def forget(self, key: str) -> None:
+        if key == "panel" and "panel" in self.handles:
+            self.ctx.docked.remove(self.handles["panel"])
+            self.picture = None
+        super().forget(key)
 
 
 class CameraDisplay(ImageDisplay):
+    """An Image display whose picture also stands in the 3D view, on the camera's frustum
+    where the camera is (rviz's overlay of the image on the scene it sees)."""
+
     cls = "rviz/Camera"
     type_name = "Camera"
+    props = (
+        Prop("Overlay Alpha", 0.5, "float"),
+        Prop("Zoom Factor", 1.0, "float", low=0.1, high=10.0),
+    )
+    FOV = math.radians(60.0)
+    """The frustum's vertical angle: the Gazebo camera plugin's default (rviz reads the
+    camera_info; this display has the image only)."""
+
+    def overlay(self, msg: Any, image: U8, fixed: str) -> None:
+        pose = self.latest_pose(str(msg.header.frame_id), fixed)
+        if pose is None:
+            return
+        handle = self.handles.get("frustum")
+        if handle is None:
+            handle = self.ctx.scene.add_camera_frustum(
+                f"{self.base}/frustum",
+                fov=self.FOV,
+                aspect=msg.width / max(1, msg.height),
+                scale=0.3 * float(self.values["Zoom Factor"]),
+                image=image,
+                color=(255, 255, 255),
+                cast_shadow=False,
+                receive_shadow=False,
+            )
+        else:
+            handle.image = image
+        self.keep("frustum", handle, pose)

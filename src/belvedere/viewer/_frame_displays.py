@@ -30,6 +30,11 @@ class _Unstamped(Display):
         return self.latest_pose("" if frame == FIXED else frame, fixed)
 
 
+GRID_LINE_M = 0.01
+"""The width of the Grid's "Lines" (rviz: one pixel): about a pixel or two at the distances a
+robot is looked at from; farther lines fade rather than vanish."""
+
+
 class GridDisplay(_Unstamped):
     """rviz's grid: lines, not a shader plane (a full-screen grid shader costs a software
     renderer most of its frame rate)."""
@@ -57,11 +62,16 @@ class GridDisplay(_Unstamped):
             return
         handle = self.handles.get("grid")
         if handle is None:
+            style = line_style(self.values)
+            if style["thickness_units"] == "screen":
+                # viser's screen-wide lines are drawn through walls in front of them; lines a
+                # few pixels wide in metres are hidden by what stands before them, as rviz's are
+                style = {"thickness": GRID_LINE_M, "thickness_units": "world"}
             handle = self.ctx.scene.add_line_segments(
                 f"{self.base}/grid",
                 self.segments(),
                 tuple(self.values["Color"]),
-                **line_style(self.values),
+                **style,
             )
         self.keep("grid", handle, pose)
 

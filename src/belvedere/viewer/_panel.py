@@ -124,6 +124,9 @@ class DisplayPanel:
             elif prop.kind == "frame":
                 options = self._frame_options()
             else:
+                # a value the display chose itself (a cloud's colour transformer)
+                if prop.kind == "choice" and handle.value != d.values.get(prop.name):
+                    set_handle(handle, d.values[prop.name])
                 continue
             if list(handle.options) != options:
                 handle.options = options

@@ -10,7 +10,8 @@ import numpy as np
 import numpy.typing as npt
 
 from belvedere.graph import NS
-from belvedere.tf import Transform
+from belvedere.tf import Transform, wxyz_from_xyzw
+from belvedere.viewer._covariance import POSITION_STYLE, YAW_STYLE, position_ellipsoids, yaw_fans
 from belvedere.viewer._display import Display, Prop, line_style, transform_points
 from belvedere.viewer._displays import msg_pose
 
@@ -77,28 +78,41 @@ class _Segments(Display):
         self.keep("lines", handle)
 
 
-class OdometryDisplay(_Segments):
-    """Arrows of the last Keep poses, a new one when the robot moved past the tolerances."""
+class OdometryDisplay(Display):
+    """Solid arrows (or axes) of the last Keep poses, a new one when the robot moved past the
+    tolerances, each with its covariance (rviz's defaults: shown)."""
 
     cls = "rviz/Odometry"
     type_name = "Odometry"
     msg_type = "nav_msgs/Odometry"
     default_topic = "/odom"
     props = (
-        *_ARROW,
+        Prop("Shape", "Arrow", "choice", ("Arrow", "Axes")),
+        Prop("Color", (255, 25, 0), "color"),
+        Prop("Alpha", 1.0, "float"),
+        Prop("Shaft Length", 1.0, "float", low=0.01, high=5.0),
+        Prop("Shaft Radius", 0.05, "float", low=0.001, high=1.0),
+        Prop("Head Length", 0.3, "float", low=0.001, high=1.0),
+        Prop("Head Radius", 0.1, "float", low=0.001, high=1.0),
+        Prop("Axes Length", 1.0, "float", low=0.01, high=5.0),
+        Prop("Axes Radius", 0.1, "float", low=0.001, high=1.0),
+        Prop("Covariance", True, "bool"),
+        Prop("Position", True, "bool"),
+        Prop("Orientation", True, "bool"),
         Prop("Position Tolerance", 0.1, "float", low=0.0, high=5.0),
         Prop("Angle Tolerance", 0.1, "float", low=0.0, high=3.14),
         Prop("Keep", 100, "int", low=1, high=10000, step=1),
     )
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
-        self.trail: deque[Transform] = deque()
+        self.trail: deque[tuple[Transform, tuple[float, ...]]] = deque()
+        """Each kept pose in the fixed frame, with its covariance in that frame's axes."""
         super().__init__(*args, **kwargs)
 
     def draw(self, msg: Any, pose: Transform) -> None:
         here = pose @ msg_pose(msg.pose.pose)
         if self.trail:
-            last = self.trail[-1]
+            last = self.trail[-1][0]
             moved = float(np.linalg.norm(np.subtract(here.translation, last.translation)))
             dq = abs(float(np.dot(here.quat_xyzw, last.quat_xyzw)))
             turned = 2 * float(np.arccos(min(1.0, dq)))
@@ -106,11 +120,65 @@ class OdometryDisplay(_Segments):
                 self.values["Angle Tolerance"]
             ):
                 return
-        self.trail.append(here)
+        # the covariance is in the message's frame: seen from the fixed frame, turned by it
+        self.trail.append((here, tuple(float(v) for v in msg.pose.covariance)))
         while len(self.trail) > max(1, int(self.values["Keep"])):
             self.trail.popleft()
-        length = float(self.values["Shaft Length"])
-        self.show_segments(np.concatenate([arrow_segments(p, length) for p in self.trail]))
+        self.redraw()
+
+    def redraw(self) -> None:
+        poses = [p for p, _ in self.trail]
+        if self.values["Shape"] == "Axes":
+            self.forget("arrows")
+            self.keep("axes", self._axes(poses))
+        else:
+            self.forget("axes")
+            self.keep("arrows", self._arrows(poses))
+        self._covariance()
+
+    def _arrows(self, poses: list[Transform]) -> Any:
+        shaft, head = float(self.values["Shaft Length"]), float(self.values["Head Length"])
+        ends = np.array(
+            [[p.translation, p.matrix()[:3, :3] @ (shaft + head, 0.0, 0.0) + p.translation]
+             for p in poses]
+        )  # fmt: skip
+        return self.ctx.scene.add_arrows(
+            f"{self.base}/arrows",
+            ends.astype(np.float32),
+            tuple(self.values["Color"]),
+            shaft_radius=float(self.values["Shaft Radius"]),
+            head_radius=float(self.values["Head Radius"]),
+            head_length=head,
+        )
+
+    def _axes(self, poses: list[Transform]) -> Any:
+        return self.ctx.scene.add_batched_axes(
+            f"{self.base}/axes",
+            batched_wxyzs=np.array([wxyz_from_xyzw(p.quat_xyzw) for p in poses]),
+            batched_positions=np.array([p.translation for p in poses]),
+            axes_length=float(self.values["Axes Length"]),
+            axes_radius=float(self.values["Axes Radius"]),
+        )
+
+    def _covariance(self) -> None:
+        shown = bool(self.values["Covariance"])
+        for key, wanted, mesh, (colour, alpha) in (
+            ("position", shown and self.values["Position"], position_ellipsoids, POSITION_STYLE),
+            ("orientation", shown and self.values["Orientation"], yaw_fans, YAW_STYLE),
+        ):
+            made = mesh(list(self.trail)) if wanted else None
+            if made is None:
+                self.forget(key)
+                continue
+            handle = self.ctx.scene.add_mesh_simple(
+                f"{self.base}/{key}", made[0], made[1], color=colour, opacity=alpha,
+                side="double", cast_shadow=False, receive_shadow=False,
+            )  # fmt: skip
+            self.keep(key, handle)
+
+    def changed(self, key: str) -> None:
+        if self.trail and self.handles:
+            self.redraw()  # rviz redraws the kept poses in the new shape or colour at once
 
     def reset(self) -> None:
         self.trail.clear()

@@ -190,7 +190,7 @@ class Viewer(_DisplayHost):
                 "Fixed Frame", [self.fixed_frame], initial_value=self.fixed_frame
             )
             self.frame_dropdown.on_update(lambda _: self.set_fixed_frame(self.frame_dropdown.value))
-            self.background = gui.add_rgb("Background Color", (255, 255, 255))
+            self.background = gui.add_rgb("Background Color", RvizConfig.background)
             self.background.on_update(lambda _: self.set_background(self.background.value))
             self.rate_box = gui.add_number("Frame Rate", int(self.rate_hz), min=1, max=60, step=1)
             self.rate_box.on_update(lambda _: setattr(self, "rate_hz", float(self.rate_box.value)))

@@ -17,7 +17,11 @@ from belvedere.sim.kinematic._diff import DiffController
 from belvedere.sim.kinematic._driver import ArbotixDriver
 from belvedere.sim.kinematic._follow import FollowController
 from belvedere.sim.kinematic._servos import Servo
-from belvedere.sim.kinematic._simulation import KinematicSimulation, default_config
+from belvedere.sim.kinematic._simulation import (
+    DriverControls,
+    KinematicSimulation,
+    default_config,
+)
 
 __all__ = [
     "ArbotixConfig",
@@ -25,6 +29,7 @@ __all__ = [
     "ArbotixDriver",
     "DiffController",
     "DiffControllerConfig",
+    "DriverControls",
     "FollowController",
     "FollowControllerConfig",
     "KinematicSimulation",

@@ -36,7 +36,30 @@ def default_config(model: RobotModel) -> ArbotixConfig:
     return ArbotixConfig(sim=True, controllers=(base,))
 
 
-class KinematicSimulation:
+class DriverControls:
+    """The viewer's Simulation folder over fake ArbotiX drivers: Paused, Step and the
+    real-time factor act on the graph's clock; Reset puts every driver back at its origin."""
+
+    def __init__(self, graph: Graph, drivers: list[ArbotixDriver] | None = None) -> None:
+        self.graph = graph
+        self.drivers: list[ArbotixDriver] = list(drivers or [])
+        """Those a launch started (each ``arbotix_driver`` node adds its own)."""
+
+    def pause(self, paused: bool) -> None:
+        self.graph.executor.pause(paused)
+
+    def step(self) -> None:
+        self.graph.executor.step(0.1)
+
+    def reset(self) -> None:
+        for driver in self.drivers:
+            self.graph.executor.post(driver.reset)
+
+    def set_rtf(self, rtf: float | None) -> None:
+        self.graph.executor.set_rtf(rtf)
+
+
+class KinematicSimulation(DriverControls):
     """A robot moved by the fake ArbotiX driver. Also the viewer's simulation controls."""
 
     def __init__(
@@ -73,6 +96,7 @@ class KinematicSimulation:
         driver_params["sim"] = True
         driver_node = graph.create_node("arbotix", namespace=self.namespace, params=driver_params)
         self.driver = ArbotixDriver(driver_node, config, frame_prefix=self.frame_prefix)
+        super().__init__(graph, [self.driver])
         self.robot_state_publisher = RobotStatePublisher(
             graph.create_node(
                 "robot_state_publisher",
@@ -96,16 +120,3 @@ class KinematicSimulation:
     def odom_frame(self) -> str | None:
         base = self.driver.base
         return base.odom_frame if base else None
-
-    # --- the viewer's controls -------------------------------------------------------------------
-    def pause(self, paused: bool) -> None:
-        self.graph.executor.pause(paused)
-
-    def step(self) -> None:
-        self.graph.executor.step(0.1)
-
-    def reset(self) -> None:
-        self.graph.executor.post(self.driver.reset)
-
-    def set_rtf(self, rtf: float | None) -> None:
-        self.graph.executor.set_rtf(rtf)
