@@ -6,6 +6,7 @@ The picture is sent again only when it changed, and at most ``rate_hz`` times a 
 
 from __future__ import annotations
 
+import threading
 import time
 from typing import TYPE_CHECKING, Any, Protocol
 
@@ -44,8 +45,15 @@ class CanvasDrawing:
         self.next_at = 0.0
         self.shown: np.ndarray[Any, np.dtype[np.uint8]] | None = None
         self.handle: Any = None
+        # the viewer's render thread and a caller's render_once may both draw: one at a time,
+        # so a caller never returns while the other is half-way through a picture
+        self._lock = threading.Lock()
 
     def update(self) -> None:
+        with self._lock:
+            self._update()
+
+    def _update(self) -> None:
         now = time.monotonic()
         if now < self.next_at:
             return
