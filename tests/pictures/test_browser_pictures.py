@@ -16,11 +16,10 @@ import pytest
 from belvedere.description.graphiz import urdf_to_graphiz
 from belvedere.description.urdf import RobotModel
 from belvedere.pictures import PicturePage
-from belvedere.viewer._chromium import launch_chromium
 from tests.conftest import EXAMPLES
 from tests.processes import BelvedereProcess
 from tests.viewer.docs_screenshots import docs_screenshot
-from tests.viewer.test_browser import BROWSER_DEADLINE
+from tests.viewer.test_browser import BROWSER_DEADLINE, chromium_page
 
 pytestmark = pytest.mark.browser
 
@@ -47,18 +46,8 @@ def course_launch(endpoint: str) -> Iterator[BelvedereProcess]:
 @contextlib.contextmanager
 def browser_page_plain(url: str) -> Iterator[Any]:
     """Debian's Chromium, headless, on ``url`` (a picture's page: no WebGL to wait for)."""
-    if shutil.which("chromium") is None:
-        pytest.skip("Debian's chromium is not installed")
-    playwright = pytest.importorskip("playwright.sync_api")
-    with playwright.sync_playwright() as p:
-        browser = launch_chromium(p, shutil.which("chromium"))
-        try:
-            page = browser.new_page(viewport={"width": 1200, "height": 700})
-            page.set_default_timeout(BROWSER_DEADLINE * 1000)
-            page.goto(url)
-            yield page
-        finally:
-            browser.close()
+    with chromium_page(url, (1200, 700)) as page:
+        yield page
 
 
 def _tool(args: list[str]) -> tuple[BelvedereProcess, str]:

@@ -138,42 +138,50 @@ def driven_mbot() -> Iterator[DrivenMbot]:
 
 
 @contextlib.contextmanager
-def browser_page(url: str) -> Iterator[Any]:
-    """Debian's Chromium, headless, on ``url``, once the page shows the viewer's canvas.
-
-    Tests wait for what they check to be drawn, up to BROWSER_DEADLINE for every step."""
+def chromium_page(url: str, viewport: tuple[int, int]) -> Iterator[Any]:
+    """Debian's Chromium, headless, on ``url`` in a ``viewport`` (width, height); the test
+    skips where Chromium or Playwright is absent."""
     if shutil.which("chromium") is None:
         pytest.skip("Debian's chromium is not installed")
     playwright = pytest.importorskip("playwright.sync_api")
     with playwright.sync_playwright() as p:
         browser = launch_chromium(p, shutil.which("chromium"))
         try:
-            page = browser.new_page(viewport={"width": VIEWPORT[0], "height": VIEWPORT[1]})
+            page = browser.new_page(viewport={"width": viewport[0], "height": viewport[1]})
             page.set_default_timeout(BROWSER_DEADLINE * 1000)
             page.goto(url)
-            page.wait_for_selector("canvas")
-            # viser's notice of software WebGL (SwiftShader here) would cover the view's top left
-            page.add_style_tag(content=f"#{SOFTWARE_WEBGL_NOTICE} {{ display: none !important; }}")
-            canvas = page.locator("canvas").first
-            boxes: list[dict[str, float] | None] = []
-
-            def docked() -> bool:
-                """The view beside the docked panel, the same box in three looks running."""
-                boxes.append(canvas.bounding_box())
-                box = boxes[-1]
-                return box is not None and box["x"] > 0 and boxes[-3:] == [box] * 3
-
-            wait_until(
-                docked,
-                what="the panel docked beside the 3D view",
-                timeout=BROWSER_DEADLINE,
-                interval=0.2,
-                detail=lambda: boxes[-3:],
-            )
-            VIEW.update(boxes[-1] or {})
             yield page
         finally:
             browser.close()
+
+
+@contextlib.contextmanager
+def browser_page(url: str) -> Iterator[Any]:
+    """Debian's Chromium, headless, on ``url``, once the page shows the viewer's canvas.
+
+    Tests wait for what they check to be drawn, up to BROWSER_DEADLINE for every step."""
+    with chromium_page(url, VIEWPORT) as page:
+        page.wait_for_selector("canvas")
+        # viser's notice of software WebGL (SwiftShader here) would cover the view's top left
+        page.add_style_tag(content=f"#{SOFTWARE_WEBGL_NOTICE} {{ display: none !important; }}")
+        canvas = page.locator("canvas").first
+        boxes: list[dict[str, float] | None] = []
+
+        def docked() -> bool:
+            """The view beside the docked panel, the same box in three looks running."""
+            boxes.append(canvas.bounding_box())
+            box = boxes[-1]
+            return box is not None and box["x"] > 0 and boxes[-3:] == [box] * 3
+
+        wait_until(
+            docked,
+            what="the panel docked beside the 3D view",
+            timeout=BROWSER_DEADLINE,
+            interval=0.2,
+            detail=lambda: boxes[-3:],
+        )
+        VIEW.update(boxes[-1] or {})
+        yield page
 
 
 @pytest.fixture(scope="module")

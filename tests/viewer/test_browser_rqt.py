@@ -6,7 +6,6 @@ come."""
 from __future__ import annotations
 
 import contextlib
-import shutil
 from collections.abc import Iterator
 from io import BytesIO
 from typing import Any
@@ -20,11 +19,10 @@ from belvedere.packages import PackageIndex
 from belvedere.sim.kinematic import KinematicSimulation
 from belvedere.sim.physics import PhysicsSimulation
 from belvedere.viewer import ConsolePage, ImagePage, PlotPage, ToolPage
-from belvedere.viewer._chromium import launch_chromium
 from belvedere.world import read_world
 from tests.conftest import EXAMPLES, free_port
 from tests.viewer.docs_screenshots import docs_screenshot
-from tests.viewer.test_browser import BROWSER_DEADLINE, MBOT, SOFTWARE_WEBGL_NOTICE
+from tests.viewer.test_browser import MBOT, SOFTWARE_WEBGL_NOTICE, chromium_page
 from tests.waiting import wait_until
 
 pytestmark = pytest.mark.browser
@@ -48,19 +46,9 @@ COUNT_FRAMES = """() => {
 @contextlib.contextmanager
 def tool_page(url: str) -> Iterator[Any]:
     """Debian's Chromium, headless, on an rqt page."""
-    if shutil.which("chromium") is None:
-        pytest.skip("Debian's chromium is not installed")
-    playwright = pytest.importorskip("playwright.sync_api")
-    with playwright.sync_playwright() as p:
-        browser = launch_chromium(p, shutil.which("chromium"))
-        try:
-            page = browser.new_page(viewport={"width": 1100, "height": 760})
-            page.set_default_timeout(BROWSER_DEADLINE * 1000)
-            page.goto(url)
-            page.add_style_tag(content=f"#{SOFTWARE_WEBGL_NOTICE} {{ display: none !important; }}")
-            yield page
-        finally:
-            browser.close()
+    with chromium_page(url, (1100, 760)) as page:
+        page.add_style_tag(content=f"#{SOFTWARE_WEBGL_NOTICE} {{ display: none !important; }}")
+        yield page
 
 
 def stroke_ends(page: Any) -> tuple[int, int] | None:
