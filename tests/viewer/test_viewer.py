@@ -396,6 +396,8 @@ class _Camera:
         self.look_at = np.zeros(3)
         self.up_direction = np.array([0.0, 0.0, 1.0])
         self.fov = 1.0
+        self.near = 0.01
+        self.far = 1000.0
         self.image_height = 700
 
 
@@ -520,3 +522,33 @@ def test_a_followed_view_puts_back_a_tab_that_went_back_to_the_initial_camera() 
     f.frame()
     assert f.seen()[0] == pytest.approx(placed[0])
     assert f.seen()[1] == pytest.approx(placed[1])
+
+
+def test_a_top_down_view_is_placed_again_for_a_canvas_reported_late() -> None:
+    """A tab may first report its canvas unsized (150 px high): the TopDownOrtho view placed
+    for that would show a twentieth of the map's scale; it is placed again for the canvas's
+    real height, not for the lower pixel ratio viser takes under load, and never after the
+    user moved the camera."""
+    from belvedere.viewer._views import ViewState
+
+    camera = _Camera()
+    camera.image_height = 150
+    view = ViewState("rviz/TopDownOrtho", {"Scale": 25.0})
+    buffer = TFBuffer()
+
+    def height() -> float:
+        view.follow(camera, buffer, "map")
+        return float(np.asarray(camera.position)[2])
+
+    early = height()
+    camera.image_height = 700
+    placed = height()
+    assert placed == pytest.approx(early * 700 / 150)
+    camera.image_height = 525  # viser's pixel ratio at 0.75
+    assert height() == pytest.approx(placed)
+    camera.image_height = 700
+    height()  # the tab reports the told camera
+    camera.position = np.asarray(camera.position) * np.array([1.0, 1.0, 0.5])  # the mouse
+    height()
+    camera.image_height = 1400
+    assert height() == pytest.approx(placed * 0.5)

@@ -128,6 +128,10 @@ class ViewState:
     camera it had before (viser's initial one, or the previous view's), not the user's mouse."""
     clock: Callable[[], float] = time.monotonic
     sent_at: float = -math.inf
+    placed_pixels: int = 0
+    """The tab's canvas height the view was placed for (TopDownOrtho's Scale is per pixel)."""
+    moved: bool = False
+    """Whether the user has moved this tab's camera."""
 
     def _told(self, seen: tuple[Array, Array]) -> bool:
         """Whether the browser's camera is one it was told, judged by its eye: the user's mouse
@@ -174,8 +178,21 @@ class ViewState:
         carrier = self._carrier(target)
         inverse: Array = np.linalg.inv(carrier).astype(np.float64)
         seen = (np.asarray(camera.position, float), np.asarray(camera.look_at, float))
+        pixels = int(getattr(camera, "image_height", 0) or 0)
+        # A tab may report its canvas before it is laid out (an unsized canvas is 150 px
+        # high): a Scale placed for that shows a few square metres of the map, so place it
+        # again for a taller canvas until the user takes over. A shorter one is viser lowering
+        # its pixel ratio under load, the page's size unchanged: not followed.
+        if (
+            self.placed
+            and self.cls == "rviz/TopDownOrtho"
+            and not self.moved
+            and pixels > 1.02 * self.placed_pixels
+        ):
+            self.placed = False
         if not self.placed:
-            height = int(getattr(camera, "image_height", 0) or 700)
+            height = pixels or 700
+            self.placed_pixels = height
             eye, look_at, up, fov = camera_pose(self.cls, self.properties, target, height)
             camera.up_direction = up
             camera.fov = fov
@@ -187,6 +204,7 @@ class ViewState:
             self.synced = True
         elif self.synced:
             # The user moved the camera: follow from where they put it.
+            self.moved = True
             self.local = (_apply(inverse, seen[0]), _apply(inverse, seen[1]))
         assert self.local is not None
         want = (_apply(carrier, self.local[0]), _apply(carrier, self.local[1]))
