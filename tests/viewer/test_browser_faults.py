@@ -7,6 +7,8 @@ code before the fix)."""
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
 from io import BytesIO
 from pathlib import Path
 from typing import Any
@@ -18,7 +20,7 @@ from belvedere.graph import Graph
 from belvedere.packages import PackageIndex
 from belvedere.viewer import Viewer
 from belvedere.world import read_world
-from tests.conftest import EXAMPLES, free_port
+from tests.conftest import DATA, EXAMPLES, free_port
 from tests.viewer.docs_screenshots import docs_screenshot
 from tests.viewer.kinect import kinect_cloud
 from tests.viewer.test_browser import BROWSER_DEADLINE, VIEW, browser_page
@@ -278,39 +280,73 @@ def test_the_arbotix_launchs_viewer_has_reset_pause_and_step() -> None:
         graph.shutdown()
 
 
-def test_top_down_ortho_shows_the_map_at_the_files_scale() -> None:
-    """A TopDownOrtho view as rviz writes it (Scale 25 px/m): the cloister's 20 m map is
-    500 pixels across, seen from above."""
+def _map_box(page: Any) -> tuple[int, int, int, int] | None:
+    """The (left, top, width, height) of what is drawn over the 48 grey background, in the
+    view but its left 80 px, where the axes gizmo is."""
+    left = round(VIEW["x"]) + 80
+    rgb = _screenshot(page)[:, left:].astype(int)
+    r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]
+    drawn = (abs(r - 48) > 8) | (abs(g - 48) > 8) | (abs(b - 48) > 8)
+    rows, cols = np.flatnonzero(drawn.any(axis=1)), np.flatnonzero(drawn.any(axis=0))
+    if len(rows) == 0:
+        return None
+    return (
+        left + int(cols[0]),
+        int(rows[0]),
+        int(cols[-1] - cols[0] + 1),
+        int(rows[-1] - rows[0] + 1),
+    )
+
+
+def _show_the_cloister(
+    config: str, seen: Callable[[tuple[int, int, int, int]], bool], picture: str | None = None
+) -> None:
+    """The course's 20 m cloister map in a viewer opened with ``config``, until ``seen`` holds
+    for where the map is drawn (then the docs' ``picture`` of it, if named)."""
     from belvedere.maps import grid_message, load_map
     from belvedere.viewer import read_rviz
 
-    config = Path(__file__).resolve().parents[1] / "data" / "course_gmapping.rviz"
     graph = Graph(sim_time=False)
-    viewer = Viewer(graph, port=free_port(), rviz=read_rviz(config))
+    viewer = Viewer(graph, port=free_port(), rviz=read_rviz(DATA / config))
     grid = load_map(EXAMPLES / "mbot_navigation/maps/cloister_gmapping.yaml")
     pub = graph.create_node("map_server").publisher("/map", "nav_msgs/OccupancyGrid", latch=True)
     graph.start(rtf=None)
     graph.executor.post(lambda: pub.publish(grid_message(grid)))
     try:
         with browser_page(viewer.url) as page:
-
-            def extent() -> tuple[int, int]:
-                # the view but its left 80 px, where the axes gizmo is
-                rgb = _screenshot(page)[:, round(VIEW["x"]) + 80 :].astype(int)
-                r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]
-                drawn = (abs(r - 48) > 8) | (abs(g - 48) > 8) | (abs(b - 48) > 8)
-                rows, cols = np.flatnonzero(drawn.any(axis=1)), np.flatnonzero(drawn.any(axis=0))
-                if len(rows) == 0:
-                    return (0, 0)
-                return int(cols[-1] - cols[0] + 1), int(rows[-1] - rows[0] + 1)
-
             wait_until(
-                lambda: all(abs(n - 500) <= 6 for n in extent()),
-                what="the 20 m map drawn 500 px across",
+                lambda: (box := _map_box(page)) is not None and seen(box),
+                what=f"the map where {config} puts it",
                 timeout=BROWSER_DEADLINE,
-                detail=extent,
+                detail=lambda: _map_box(page),
             )
-            docs_screenshot(page, "viewfix-topdown")
+            if picture:
+                docs_screenshot(page, picture)
     finally:
         viewer.close()
         graph.shutdown()
+
+
+def test_top_down_ortho_shows_the_map_at_the_files_scale() -> None:
+    """A TopDownOrtho view as rviz writes it (Scale 25 px/m): the cloister's 20 m map is
+    500 pixels across, seen from above."""
+
+    def at_scale(box: tuple[int, int, int, int]) -> bool:
+        return abs(box[2] - 500) <= 6 and abs(box[3] - 500) <= 6
+
+    _show_the_cloister("course_gmapping.rviz", at_scale, "viewfix-topdown")
+
+
+def test_the_courses_own_top_down_view_shows_the_map_with_x_up() -> None:
+    """The course's gmapping.rviz looks straight down an XYOrbit yawed half a turn, 33.5 m
+    from a focal point 10.4 m behind the origin: 25.2 px a metre (rviz's 45 degrees of
+    view over 700 px), +x up the screen, so the map's x = -10 m edge lies 10 px above the
+    view's middle row and the map runs off the top; it is 504 px across."""
+    metre = 700 / (2 * 33.5 * math.tan(math.pi / 8))
+
+    def placed(box: tuple[int, int, int, int]) -> bool:
+        _, top, width, height = box
+        bottom = top + height
+        return abs(width - 20 * metre) <= 8 and top <= 2 and abs(bottom - (350 - 0.41 * metre)) <= 8
+
+    _show_the_cloister("course_gmapping_xyorbit.rviz", placed)
