@@ -14,6 +14,7 @@ registers), so ROS 1 subscribers are told of a new graph publisher within that t
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import logging
 import os
@@ -181,9 +182,7 @@ class Ros1Bridge:
         for topic in wanted:
             users = published[topic]
             with self._lock:
-                inlet = self._inlets.get(topic)
-                if inlet is None:
-                    inlet = self._inlets[topic] = _Inlet(topic, next(iter(users.values())))
+                inlet = self._inlets.setdefault(topic, _Inlet(topic, next(iter(users.values()))))
                 for node in users:
                     api = apis.get(node)
                     if api is not None and api not in inlet.sources:
@@ -222,11 +221,13 @@ class Ros1Bridge:
                 inlet.sources.pop(api, None)
 
     def _connect(self, inlet: _Inlet, api: str) -> tuple[socket.socket, dict[str, str]]:
-        code, status, protocol = server_proxy(api, timeout=5.0).requestTopic(
+        answer: Any = server_proxy(api, timeout=5.0).requestTopic(
             self.caller_id, inlet.topic, [["TCPROS"]]
         )
+        code, status, protocol = answer
         if code != 1 or not protocol or protocol[0] != "TCPROS":
-            raise TcprosError(f"requestTopic answered {status!r}")
+            msg = f"requestTopic answered {status!r}"
+            raise TcprosError(msg)
         sock = socket.create_connection((protocol[1], int(protocol[2])), timeout=10.0)
         sock.settimeout(None)
         sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
@@ -280,10 +281,8 @@ class Ros1Bridge:
         with self._lock:
             socks = [s for s in inlet.sources.values() if s is not None]
         for sock in socks:
-            try:
+            with contextlib.suppress(OSError):
                 sock.shutdown(socket.SHUT_RDWR)
-            except OSError:
-                pass
         publisher = inlet.publisher
         if publisher is not None:
             self.graph.executor.post(publisher.unregister)
@@ -321,7 +320,7 @@ class Ros1Bridge:
         if not users:
             write_header(
                 sock,
-                {"error": f"received a connection for a nonexistent topic [{topic}] from [{caller}]"},
+                {"error": f"received a connection for a nonexistent topic [{topic}] from {caller}"},
             )
             return
         ros1_type = next(iter(users.values()))
@@ -403,10 +402,7 @@ class Ros1Bridge:
         if wanted not in ("*", md5):
             write_header(
                 sock,
-                {
-                    "error": f"request from [{caller}]: md5sums do not match: "
-                    f"[{wanted}] vs. [{md5}]"
-                },
+                {"error": f"request from [{caller}]: md5sums do not match: [{wanted}] vs. [{md5}]"},
             )
             return
         ros1 = ros1_name(srv_type).replace("/srv/", "/")

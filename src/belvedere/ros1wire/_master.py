@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import logging
 import os
+import re
 import threading
 import xmlrpc.client
 from collections.abc import Callable
@@ -99,10 +100,13 @@ class Master:
         """Tell the ROS 1 subscribers of ``topic`` who publishes it now."""
         uris = self._publisher_uris(topic)
         with self._lock:
-            subscribers = list(self.ros1.subscribers.get(topic, {}))
-            apis = [self.ros1.nodes[n] for n in subscribers if n in self.ros1.nodes]
+            apis = self._apis(self.ros1.subscribers.get(topic, {}))
         for api in apis:
             self._call_later(api, "publisherUpdate", "/master", topic, uris)
+
+    def _apis(self, nodes: dict[str, str]) -> list[str]:
+        """The slave APIs of ROS 1 ``nodes`` (under the lock)."""
+        return [self.ros1.nodes[n] for n in nodes if n in self.ros1.nodes]
 
     # --- the merged view -------------------------------------------------------------------------
     def _graph(self) -> Registrations:
@@ -111,7 +115,9 @@ class Master:
     def _publisher_uris(self, topic: str) -> list[str]:
         with self._lock:
             uris = [
-                self.ros1.nodes[n] for n in self.ros1.publishers.get(topic, {}) if n in self.ros1.nodes
+                self.ros1.nodes[n]
+                for n in self.ros1.publishers.get(topic, {})
+                if n in self.ros1.nodes
             ]
         if self.peers is not None and self._graph().publishers.get(topic):
             uris.append(self.peers.uri)
@@ -132,7 +138,7 @@ class Master:
 
     # --- dispatch ---------------------------------------------------------------------------------
     def _dispatch(self, method: str, params: tuple[Any, ...]) -> Any:
-        handler: Callable[..., Reply] | None = getattr(self, f"api_{method}", None)
+        handler: Callable[..., Reply] | None = getattr(self, f"api_{_snake(method)}", None)
         if handler is None:
             msg = f'method "{method}" is not supported'
             raise xmlrpc.client.Fault(1, msg)
@@ -152,14 +158,14 @@ class Master:
         if before is not None and before != caller_api:
             self._call_later(before, "shutdown", "/master", "new node registered with same name")
 
-    # --- the Master API ----------------------------------------------------------------------------
-    def api_getUri(self, caller_id: str) -> Reply:
+    # --- the Master API ------------------------------------------------------------------------
+    def api_get_uri(self, caller_id: str) -> Reply:
         return [SUCCESS, "", self.uri]
 
-    def api_getPid(self, caller_id: str) -> Reply:
+    def api_get_pid(self, caller_id: str) -> Reply:
         return [SUCCESS, "", os.getpid()]
 
-    def api_registerService(
+    def api_register_service(
         self, caller_id: str, service: str, service_api: str, caller_api: str
     ) -> Reply:
         self._node(caller_id, caller_api)
@@ -168,7 +174,7 @@ class Master:
             self.ros1.services[service][caller_id] = service_api
         return [SUCCESS, f"Registered [{caller_id}] as provider of [{service}]", 1]
 
-    def api_unregisterService(self, caller_id: str, service: str, service_api: str) -> Reply:
+    def api_unregister_service(self, caller_id: str, service: str, service_api: str) -> Reply:
         with self._lock:
             providers = self.ros1.services.get(service, {})
             if providers.get(caller_id) != service_api:
@@ -178,7 +184,7 @@ class Master:
                 del self.ros1.services[service]
         return [SUCCESS, f"Unregistered [{caller_id}] as provider of [{service}]", 1]
 
-    def api_lookupService(self, caller_id: str, service: str) -> Reply:
+    def api_lookup_service(self, caller_id: str, service: str) -> Reply:
         with self._lock:
             providers = list(self.ros1.services.get(service, {}).values())
         if providers:
@@ -188,7 +194,7 @@ class Master:
             return [SUCCESS, f"rosrpc URI: [{uri}]", uri]
         return [ERROR, "no provider", ""]
 
-    def api_registerSubscriber(
+    def api_register_subscriber(
         self, caller_id: str, topic: str, topic_type: str, caller_api: str
     ) -> Reply:
         self._node(caller_id, caller_api)
@@ -198,7 +204,7 @@ class Master:
             self.peers.ros1_changed(topic)
         return [SUCCESS, f"Subscribed to [{topic}]", self._publisher_uris(topic)]
 
-    def api_unregisterSubscriber(self, caller_id: str, topic: str, caller_api: str) -> Reply:
+    def api_unregister_subscriber(self, caller_id: str, topic: str, caller_api: str) -> Reply:
         with self._lock:
             users = self.ros1.subscribers.get(topic, {})
             if caller_id not in users:
@@ -210,21 +216,23 @@ class Master:
             self.peers.ros1_changed(topic)
         return [SUCCESS, f"Unregistered [{caller_id}] as subscriber of [{topic}]", 1]
 
-    def api_registerPublisher(
+    def api_register_publisher(
         self, caller_id: str, topic: str, topic_type: str, caller_api: str
     ) -> Reply:
         self._node(caller_id, caller_api)
         with self._lock:
             self.ros1.publishers.setdefault(topic, {})[caller_id] = topic_type
             subscribers = [
-                self.ros1.nodes[n] for n in self.ros1.subscribers.get(topic, {}) if n in self.ros1.nodes
+                self.ros1.nodes[n]
+                for n in self.ros1.subscribers.get(topic, {})
+                if n in self.ros1.nodes
             ]
         self.publisher_update(topic)
         if self.peers is not None:
             self.peers.ros1_changed(topic)
         return [SUCCESS, f"Registered [{caller_id}] as publisher of [{topic}]", subscribers]
 
-    def api_unregisterPublisher(self, caller_id: str, topic: str, caller_api: str) -> Reply:
+    def api_unregister_publisher(self, caller_id: str, topic: str, caller_api: str) -> Reply:
         with self._lock:
             users = self.ros1.publishers.get(topic, {})
             if caller_id not in users:
@@ -237,13 +245,13 @@ class Master:
             self.peers.ros1_changed(topic)
         return [SUCCESS, f"Unregistered [{caller_id}] as publisher of [{topic}]", 1]
 
-    def api_lookupNode(self, caller_id: str, node_name: str) -> Reply:
+    def api_lookup_node(self, caller_id: str, node_name: str) -> Reply:
         uri = self._merged().nodes.get(node_name)
         if uri is None:
             return [ERROR, f"unknown node [{node_name}]", ""]
         return [SUCCESS, "node api", uri]
 
-    def api_getPublishedTopics(self, caller_id: str, subgraph: str) -> Reply:
+    def api_get_published_topics(self, caller_id: str, subgraph: str) -> Reply:
         merged = self._merged()
         prefix = subgraph.rstrip("/") + "/" if subgraph.strip("/") else "/"
         topics = [
@@ -253,12 +261,12 @@ class Master:
         ]
         return [SUCCESS, "current topics", topics]
 
-    def api_getTopicTypes(self, caller_id: str) -> Reply:
+    def api_get_topic_types(self, caller_id: str) -> Reply:
         merged = self._merged()
         names = sorted(set(merged.publishers) | set(merged.subscribers))
         return [SUCCESS, "current system state", [[t, merged.topic_type(t) or "*"] for t in names]]
 
-    def api_getSystemState(self, caller_id: str) -> Reply:
+    def api_get_system_state(self, caller_id: str) -> Reply:
         merged = self._merged()
 
         def listing(table: dict[str, dict[str, str]]) -> list[list[Any]]:
@@ -267,14 +275,14 @@ class Master:
         state = [listing(merged.publishers), listing(merged.subscribers), listing(merged.services)]
         return [SUCCESS, "current system state", state]
 
-    # --- the Parameter Server API ----------------------------------------------------------------
-    def api_getParam(self, caller_id: str, key: str) -> Reply:
+    # --- the Parameter Server API --------------------------------------------------------------
+    def api_get_param(self, caller_id: str, key: str) -> Reply:
         name = resolve_key(key, caller_id)
         if not self.params.has(name):
             return [ERROR, f"Parameter [{name}] is not set", 0]
         return [SUCCESS, f"Parameter [{name}]", _xmlrpc_value(self.params.get(name))]
 
-    def api_setParam(self, caller_id: str, key: str, value: Any) -> Reply:
+    def api_set_param(self, caller_id: str, key: str, value: Any) -> Reply:
         name = resolve_key(key, caller_id)
         if name == "/" and not isinstance(value, dict):
             return [ERROR, "cannot set root of parameter tree to non-dictionary", 0]
@@ -282,7 +290,7 @@ class Master:
         self._param_changed(name)
         return [SUCCESS, f"parameter {name} set", 0]
 
-    def api_deleteParam(self, caller_id: str, key: str) -> Reply:
+    def api_delete_param(self, caller_id: str, key: str) -> Reply:
         name = resolve_key(key, caller_id)
         if not self.params.has(name):
             return [ERROR, f"parameter [{name}] is not set", 0]
@@ -290,14 +298,14 @@ class Master:
         self._param_changed(name)
         return [SUCCESS, f"parameter {name} deleted", 0]
 
-    def api_hasParam(self, caller_id: str, key: str) -> Reply:
+    def api_has_param(self, caller_id: str, key: str) -> Reply:
         name = resolve_key(key, caller_id)
         return [SUCCESS, name, self.params.has(name)]
 
-    def api_getParamNames(self, caller_id: str) -> Reply:
+    def api_get_param_names(self, caller_id: str) -> Reply:
         return [SUCCESS, "Parameter names", self.params.names()]
 
-    def api_searchParam(self, caller_id: str, key: str) -> Reply:
+    def api_search_param(self, caller_id: str, key: str) -> Reply:
         """The nearest ``key`` up from the caller's namespace (its first part is searched
         for; the rest is joined on)."""
         if key.startswith("/"):
@@ -318,7 +326,7 @@ class Master:
             return [ERROR, f"Cannot find parameter [{key}] in an upwards search", ""]
         return [SUCCESS, f"Found [{found}]", found]
 
-    def api_subscribeParam(self, caller_id: str, caller_api: str, key: str) -> Reply:
+    def api_subscribe_param(self, caller_id: str, caller_api: str, key: str) -> Reply:
         name = resolve_key(key, caller_id)
         self._node(caller_id, caller_api)
         with self._lock:
@@ -326,7 +334,7 @@ class Master:
         value = _xmlrpc_value(self.params.get(name)) if self.params.has(name) else {}
         return [SUCCESS, f"Subscribed to parameter [{name}]", value]
 
-    def api_unsubscribeParam(self, caller_id: str, caller_api: str, key: str) -> Reply:
+    def api_unsubscribe_param(self, caller_id: str, caller_api: str, key: str) -> Reply:
         name = resolve_key(key, caller_id)
         with self._lock:
             had = (caller_id, caller_api) in self._param_subscribers.get(name, set())
@@ -340,11 +348,23 @@ class Master:
                 (key, who)
                 for key, users in self._param_subscribers.items()
                 for who in users
-                if key == name or key.startswith(name.rstrip("/") + "/") or name.startswith(key + "/")
+                if key == name
+                or key.startswith(name.rstrip("/") + "/")
+                or name.startswith(key + "/")
             ]
         for key, (_, api) in watched:
             value = _xmlrpc_value(self.params.get(key)) if self.params.has(key) else {}
             self._call_later(api, "paramUpdate", "/master", key, value)
+
+
+def _related(a: str, b: str) -> bool:
+    """Whether one parameter name is the other or in its namespace."""
+    return a == b or a.startswith(b.rstrip("/") + "/") or b.startswith(a.rstrip("/") + "/")
+
+
+def _snake(method: str) -> str:
+    """``registerPublisher`` → ``register_publisher``."""
+    return re.sub(r"(?<!^)([A-Z])", lambda m: "_" + m.group(1).lower(), method)
 
 
 def _xmlrpc_value(value: Any) -> Any:

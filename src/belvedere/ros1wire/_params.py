@@ -78,4 +78,3 @@ def resolve_key(key: str, caller_id: str) -> str:
     if len(resolved) > 1:
         resolved = resolved.rstrip("/")
     return resolved or "/"
-

@@ -25,7 +25,7 @@ class _Server(socketserver.ThreadingMixIn, xmlrpc.server.SimpleXMLRPCServer):
 class _Quiet(xmlrpc.server.SimpleXMLRPCRequestHandler):
     rpc_paths = ()  # ROS 1 clients post to "/" and to "/RPC2" alike
 
-    def log_message(self, format: str, *args: Any) -> None:  # noqa: A002 (the base's name)
+    def log_message(self, format: str, *args: Any) -> None:
         pass
 
 
