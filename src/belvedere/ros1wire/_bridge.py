@@ -28,13 +28,14 @@ from typing import Any, Final
 
 from belvedere.errors import BelvedereError
 from belvedere.graph import Graph, Publisher, Subscription, ZenohTransport
-from belvedere.msgs import learn_full_text, ros1_name, ros1_text, types
+from belvedere.msgs import canonical, learn_full_text, ros1_name, ros1_text, types
 from belvedere.ros1._spec import service_md5
 from belvedere.ros1wire._master import Master, Registrations
 from belvedere.ros1wire._tcpros import (
     TcprosError,
     read_frame,
     read_header,
+    read_service_reply,
     write_frame,
     write_header,
 )
@@ -97,6 +98,10 @@ class Ros1Bridge:
         self._inlets: dict[str, _Inlet] = {}
         self._stop = threading.Event()
         self._wake = threading.Event()
+        self._probed: set[tuple[str, str]] = set()
+        """(topic or service, its ROS 1 publisher's or server's URI) already asked"""
+        self._offered: dict[str, Any] = {}
+        """ROS 1 services offered on the graph by the bridge's node: name → its server"""
         self._look()
         master.attach(self)
         threading.Thread(target=self._accept, name="belvedere-tcpros", daemon=True).start()
@@ -154,6 +159,8 @@ class Ros1Bridge:
         for topic in set(before.publishers) ^ set(state.publishers):
             self.master.publisher_update(topic)
         self._reconcile_inlets(state)
+        self._learn_new_types()
+        self._reconcile_services(state)
 
     def _keep_looking(self) -> None:
         while not self._stop.is_set():
@@ -264,9 +271,105 @@ class Ros1Bridge:
         except BelvedereError:
             where = f"{inlet.topic} (from {header.get('callerid', 'a ROS 1 node')})"
             learn_full_text(
-                header.get("message_definition", ""), ros1_type, header.get("md5sum", "*"), where
+                header.get("message_definition", ""),
+                canonical(ros1_type),
+                header.get("md5sum", "*"),
+                where,
             )
             return types().resolve(ros1_type)
+
+    def _learn_new_types(self) -> None:
+        """Ask each ROS 1 publisher of a type the graph does not know for its definition
+        (the connection header has it), so graph nodes can subscribe to the topic."""
+        with self.master._lock:
+            published = [
+                (topic, typ, self.master.ros1.nodes.get(node))
+                for topic, users in self.master.ros1.publishers.items()
+                for node, typ in users.items()
+            ]
+        for topic, typ, api in published:
+            if api is None or (topic, api) in self._probed or _known(typ):
+                continue
+            self._probed.add((topic, api))
+            threading.Thread(
+                target=self._probe_topic,
+                args=(_Inlet(topic, typ), api),
+                name="belvedere-tcpros-probe",
+                daemon=True,
+            ).start()
+
+    def _probe_topic(self, probe: _Inlet, api: str) -> None:
+        try:
+            sock, header = self._connect(probe, api)
+            sock.close()
+            self._learn(header, probe)
+        except (OSError, TcprosError, xmlrpc.client.Error, BelvedereError, ValueError) as err:
+            text = err.message if isinstance(err, BelvedereError) else str(err)
+            logger.warning("ros1: cannot learn %s's type from %s: %s", probe.topic, api, text)
+
+    def _reconcile_services(self, state: Registrations) -> None:
+        """Offer each ROS 1 service on the graph (its type asked of the server with a
+        probe, as rosservice does), and withdraw those gone."""
+        with self.master._lock:
+            ros1 = {
+                name: next(iter(providers.values()))
+                for name, providers in self.master.ros1.services.items()
+                if providers
+            }
+        for name in [n for n in self._offered if n not in ros1]:
+            server = self._offered.pop(name)
+            self.graph.executor.post(server.unregister)
+        for name, uri in ros1.items():
+            if name in self._offered or (name, uri) in self._probed or name in state.services:
+                continue
+            self._probed.add((name, uri))
+            threading.Thread(
+                target=self._offer_service,
+                args=(name, uri),
+                name="belvedere-tcpros-probe",
+                daemon=True,
+            ).start()
+
+    def _offer_service(self, name: str, uri: str) -> None:
+        try:
+            header = _service_header(
+                uri, {"callerid": self.caller_id, "service": name, "md5sum": "*", "probe": "1"}
+            )
+            srv_type = types().resolve_service(header["type"])
+        except (OSError, TcprosError, BelvedereError, KeyError, ValueError) as err:
+            # roscpp's own logger services and services of types only their package
+            # defines (a service's header carries no definition to learn from)
+            text = err.message if isinstance(err, BelvedereError) else str(err)
+            logger.debug("ros1: cannot offer %s on the graph: %s", name, text)
+            return
+
+        def forward(request: Any) -> Any:
+            return self._call_ros1(name, uri, srv_type, request)
+
+        def offer() -> None:
+            if name not in self._offered and not self._stop.is_set():
+                self._offered[name] = self.node.service(name, srv_type, forward, threaded=True)
+
+        self.graph.executor.post(offer)
+
+    def _call_ros1(self, name: str, uri: str, srv_type: str, request: Any) -> Any:
+        """One call of a ROS 1 service (a one-shot connection, as rospy's default)."""
+        store = types().store
+        host, port = _rosrpc_address(uri)
+        with socket.create_connection((host, port), timeout=30.0) as sock:
+            write_header(
+                sock,
+                {"callerid": self.caller_id, "service": name, "md5sum": service_md5(srv_type)},
+            )
+            header = read_header(sock)
+            if "error" in header:
+                raise TcprosError(header["error"])
+            write_frame(sock, store.serialize_ros1(request, f"{srv_type}_Request"))
+            ok, data = read_service_reply(sock)
+        if not ok:
+            msg = f"service [{name}] responded with an error: {data.decode(errors='replace')}"
+            raise BelvedereError(msg)
+        return store.deserialize_ros1(data, f"{srv_type}_Response")
 
     def _open_publisher(self, inlet: _Inlet, store_type: str, latched: bool) -> None:
         if inlet.publisher is None and not inlet.closed:
@@ -468,6 +571,31 @@ class Ros1Bridge:
             return [1, "shutdown", 0]
         msg = f'method "{method}" is not supported'
         raise xmlrpc.client.Fault(1, msg)
+
+
+def _known(ros1_type: str) -> bool:
+    try:
+        types().resolve(ros1_type)
+    except BelvedereError:
+        return False
+    return True
+
+
+def _rosrpc_address(uri: str) -> tuple[str, int]:
+    """``rosrpc://host:port`` → (host, port)."""
+    rest = uri.removeprefix("rosrpc://").rstrip("/")
+    host, _, port = rest.rpartition(":")
+    return host, int(port)
+
+
+def _service_header(uri: str, fields: dict[str, str]) -> dict[str, str]:
+    """A ROS 1 service server's answer to ``fields`` (a probe), on a connection of its own."""
+    with socket.create_connection(_rosrpc_address(uri), timeout=10.0) as sock:
+        write_header(sock, fields)
+        header = read_header(sock)
+    if "error" in header:
+        raise TcprosError(header["error"])
+    return header
 
 
 def _listing(table: dict[str, dict[str, str]]) -> list[list[str]]:
