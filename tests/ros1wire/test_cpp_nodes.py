@@ -4,7 +4,9 @@ the wire, and a C++ service is called from the graph."""
 
 from __future__ import annotations
 
+import os
 import subprocess
+import sys
 from functools import partial
 from pathlib import Path
 from typing import Any
@@ -156,3 +158,67 @@ def test_the_graph_calls_a_cpp_service(
     finally:
         server.terminate()
         server.wait(timeout=DEADLINE)
+
+
+SIMPLE_LAUNCH = """\
+<launch>
+  <node pkg="learning_topic" type="person_subscriber" name="listener" output="screen"
+        required="true">
+    <param name="count" value="5"/>
+  </node>
+  <node pkg="learning_topic" type="person_publisher" name="talker" output="screen"/>
+  <node pkg="learning_topic" type="not_built_yet" name="later"/>
+</launch>
+"""
+
+
+def test_belvedere_launch_runs_the_courses_cpp_launch_file(
+    workspace: Path, tmp_path: Path, endpoint: str
+) -> None:
+    """simple.launch's C++ pair started by ``belvedere launch`` with belvedere's own master
+    (roslaunch's arguments, the node's private parameter), and a node the package declares
+    but nobody built named once, with how to build it, while the rest runs."""
+    launch = tmp_path / "simple.launch"
+    launch.write_text(SIMPLE_LAUNCH)
+    env = {
+        **os.environ,
+        "ROS_PACKAGE_PATH": str(workspace / "src"),
+        "PATH": "/usr/bin:" + os.environ.get("PATH", ""),
+    }
+    done = subprocess.run(
+        [sys.executable, "-m", "belvedere", "launch", str(launch), "--headless"],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=DEADLINE,
+        check=False,
+    )
+    heard = [line for line in done.stdout.splitlines() if line.startswith("Subcribe")]
+    assert len(heard) == 5, done.stdout + done.stderr
+    ages = [int(line.split("age:")[1].split()[0]) for line in heard]
+    assert ages == list(range(ages[0], ages[0] + 5))
+    refused = [line for line in done.stderr.splitlines() if "not_built_yet (" in line]
+    assert len(refused) == 1, done.stderr
+    assert "not started" in refused[0]
+
+
+def test_an_unbuilt_cpp_node_is_named_with_how_to_build_it(tmp_path: Path) -> None:
+    from belvedere.launch._compiled import find_compiled, unbuilt_hint
+
+    package = tmp_path / "ws" / "src" / "learning_topic"
+    package.mkdir(parents=True)
+    (package / "CMakeLists.txt").write_text(
+        "project(learning_topic)\nadd_executable(person_publisher src/person_publisher.cpp)\n"
+    )
+    assert find_compiled(package, "learning_topic", "person_publisher") is None
+    hint = unbuilt_hint(package, "person_publisher")
+    assert hint == (
+        f"a C++ node of {package / 'CMakeLists.txt'} that is not built: "
+        f"run catkin_make in {tmp_path / 'ws'}"
+    )
+    assert unbuilt_hint(package, "person") is None
+    built = tmp_path / "ws" / "devel" / "lib" / "learning_topic" / "person_publisher"
+    built.parent.mkdir(parents=True)
+    built.write_bytes(b"\x7fELF")
+    built.chmod(0o755)
+    assert find_compiled(package, "learning_topic", "person_publisher") == built
