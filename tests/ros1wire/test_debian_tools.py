@@ -184,3 +184,73 @@ def test_rospy_calls_a_graph_service_and_a_failure_is_its_error(
     assert r.stdout.splitlines()[0] == "True False ok", r.stderr
     assert r.stdout.splitlines()[1].startswith("failed: service [/spawn_nothing] responded with")
     assert "no turtle here" in r.stdout.splitlines()[1]
+
+
+def _publish_until(graph: Graph, pub: Any, done: Any, make: Any) -> None:
+    """Publish ``make(i)`` every 20 ms (on the executor) until ``done()``."""
+    i = 0
+    deadline = time.monotonic() + DEADLINE
+    while not done() and time.monotonic() < deadline:
+        graph.executor.post(partial(pub.publish_data, make(i)))
+        i += 1
+        time.sleep(0.02)
+
+
+def test_rosbag_records_a_graph_topic(
+    ros_graph: tuple[Graph, MasterHandle], tmp_path: Path
+) -> None:
+    graph, handle = ros_graph
+    pub = graph.create_node("counter").publisher("/count", "std_msgs/Int32")
+    bag = tmp_path / "count.bag"
+    ros = Ros1(handle.uri)
+    record = ros.start("rosbag", "record", "-O", str(bag), "--duration=3", "/count")
+    _publish_until(graph, pub, lambda: record.poll() is not None, lambda i: {"data": i})
+    assert record.wait(timeout=DEADLINE) == 0, record.stderr.read() if record.stderr else ""
+    read = ros.run(
+        str(ROS_PYTHON),
+        "-c",
+        "import sys, rosbag\nfor _, m, _ in rosbag.Bag(sys.argv[1]).read_messages(): print(m.data)",
+        str(bag),
+    )
+    values = [int(v) for v in read.stdout.split()]
+    assert len(values) > 10, read.stderr
+    assert values == list(range(values[0], values[0] + len(values)))
+
+
+def test_a_late_rostopic_echo_gets_a_latched_graph_message(
+    ros_graph: tuple[Graph, MasterHandle],
+) -> None:
+    graph, handle = ros_graph
+    pub = graph.create_node("map_server").publisher("/map_name", "std_msgs/String", latch=True)
+    graph.executor.post(partial(pub.publish_data, {"data": "cloister"}))
+    time.sleep(0.5)
+    echo = Ros1(handle.uri).run("rostopic", "echo", "-n", "1", "/map_name", timeout=DEADLINE)
+    assert echo.stdout == 'data: "cloister"\n---\n', echo.stderr
+
+
+def test_a_rospy_node_runs_in_the_graphs_simulated_time(
+    endpoint: str, needs_debian_ros: None, tmp_path: Path
+) -> None:
+    """/use_sim_time and /clock carry over: rospy's clock is the simulation's."""
+    from belvedere.graph import ZenohTransport
+    from belvedere.ros1wire import start_master
+
+    graph = Graph(sim_time=True, transport=ZenohTransport(endpoint=endpoint))
+    graph.params.set("/use_sim_time", True)
+    handle = start_master(graph, port=0)
+    graph.start(rtf=1.0)
+    script = tmp_path / "clock.py"
+    script.write_text(
+        "import rospy\n"
+        "rospy.init_node('clock_reader')\n"
+        "while rospy.Time.now().to_sec() == 0 and not rospy.is_shutdown():\n"
+        "    rospy.sleep(0.01)\n"
+        "print(rospy.Time.now().to_sec())\n"
+    )
+    try:
+        r = Ros1(handle.uri).run(str(ROS_PYTHON), str(script), timeout=DEADLINE)
+        seen = float(r.stdout.strip() or "nan")
+        assert 0 < seen <= graph.now_ns() / 1e9 + 0.5, r.stderr
+    finally:
+        handle.close()
+        graph.shutdown()
