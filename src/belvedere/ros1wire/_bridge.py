@@ -20,6 +20,7 @@ import logging
 import os
 import socket
 import threading
+import time
 import xmlrpc.client
 from collections import deque
 from dataclasses import dataclass, field
@@ -47,6 +48,7 @@ logger = logging.getLogger("belvedere.ros1wire")
 
 BRIDGE_NODE: Final = "belvedere_ros1_bridge"
 LOOK_S: Final = 0.25
+MAX_RETRY_S: Final = 10.0
 OUT_QUEUE: Final = 100
 """Messages waiting for one ROS 1 subscriber; past this the oldest are dropped, as a
 roscpp publisher's queue does."""
@@ -98,6 +100,10 @@ class Ros1Bridge:
         self._inlets: dict[str, _Inlet] = {}
         self._stop = threading.Event()
         self._wake = threading.Event()
+        self._failed: dict[tuple[str, str], tuple[float, float]] = {}
+        """(topic, ROS 1 publisher's API) that could not be reached → (when to try again,
+        the wait after that): a publisher that died without unregistering stays registered,
+        as with roscore, and is tried less and less often, with one warning."""
         self._probed: set[tuple[str, str]] = set()
         """(topic or service, its ROS 1 publisher's or server's URI) already asked"""
         self._offered: dict[str, Any] = {}
@@ -192,6 +198,9 @@ class Ros1Bridge:
                 inlet = self._inlets.setdefault(topic, _Inlet(topic, next(iter(users.values()))))
                 for node in users:
                     api = apis.get(node)
+                    retry = self._failed.get((topic, api or ""))
+                    if retry is not None and time.monotonic() < retry[0]:
+                        continue
                     if api is not None and api not in inlet.sources:
                         inlet.sources[api] = None
                         threading.Thread(
@@ -205,10 +214,16 @@ class Ros1Bridge:
         try:
             sock, header = self._connect(inlet, api)
         except (OSError, TcprosError, xmlrpc.client.Error, BelvedereError) as err:
-            logger.warning("ros1: cannot subscribe to %s at %s: %s", inlet.topic, api, err)
             with self._lock:
                 inlet.sources.pop(api, None)
+                before = self._failed.get((inlet.topic, api))
+                wait = min(2 * before[1], MAX_RETRY_S) if before else LOOK_S
+                self._failed[inlet.topic, api] = (time.monotonic() + wait, wait)
+            if before is None:
+                logger.warning("ros1: cannot subscribe to %s at %s: %s", inlet.topic, api, err)
             return
+        with self._lock:
+            self._failed.pop((inlet.topic, api), None)
         try:
             store_type = self._learn(header, inlet)
             latched = header.get("latching", "0") == "1"
