@@ -45,7 +45,7 @@ LAYERS: tuple[tuple[str, frozenset[str]], ...] = (
     ("ROS 1's Python face and the scripts", frozenset({"ros1", "_scriptmain", "pyscripts"})),
     (
         "engines, tools and servers",
-        frozenset({"nav", "sim", "teleop", "bags", "foxglove", "viewer", "pictures"}),
+        frozenset({"nav", "sim", "teleop", "bags", "foxglove", "ros1wire", "viewer", "pictures"}),
     ),
     ("the ROS executables", frozenset({"nodes"})),
     ("roslaunch", frozenset({"launch"})),

@@ -45,6 +45,7 @@ _VERBS = (
     "tf",
     "bag",
     "foxglove",
+    "roscore",
     "run",
     "rospack",
     "map",

@@ -24,6 +24,7 @@ from belvedere.description.urdf import RobotModel
 from belvedere.errors import BelvedereError, SourceLocation
 from belvedere.fileio import FileWriteError, write_file
 from belvedere.graph import Graph, Node, ZenohTransport
+from belvedere.launch._compiled import find_compiled, is_compiled, unbuilt_hint
 from belvedere.launch._lifecycle import LaunchProcess, ProcessMonitor
 from belvedere.launch._listing import process_name
 from belvedere.launch._model import LaunchConfig, LaunchError, LaunchNode
@@ -37,11 +38,12 @@ __all__ = ["LaunchRuntime", "find_script"]
 logger = logging.getLogger("belvedere.launch")
 
 
-def find_script(root: Path, executable: str) -> Path | None:
+def find_script(root: Path, executable: str, package: str | None = None) -> Path | None:
     """Where rosrun (and roslaunch) finds a package's ``executable``: ``scripts/``,
-    ``nodes/``, the package's top, then anywhere below it. In the packages belvedere provides
-    only ``scripts/`` (rospy scripts of ROS's own, as dynparam; the rest are belvedere's own
-    nodes)."""
+    ``nodes/``, the package's top, anywhere below it, then what catkin built of it (see
+    :mod:`belvedere.launch._compiled`; ``package``: its name, if not its directory's). In the
+    packages belvedere provides only ``scripts/`` (rospy scripts of ROS's own, as dynparam;
+    the rest are belvedere's own nodes)."""
     if root.is_relative_to(BUILTIN_PACKAGES):
         found = root / "scripts" / executable
         return found if found.is_file() else None
@@ -52,7 +54,8 @@ def find_script(root: Path, executable: str) -> Path | None:
     ):
         if candidate.is_file():
             return candidate
-    return next((p for p in sorted(root.rglob(executable)) if p.is_file()), None)
+    below = next((p for p in sorted(root.rglob(executable)) if p.is_file()), None)
+    return below or find_compiled(root, package or root.name, executable)
 
 
 def _which_wins(a: LaunchNode, b: LaunchNode) -> str:
@@ -112,6 +115,8 @@ class LaunchRuntime:
     joined: bool = False
     """The launch joined a running graph (as roslaunch uses a running master)."""
     monitor: ProcessMonitor | None = None
+    ros1_master: Any = None
+    """belvedere's ROS 1 master, once a compiled node needs one."""
     screen_stdout: int | None = None
     """Where scripts with ``output="screen"`` print their standard output: this process's
     (None), or another file descriptor (``--echo`` keeps stdout to itself: 2, stderr)."""
@@ -183,7 +188,11 @@ class LaunchRuntime:
                 if self.run_script(spec, script):
                     self._started(spec, f"with pid [{self.processes[-1][1].pid}]")
                 return
-            self.missing.append(f"{spec.pkg}/{spec.type} ({spec.full_name}, {spec.source})")
+            unbuilt = self._unbuilt(spec)
+            self.missing.append(
+                f"{spec.pkg}/{spec.type} ({spec.full_name}, {spec.source}"
+                + (f": {unbuilt})" if unbuilt else ")")
+            )
             if self.lifecycle:
                 self.started += 1  # roslaunch numbers a node it cannot find too
             return
@@ -212,7 +221,27 @@ class LaunchRuntime:
             root = self.packages.find(spec.pkg, requested_at=spec.source)
         except BelvedereError:
             return None
-        return find_script(root, spec.type)
+        return find_script(root, spec.type, spec.pkg)
+
+    def _unbuilt(self, spec: LaunchNode) -> str | None:
+        try:
+            root = self.packages.find(spec.pkg, requested_at=spec.source)
+        except BelvedereError:
+            return None
+        return unbuilt_hint(root, spec.type)
+
+    def _ros1_env(self) -> dict[str, str]:
+        """What a compiled (roscpp) node needs: belvedere's ROS 1 master for this graph,
+        started the first time one is asked for, as roslaunch starts a roscore."""
+        if self.ros1_master is None:
+            from belvedere.ros1wire import start_master
+
+            self.ros1_master = start_master(self.graph, port=0)
+            logger.info("ROS 1 master for compiled nodes: %s", self.ros1_master.uri)
+        env = {"ROS_MASTER_URI": self.ros1_master.uri}
+        if "ROS_IP" not in os.environ and "ROS_HOSTNAME" not in os.environ:
+            env["ROS_HOSTNAME"] = "127.0.0.1"  # the master serves loopback only
+        return env
 
     def _graph_env(self) -> dict[str, str]:
         """What a script node needs: this launch's graph (domain, endpoint) and package path."""
@@ -228,12 +257,19 @@ class LaunchRuntime:
         arguments, as roslaunch passes them, or ``argv`` as given, as rosrun passes them; the
         graph's domain and endpoint in its environment); False, with one message, if it
         cannot run."""
-        try:
-            command = script_command(script)
-        except ScriptError as err:
-            logger.error("%s: %s (node %s not started)", err.location, err.message, spec.full_name)
-            return False
-        env = {**os.environ, **self._graph_env(), **dict(spec.env)}
+        extra: dict[str, str] = {}
+        if is_compiled(script):
+            command = [str(script)]
+            extra = self._ros1_env()
+        else:
+            try:
+                command = script_command(script)
+            except ScriptError as err:
+                logger.error(
+                    "%s: %s (node %s not started)", err.location, err.message, spec.full_name
+                )
+                return False
+        env = {**os.environ, **self._graph_env(), **extra, **dict(spec.env)}
         if argv is None:
             argv = [*shlex.split(spec.args), f"__name:={spec.name}"]
             if spec.namespace != "/":
@@ -474,3 +510,5 @@ class LaunchRuntime:
                     process.kill()
         if self.monitor is not None:
             self.monitor.stopped()
+        if self.ros1_master is not None:
+            self.ros1_master.close()  # after the nodes that talk to it

@@ -1,0 +1,224 @@
+"""Messages between ROS 1 programs and belvedere over TCPROS, against ROS 1 with itself,
+same run.
+
+For 1 KB and 1 MB ``std_msgs/String`` messages, each sent as fast as the sender can for a few
+seconds (its send time written at the start of the text, so the receiver measures latency):
+
+- reference: a rospy publisher to a rospy subscriber through Debian's own roscore;
+- ROS 1 → belvedere: the same rospy publisher to a graph subscriber through
+  ``belvedere roscore``'s master and bridge;
+- belvedere → ROS 1: a graph publisher to the same rospy subscriber.
+
+Messages per second received and mean latency, and the ratios to the reference. The ROS 1
+side is Debian's rospy (``/usr/bin/python3``); roscpp nodes speak the same TCPROS.
+
+    python benchmarks/ros1_wire.py [--seconds 5]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import socket
+import subprocess
+import tempfile
+import threading
+import time
+import xmlrpc.client
+from pathlib import Path
+from typing import Any
+
+from belvedere.graph import Graph, ZenohTransport
+from belvedere.ros1wire import start_master
+
+ROS_PYTHON = "/usr/bin/python3"
+SIZES = {"1 KB": 1024, "1 MB": 1024 * 1024}
+
+PUBLISHER = """
+import sys, time, rospy
+from std_msgs.msg import String
+size, seconds = int(sys.argv[1]), float(sys.argv[2])
+rospy.init_node("flood_pub", anonymous=True)
+pub = rospy.Publisher("/flood", String, queue_size=1000)
+while pub.get_num_connections() == 0 and not rospy.is_shutdown():
+    time.sleep(0.01)
+time.sleep(0.5)
+pad = "x" * size
+end = time.time() + seconds
+while time.time() < end and not rospy.is_shutdown():
+    pub.publish(String(data="%.6f|" % time.time() + pad))
+time.sleep(0.5)
+"""
+
+SUBSCRIBER = """
+import sys, time, rospy
+from std_msgs.msg import String
+seconds = float(sys.argv[1])
+got = []
+def take(m):
+    got.append((time.time(), float(m.data[:m.data.index("|")])))
+rospy.init_node("flood_sub", anonymous=True)
+rospy.Subscriber("/flood", String, take, queue_size=1000, buff_size=1 << 24)
+print("READY", flush=True)
+while not got and not rospy.is_shutdown():
+    time.sleep(0.005)
+time.sleep(seconds)
+n = len(got)
+span = got[-1][0] - got[0][0]
+print(n / span if span > 0 else 0.0, sum(a - b for a, b in got) / n)
+"""
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+def _env(uri: str) -> dict[str, str]:
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "ROS_"))}
+    env.update(PATH="/usr/bin:" + env.get("PATH", ""), ROS_MASTER_URI=uri)
+    env["ROS_HOSTNAME"] = "127.0.0.1"
+    return env
+
+
+def _script(text: str, directory: Path, name: str) -> str:
+    path = directory / name
+    path.write_text(text)
+    return str(path)
+
+
+def _subscriber(uri: str, seconds: float, folder: Path) -> subprocess.Popen[str]:
+    proc = subprocess.Popen(
+        [ROS_PYTHON, _script(SUBSCRIBER, folder, "sub.py"), str(seconds)],
+        env=_env(uri),
+        stdout=subprocess.PIPE,
+        text=True,
+    )
+    assert proc.stdout is not None
+    assert proc.stdout.readline().strip() == "READY"
+    return proc
+
+
+def _result(proc: subprocess.Popen[str]) -> tuple[float, float]:
+    out, _ = proc.communicate(timeout=120)
+    rate, latency = out.split()[-2:]
+    return float(rate), float(latency)
+
+
+def _publisher(uri: str, size: int, seconds: float, folder: Path) -> subprocess.Popen[str]:
+    return subprocess.Popen(
+        [ROS_PYTHON, _script(PUBLISHER, folder, "pub.py"), str(size), str(seconds + 2)],
+        env=_env(uri),
+        text=True,
+    )
+
+
+def reference(size: int, seconds: float, folder: Path) -> tuple[float, float]:
+    port = _free_port()
+    uri = f"http://127.0.0.1:{port}/"
+    core = subprocess.Popen(
+        ["/usr/bin/roscore", "-p", str(port)],
+        env=_env(uri),
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
+    try:
+        while True:
+            try:
+                xmlrpc.client.ServerProxy(uri).getUri("/bench")
+                break
+            except OSError:
+                time.sleep(0.1)
+        sub = _subscriber(uri, seconds, folder)
+        pub = _publisher(uri, size, seconds, folder)
+        result = _result(sub)
+        pub.wait(timeout=120)
+        return result
+    finally:
+        os.killpg(core.pid, 2)
+        core.wait(timeout=30)
+
+
+def _graph() -> tuple[Graph, Any]:
+    endpoint = f"tcp/127.0.0.1:{_free_port()}"
+    graph = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint), clock_hz=None)
+    graph.start(rtf=None)
+    return graph, start_master(graph, port=0)
+
+
+def ros1_to_graph(size: int, seconds: float, folder: Path) -> tuple[float, float]:
+    graph, handle = _graph()
+    got: list[tuple[float, float]] = []
+
+    def take(msg: Any) -> None:
+        got.append((time.time(), float(msg.data[: msg.data.index("|")])))
+
+    graph.create_node("flood_sub").subscribe("/flood", "std_msgs/String", take, queue_size=1000)
+    try:
+        pub = _publisher(handle.uri, size, seconds, folder)
+        while not got:
+            time.sleep(0.005)
+        time.sleep(seconds)
+        n, span = len(got), got[-1][0] - got[0][0]
+        pub.wait(timeout=120)
+        return n / span, sum(a - b for a, b in got[:n]) / n
+    finally:
+        handle.close()
+        graph.shutdown()
+
+
+def graph_to_ros1(size: int, seconds: float, folder: Path) -> tuple[float, float]:
+    graph, handle = _graph()
+    pub = graph.create_node("flood_pub").publisher("/flood", "std_msgs/String", queue_size=1000)
+    pad = "x" * size
+    stop = threading.Event()
+
+    def flood() -> None:
+        while not stop.is_set():
+            done = threading.Event()
+
+            def send(done: threading.Event = done) -> None:
+                pub.publish_data({"data": f"{time.time():.6f}|{pad}"})
+                done.set()
+
+            graph.executor.post(send)
+            done.wait()
+
+    try:
+        sub = _subscriber(handle.uri, seconds, folder)
+        thread = threading.Thread(target=flood, daemon=True)
+        thread.start()
+        result = _result(sub)
+        stop.set()
+        thread.join()
+        return result
+    finally:
+        handle.close()
+        graph.shutdown()
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--seconds", type=float, default=5.0)
+    args = parser.parse_args()
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        for label, size in SIZES.items():
+            ref = reference(size, args.seconds, folder)
+            into = ros1_to_graph(size, args.seconds, folder)
+            out = graph_to_ros1(size, args.seconds, folder)
+            print(
+                f"{label}: rospy → rospy (Debian's roscore): {ref[0]:8.0f} msg/s, "
+                f"latency {ref[1] * 1e3:6.2f} ms"
+            )
+            for what, got in (("rospy → belvedere", into), ("belvedere → rospy", out)):
+                print(
+                    f"{label}: {what:28s}: {got[0]:8.0f} msg/s, latency {got[1] * 1e3:6.2f} ms"
+                    f"  ({got[0] / ref[0]:.2f}x the reference's messages/s)"
+                )
+
+
+if __name__ == "__main__":
+    main()

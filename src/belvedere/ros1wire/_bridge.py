@@ -1,0 +1,617 @@
+"""The graph's side of ROS 1: one slave API and one TCPROS port for every graph node.
+
+- A ROS 1 subscriber of a topic the graph publishes is given this bridge as a publisher: it
+  asks the slave API for the topic (``requestTopic``), connects to the TCPROS port, and each
+  connection becomes a subscription on the graph whose messages are written as ROS 1 bytes.
+- A topic ROS 1 programs publish and a graph node subscribes to is read from each ROS 1
+  publisher over TCPROS and published on the graph by the bridge's node (a type the graph
+  does not know is learnt from the connection's ``message_definition``).
+- A ROS 1 call of a graph service arrives on the TCPROS port (``rosrpc://``) and is made on
+  the graph.
+
+Who is on the graph is looked at every :data:`LOOK_S` (and at once when a ROS 1 program
+registers), so ROS 1 subscribers are told of a new graph publisher within that time."""
+
+from __future__ import annotations
+
+import contextlib
+import itertools
+import logging
+import os
+import socket
+import threading
+import time
+import xmlrpc.client
+from collections import deque
+from dataclasses import dataclass, field
+from functools import partial
+from typing import Any, Final
+
+from belvedere.errors import BelvedereError
+from belvedere.graph import Graph, Publisher, Subscription, ZenohTransport
+from belvedere.msgs import canonical, learn_full_text, ros1_name, ros1_text, types
+from belvedere.ros1._spec import service_md5
+from belvedere.ros1wire._master import Master, Registrations
+from belvedere.ros1wire._tcpros import (
+    TcprosError,
+    read_frame,
+    read_header,
+    read_service_reply,
+    write_frame,
+    write_header,
+)
+from belvedere.ros1wire._xmlrpc import XmlRpcServer, server_proxy
+
+__all__ = ["BRIDGE_NODE", "Ros1Bridge"]
+
+logger = logging.getLogger("belvedere.ros1wire")
+
+BRIDGE_NODE: Final = "belvedere_ros1_bridge"
+LOOK_S: Final = 0.25
+MAX_RETRY_S: Final = 10.0
+OUT_QUEUE: Final = 100
+"""Messages waiting for one ROS 1 subscriber; past this the oldest are dropped, as a
+roscpp publisher's queue does."""
+_connection_ids = itertools.count(1)
+
+
+@dataclass
+class _Outlet:
+    """One ROS 1 subscriber's connection to a graph topic."""
+
+    id: int
+    topic: str
+    caller: str
+    sock: socket.socket
+    queue: deque[Any] = field(default_factory=lambda: deque(maxlen=OUT_QUEUE))
+    ready: threading.Condition = field(default_factory=threading.Condition)
+    subscription: Subscription | None = None
+    closed: bool = False
+
+
+@dataclass
+class _Inlet:
+    """A topic ROS 1 publishes that graph nodes subscribe to."""
+
+    topic: str
+    ros1_type: str
+    publisher: Publisher | None = None
+    sources: dict[str, socket.socket | None] = field(default_factory=dict)
+    """publisher's slave API → its connection (None while connecting)"""
+    closed: bool = False
+
+
+class Ros1Bridge:
+    """Serve the graph to ROS 1 programs registered with ``master`` (and tell it so)."""
+
+    def __init__(self, graph: Graph, master: Master, host: str = "127.0.0.1") -> None:
+        self.graph = graph
+        self.master = master
+        self.host = host
+        self.node = graph.create_node(f"{BRIDGE_NODE}_{os.getpid()}")
+        self.caller_id = self.node.full_name
+        self.slave = XmlRpcServer(host, 0, self._slave)
+        self.uri = self.slave.uri
+        self._listener = socket.create_server((host, 0))
+        self.port = int(self._listener.getsockname()[1])
+        self._state = Registrations()
+        self._lock = threading.Lock()
+        self._outlets: dict[int, _Outlet] = {}
+        self._inlets: dict[str, _Inlet] = {}
+        self._stop = threading.Event()
+        self._wake = threading.Event()
+        self._failed: dict[tuple[str, str], tuple[float, float]] = {}
+        """(topic, ROS 1 publisher's API) that could not be reached → (when to try again,
+        the wait after that): a publisher that died without unregistering stays registered,
+        as with roscore, and is tried less and less often, with one warning."""
+        self._probed: set[tuple[str, str]] = set()
+        """(topic or service, its ROS 1 publisher's or server's URI) already asked"""
+        self._offered: dict[str, Any] = {}
+        """ROS 1 services offered on the graph by the bridge's node: name → its server"""
+        self._look()
+        master.attach(self)
+        threading.Thread(target=self._accept, name="belvedere-tcpros", daemon=True).start()
+        threading.Thread(target=self._keep_looking, name="belvedere-ros1-look", daemon=True).start()
+
+    def close(self) -> None:
+        self._stop.set()
+        self._wake.set()
+        self.slave.close()
+        self._listener.close()
+        with self._lock:
+            outlets, inlets = list(self._outlets.values()), list(self._inlets.values())
+        for outlet in outlets:
+            self._close_outlet(outlet)
+        for inlet in inlets:
+            self._close_inlet(inlet)
+
+    # --- what the master asks ----------------------------------------------------------------
+    def graph_state(self) -> Registrations:
+        with self._lock:
+            return self._state
+
+    def service_uri(self) -> str:
+        return f"rosrpc://{self.host}:{self.port}"
+
+    def ros1_changed(self, topic: str) -> None:
+        self._wake.set()
+
+    # --- who is on the graph ------------------------------------------------------------------
+    def _look(self) -> None:
+        transport = self.graph.transport
+        state = Registrations()
+        if isinstance(transport, ZenohTransport):
+            try:
+                info = transport.info(timeout=0.5)
+            except BelvedereError as err:
+                logger.debug("ros1: cannot look at the graph: %s", err.message)
+                return
+            own = self.caller_id
+            for table, into in (
+                (info.publishers, state.publishers),
+                (info.subscribers, state.subscribers),
+            ):
+                for topic, users in table.items():
+                    for typ, node in users:
+                        if node != own:
+                            into.setdefault(topic, {})[node] = ros1_name(typ)
+            for service, providers in info.services.items():
+                for typ, node in providers:
+                    if node != own:
+                        state.services.setdefault(service, {})[node] = typ
+            state.nodes = {n: self.uri for n in info.nodes if n != own}
+        with self._lock:
+            before, self._state = self._state, state
+        for topic in set(before.publishers) ^ set(state.publishers):
+            self.master.publisher_update(topic)
+        self._reconcile_inlets(state)
+        self._learn_new_types()
+        self._reconcile_services(state)
+
+    def _keep_looking(self) -> None:
+        while not self._stop.is_set():
+            self._wake.wait(LOOK_S)
+            self._wake.clear()
+            if self._stop.is_set():
+                return
+            try:
+                self._look()
+            except Exception:  # the bridge must outlive one bad look
+                logger.exception("ros1: looking at the graph failed")
+
+    # --- ROS 1 publishers → the graph ----------------------------------------------------------
+    def _reconcile_inlets(self, state: Registrations) -> None:
+        ros1 = self.master.ros1
+        with self.master._lock:
+            published = {t: dict(users) for t, users in ros1.publishers.items() if users}
+            apis = dict(ros1.nodes)
+        wanted = {t for t in published if state.subscribers.get(t)}
+        with self._lock:
+            gone = [i for t, i in self._inlets.items() if t not in wanted]
+            for inlet in gone:
+                del self._inlets[inlet.topic]
+        for inlet in gone:
+            self._close_inlet(inlet)
+        for topic in wanted:
+            users = published[topic]
+            with self._lock:
+                inlet = self._inlets.setdefault(topic, _Inlet(topic, next(iter(users.values()))))
+                for node in users:
+                    api = apis.get(node)
+                    retry = self._failed.get((topic, api or ""))
+                    if retry is not None and time.monotonic() < retry[0]:
+                        continue
+                    if api is not None and api not in inlet.sources:
+                        inlet.sources[api] = None
+                        threading.Thread(
+                            target=self._read_from,
+                            args=(inlet, api),
+                            name="belvedere-tcpros-in",
+                            daemon=True,
+                        ).start()
+
+    def _read_from(self, inlet: _Inlet, api: str) -> None:
+        try:
+            sock, header = self._connect(inlet, api)
+        except (OSError, TcprosError, xmlrpc.client.Error, BelvedereError) as err:
+            with self._lock:
+                inlet.sources.pop(api, None)
+                before = self._failed.get((inlet.topic, api))
+                wait = min(2 * before[1], MAX_RETRY_S) if before else LOOK_S
+                self._failed[inlet.topic, api] = (time.monotonic() + wait, wait)
+            if before is None:
+                logger.warning("ros1: cannot subscribe to %s at %s: %s", inlet.topic, api, err)
+            return
+        with self._lock:
+            self._failed.pop((inlet.topic, api), None)
+        try:
+            store_type = self._learn(header, inlet)
+            latched = header.get("latching", "0") == "1"
+            self.graph.executor.post(partial(self._open_publisher, inlet, store_type, latched))
+            while not inlet.closed:
+                data = read_frame(sock)
+                msg = types().store.deserialize_ros1(data, store_type)
+                self.graph.executor.post(partial(self._publish, inlet, msg))
+        except (OSError, TcprosError) as err:
+            if not inlet.closed:
+                logger.debug("ros1: %s from %s ended: %s", inlet.topic, api, err)
+        except Exception as err:  # noqa: BLE001 (a publisher sent something else)
+            logger.warning("ros1: a message on %s from %s is unreadable: %s", inlet.topic, api, err)
+        finally:
+            sock.close()
+            with self._lock:
+                inlet.sources.pop(api, None)
+
+    def _connect(self, inlet: _Inlet, api: str) -> tuple[socket.socket, dict[str, str]]:
+        answer: Any = server_proxy(api, timeout=5.0).requestTopic(
+            self.caller_id, inlet.topic, [["TCPROS"]]
+        )
+        code, status, protocol = answer
+        if code != 1 or not protocol or protocol[0] != "TCPROS":
+            msg = f"requestTopic answered {status!r}"
+            raise TcprosError(msg)
+        sock = socket.create_connection((protocol[1], int(protocol[2])), timeout=10.0)
+        sock.settimeout(None)
+        sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        with self._lock:
+            inlet.sources[api] = sock
+        md5, definition = "*", ""
+        try:
+            known = types().resolve(inlet.ros1_type)
+            md5, definition = ros1_text(known).md5sum, ros1_text(known).full_text
+        except BelvedereError:
+            pass
+        write_header(
+            sock,
+            {
+                "callerid": self.caller_id,
+                "topic": inlet.topic,
+                "type": inlet.ros1_type,
+                "md5sum": md5,
+                "message_definition": definition,
+                "tcp_nodelay": "1",
+            },
+        )
+        header = read_header(sock)
+        if "error" in header:
+            sock.close()
+            raise TcprosError(header["error"])
+        return sock, header
+
+    def _learn(self, header: dict[str, str], inlet: _Inlet) -> str:
+        """The store name of the connection's type, learnt from its definition if new."""
+        ros1_type = header.get("type", inlet.ros1_type)
+        try:
+            return types().resolve(ros1_type)
+        except BelvedereError:
+            where = f"{inlet.topic} (from {header.get('callerid', 'a ROS 1 node')})"
+            learn_full_text(
+                header.get("message_definition", ""),
+                canonical(ros1_type),
+                header.get("md5sum", "*"),
+                where,
+            )
+            return types().resolve(ros1_type)
+
+    def _learn_new_types(self) -> None:
+        """Ask each ROS 1 publisher of a type the graph does not know for its definition
+        (the connection header has it), so graph nodes can subscribe to the topic."""
+        with self.master._lock:
+            published = [
+                (topic, typ, self.master.ros1.nodes.get(node))
+                for topic, users in self.master.ros1.publishers.items()
+                for node, typ in users.items()
+            ]
+        for topic, typ, api in published:
+            if api is None or (topic, api) in self._probed or _known(typ):
+                continue
+            self._probed.add((topic, api))
+            threading.Thread(
+                target=self._probe_topic,
+                args=(_Inlet(topic, typ), api),
+                name="belvedere-tcpros-probe",
+                daemon=True,
+            ).start()
+
+    def _probe_topic(self, probe: _Inlet, api: str) -> None:
+        try:
+            sock, header = self._connect(probe, api)
+            sock.close()
+            self._learn(header, probe)
+        except (OSError, TcprosError, xmlrpc.client.Error, BelvedereError, ValueError) as err:
+            text = err.message if isinstance(err, BelvedereError) else str(err)
+            logger.warning("ros1: cannot learn %s's type from %s: %s", probe.topic, api, text)
+
+    def _reconcile_services(self, state: Registrations) -> None:
+        """Offer each ROS 1 service on the graph (its type asked of the server with a
+        probe, as rosservice does), and withdraw those gone."""
+        with self.master._lock:
+            ros1 = {
+                name: next(iter(providers.values()))
+                for name, providers in self.master.ros1.services.items()
+                if providers
+            }
+        for name in [n for n in self._offered if n not in ros1]:
+            server = self._offered.pop(name)
+            self.graph.executor.post(server.unregister)
+        for name, uri in ros1.items():
+            if name in self._offered or (name, uri) in self._probed or name in state.services:
+                continue
+            self._probed.add((name, uri))
+            threading.Thread(
+                target=self._offer_service,
+                args=(name, uri),
+                name="belvedere-tcpros-probe",
+                daemon=True,
+            ).start()
+
+    def _offer_service(self, name: str, uri: str) -> None:
+        try:
+            header = _service_header(
+                uri, {"callerid": self.caller_id, "service": name, "md5sum": "*", "probe": "1"}
+            )
+            srv_type = types().resolve_service(header["type"])
+        except (OSError, TcprosError, BelvedereError, KeyError, ValueError) as err:
+            # roscpp's own logger services and services of types only their package
+            # defines (a service's header carries no definition to learn from)
+            text = err.message if isinstance(err, BelvedereError) else str(err)
+            logger.debug("ros1: cannot offer %s on the graph: %s", name, text)
+            return
+
+        def forward(request: Any) -> Any:
+            return self._call_ros1(name, uri, srv_type, request)
+
+        def offer() -> None:
+            if name not in self._offered and not self._stop.is_set():
+                self._offered[name] = self.node.service(name, srv_type, forward, threaded=True)
+
+        self.graph.executor.post(offer)
+
+    def _call_ros1(self, name: str, uri: str, srv_type: str, request: Any) -> Any:
+        """One call of a ROS 1 service (a one-shot connection, as rospy's default)."""
+        store = types().store
+        host, port = _rosrpc_address(uri)
+        with socket.create_connection((host, port), timeout=30.0) as sock:
+            write_header(
+                sock,
+                {"callerid": self.caller_id, "service": name, "md5sum": service_md5(srv_type)},
+            )
+            header = read_header(sock)
+            if "error" in header:
+                raise TcprosError(header["error"])
+            write_frame(sock, store.serialize_ros1(request, f"{srv_type}_Request"))
+            ok, data = read_service_reply(sock)
+        if not ok:
+            msg = f"service [{name}] responded with an error: {data.decode(errors='replace')}"
+            raise BelvedereError(msg)
+        return store.deserialize_ros1(data, f"{srv_type}_Response")
+
+    def _open_publisher(self, inlet: _Inlet, store_type: str, latched: bool) -> None:
+        if inlet.publisher is None and not inlet.closed:
+            inlet.publisher = self.node.publisher(inlet.topic, store_type, latch=latched)
+
+    def _publish(self, inlet: _Inlet, msg: Any) -> None:
+        if inlet.publisher is not None and not inlet.closed:
+            inlet.publisher.publish(msg)
+
+    def _close_inlet(self, inlet: _Inlet) -> None:
+        inlet.closed = True
+        with self._lock:
+            socks = [s for s in inlet.sources.values() if s is not None]
+        for sock in socks:
+            with contextlib.suppress(OSError):
+                sock.shutdown(socket.SHUT_RDWR)
+        publisher = inlet.publisher
+        if publisher is not None:
+            self.graph.executor.post(publisher.unregister)
+
+    # --- TCPROS: ROS 1 subscribers and service clients ------------------------------------
+    def _accept(self) -> None:
+        while not self._stop.is_set():
+            try:
+                sock, _ = self._listener.accept()
+            except OSError:
+                return
+            threading.Thread(
+                target=self._serve, args=(sock,), name="belvedere-tcpros-out", daemon=True
+            ).start()
+
+    def _serve(self, sock: socket.socket) -> None:
+        try:
+            sock.settimeout(10.0)
+            header = read_header(sock)
+            sock.settimeout(None)
+            if "service" in header:
+                self._serve_service(sock, header)
+            elif "topic" in header:
+                self._serve_topic(sock, header)
+            else:
+                write_header(sock, {"error": "neither a topic nor a service was asked for"})
+        except (OSError, TcprosError) as err:
+            logger.debug("ros1: a TCPROS connection ended: %s", err)
+        finally:
+            sock.close()
+
+    def _serve_topic(self, sock: socket.socket, header: dict[str, str]) -> None:
+        topic, caller = header["topic"], header.get("callerid", "")
+        users = self.graph_state().publishers.get(topic)
+        if not users:
+            write_header(
+                sock,
+                {"error": f"received a connection for a nonexistent topic [{topic}] from {caller}"},
+            )
+            return
+        ros1_type = next(iter(users.values()))
+        store_type = types().resolve(ros1_type)
+        text = ros1_text(store_type)
+        wanted = header.get("md5sum", "*")
+        if wanted not in ("*", text.md5sum):
+            write_header(
+                sock,
+                {
+                    "error": f"Client [{caller}] wants topic {topic} to have datatype/md5sum "
+                    f"[{header.get('type', '')}/{wanted}], but our version has "
+                    f"[{ros1_type}/{text.md5sum}]. Dropping connection."
+                },
+            )
+            return
+        write_header(
+            sock,
+            {
+                "callerid": sorted(users)[0],
+                "md5sum": text.md5sum,
+                "type": ros1_type,
+                "latching": "0",
+                "message_definition": text.full_text,
+                "topic": topic,
+            },
+        )
+        if header.get("tcp_nodelay") == "1":
+            sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        outlet = _Outlet(next(_connection_ids), topic, caller, sock)
+        with self._lock:
+            self._outlets[outlet.id] = outlet
+        self.graph.executor.post(partial(self._subscribe, outlet, store_type))
+        serialize = types().store.serialize_ros1
+        try:
+            while not outlet.closed and not self._stop.is_set():
+                with outlet.ready:
+                    while not outlet.queue and not outlet.closed:
+                        outlet.ready.wait(1.0)
+                    batch = list(outlet.queue)
+                    outlet.queue.clear()
+                for msg in batch:
+                    write_frame(sock, serialize(msg, store_type))
+        finally:
+            self._close_outlet(outlet)
+
+    def _subscribe(self, outlet: _Outlet, store_type: str) -> None:
+        if outlet.closed:
+            return
+
+        def take(msg: Any) -> None:
+            with outlet.ready:
+                outlet.queue.append(msg)
+                outlet.ready.notify()
+
+        outlet.subscription = self.node.subscribe(
+            outlet.topic, store_type, take, queue_size=OUT_QUEUE
+        )
+
+    def _close_outlet(self, outlet: _Outlet) -> None:
+        with outlet.ready:
+            outlet.closed = True
+            outlet.ready.notify()
+        with self._lock:
+            self._outlets.pop(outlet.id, None)
+        subscription = outlet.subscription
+        if subscription is not None:
+            self.graph.executor.post(subscription.unregister)
+
+    def _serve_service(self, sock: socket.socket, header: dict[str, str]) -> None:
+        name, caller = header["service"], header.get("callerid", "")
+        providers = self.graph_state().services.get(name)
+        if not providers:
+            write_header(sock, {"error": f"no service [{name}] on the graph"})
+            return
+        srv_type = next(iter(providers.values()))
+        md5 = service_md5(srv_type)
+        wanted = header.get("md5sum", "*")
+        if wanted not in ("*", md5):
+            write_header(
+                sock,
+                {"error": f"request from [{caller}]: md5sums do not match: [{wanted}] vs. [{md5}]"},
+            )
+            return
+        ros1 = ros1_name(srv_type).replace("/srv/", "/")
+        write_header(
+            sock,
+            {
+                "callerid": sorted(providers)[0],
+                "md5sum": md5,
+                "request_type": f"{ros1}Request",
+                "response_type": f"{ros1}Response",
+                "type": ros1,
+            },
+        )
+        if header.get("probe") == "1":
+            return
+        store = types().store
+        while not self._stop.is_set():
+            try:
+                data = read_frame(sock)
+            except TcprosError:
+                return  # the client is done (a one-shot call ends so)
+            try:
+                request = store.deserialize_ros1(data, f"{srv_type}_Request")
+                response = self.node.call_service(name, srv_type, request, timeout=30.0)
+                reply = bytes(store.serialize_ros1(response, f"{srv_type}_Response"))
+                sock.sendall(b"\x01")
+                write_frame(sock, reply)
+            except Exception as err:  # noqa: BLE001 (the handler's failure is the caller's answer)
+                text = err.message if isinstance(err, BelvedereError) else str(err)
+                sock.sendall(b"\x00")
+                write_frame(sock, text.encode())
+            if header.get("persistent") != "1":
+                return
+
+    # --- the slave API -------------------------------------------------------------------------
+    def _slave(self, method: str, params: tuple[Any, ...]) -> Any:
+        state = self.graph_state()
+        if method == "requestTopic":
+            protocols = params[2] if len(params) > 2 else []
+            if not any(p and p[0] == "TCPROS" for p in protocols):
+                return [0, "no supported protocol implementations", []]
+            return [1, f"ready on {self.host}:{self.port}", ["TCPROS", self.host, self.port]]
+        if method == "getPid":
+            return [1, "", os.getpid()]
+        if method == "getMasterUri":
+            return [1, "", self.master.uri]
+        if method == "getPublications":
+            return [1, "publications", _listing(state.publishers)]
+        if method == "getSubscriptions":
+            return [1, "subscriptions", _listing(state.subscribers)]
+        if method == "getBusStats":
+            return [1, "", [[], [], []]]
+        if method == "getBusInfo":
+            with self._lock:
+                out = [
+                    [o.id, o.caller, "o", "TCPROS", o.topic, True, ""]
+                    for o in self._outlets.values()
+                ]
+            return [1, "bus info", out]
+        if method in ("paramUpdate", "publisherUpdate"):
+            return [1, "", 0]
+        if method == "shutdown":
+            return [1, "shutdown", 0]
+        msg = f'method "{method}" is not supported'
+        raise xmlrpc.client.Fault(1, msg)
+
+
+def _known(ros1_type: str) -> bool:
+    try:
+        types().resolve(ros1_type)
+    except BelvedereError:
+        return False
+    return True
+
+
+def _rosrpc_address(uri: str) -> tuple[str, int]:
+    """``rosrpc://host:port`` → (host, port)."""
+    rest = uri.removeprefix("rosrpc://").rstrip("/")
+    host, _, port = rest.rpartition(":")
+    return host, int(port)
+
+
+def _service_header(uri: str, fields: dict[str, str]) -> dict[str, str]:
+    """A ROS 1 service server's answer to ``fields`` (a probe), on a connection of its own."""
+    with socket.create_connection(_rosrpc_address(uri), timeout=10.0) as sock:
+        write_header(sock, fields)
+        header = read_header(sock)
+    if "error" in header:
+        raise TcprosError(header["error"])
+    return header
+
+
+def _listing(table: dict[str, dict[str, str]]) -> list[list[str]]:
+    return [[topic, next(iter(users.values()))] for topic, users in sorted(table.items()) if users]

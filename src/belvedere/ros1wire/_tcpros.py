@@ -1,0 +1,110 @@
+"""TCPROS framing: connection headers and length-prefixed messages over a socket.
+
+A header is a 4-byte little-endian length, then fields each a 4-byte length and
+``key=value`` bytes; a message is a 4-byte length and its ROS 1 bytes. A service response
+is a byte (1: ok, 0: failed) before its length and bytes (a failed call's bytes are the
+error's text)."""
+
+from __future__ import annotations
+
+import socket
+import struct
+from typing import Final
+
+__all__ = [
+    "MAX_HEADER",
+    "TcprosError",
+    "decode_header",
+    "encode_header",
+    "read_frame",
+    "read_header",
+    "read_service_reply",
+    "write_frame",
+    "write_header",
+]
+
+_LENGTH: Final = struct.Struct("<I")
+MAX_HEADER: Final = 1 << 20
+"""A header longer than this is not a header (a stray client, a port scan)."""
+MAX_MESSAGE: Final = 1 << 30
+"""roscpp refuses messages of a gigabyte or more."""
+
+
+class TcprosError(Exception):
+    """A connection that broke, or did not speak TCPROS."""
+
+
+def encode_header(fields: dict[str, str]) -> bytes:
+    parts = []
+    for key, value in fields.items():
+        item = f"{key}={value}".encode()
+        parts.append(_LENGTH.pack(len(item)) + item)
+    body = b"".join(parts)
+    return _LENGTH.pack(len(body)) + body
+
+
+def decode_header(body: bytes) -> dict[str, str]:
+    """The fields of a header's body (without its leading length)."""
+    fields: dict[str, str] = {}
+    at = 0
+    while at < len(body):
+        if at + 4 > len(body):
+            msg = "a connection header ends inside a field's length"
+            raise TcprosError(msg)
+        (size,) = _LENGTH.unpack_from(body, at)
+        at += 4
+        if at + size > len(body):
+            msg = "a connection header's field runs past its end"
+            raise TcprosError(msg)
+        key, eq, value = body[at : at + size].decode("utf-8", errors="replace").partition("=")
+        if not eq:
+            msg = f"a connection header's field has no '=': {key[:60]!r}"
+            raise TcprosError(msg)
+        fields[key] = value
+        at += size
+    return fields
+
+
+def _read_exactly(sock: socket.socket, size: int) -> bytes:
+    if size == 0:
+        return b""
+    buffer = bytearray(size)
+    view = memoryview(buffer)
+    got = 0
+    while got < size:
+        n = sock.recv_into(view[got:], size - got)
+        if n == 0:
+            msg = "the connection closed"
+            raise TcprosError(msg)
+        got += n
+    return bytes(buffer)
+
+
+def _read_length(sock: socket.socket, limit: int, what: str) -> int:
+    (size,) = _LENGTH.unpack(_read_exactly(sock, 4))
+    if size > limit:
+        msg = f"a {what} of {size} bytes (more than {limit})"
+        raise TcprosError(msg)
+    return int(size)
+
+
+def read_header(sock: socket.socket) -> dict[str, str]:
+    return decode_header(_read_exactly(sock, _read_length(sock, MAX_HEADER, "header")))
+
+
+def write_header(sock: socket.socket, fields: dict[str, str]) -> None:
+    sock.sendall(encode_header(fields))
+
+
+def read_frame(sock: socket.socket) -> bytes:
+    return _read_exactly(sock, _read_length(sock, MAX_MESSAGE, "message"))
+
+
+def write_frame(sock: socket.socket, data: bytes | memoryview) -> None:
+    sock.sendall(_LENGTH.pack(len(data)) + bytes(data))
+
+
+def read_service_reply(sock: socket.socket) -> tuple[bool, bytes]:
+    """(ok, the response's bytes or the error's text)."""
+    ok = _read_exactly(sock, 1) != b"\x00"
+    return ok, read_frame(sock)
