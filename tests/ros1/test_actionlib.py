@@ -233,6 +233,17 @@ cannot lose it. The client script makes the race rare under ROS (a long GIL swit
 a run of the oracle that still hit it is run again."""
 
 
+LOST_START = re.compile(r"^g\d+ events: done (ABORTED|SUCCEEDED)")
+"""A goal the server accepted (it aborted or finished it) whose start the client never saw:
+ROS's SimpleActionClient can miss ACTIVE when the server ends the goal at once and the status
+that said ACTIVE is overtaken (seen under load, with no log line). belvedere's client sees
+every transition."""
+
+
+def _lost_start(client_lines: list[str]) -> bool:
+    return any(LOST_START.match(line) for line in client_lines)
+
+
 @pytest.fixture(scope="module")
 def ros_run(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Run]:
     """The two scripts run by Debian's python3 with its rospy and actionlib, on a roscore."""
@@ -243,7 +254,7 @@ def ros_run(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Run]:
     for core in start_roscore(workdir / "ros_home"):
         for _ in range(3):
             run = _run_pair([str(ROS_PYTHON)], core.env, workdir)
-            if ROS_RACE not in run.client_err:
+            if ROS_RACE not in run.client_err and not _lost_start(run.client):
                 break
         yield run
 
