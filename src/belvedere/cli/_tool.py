@@ -20,8 +20,9 @@ def _domain(text: str) -> int:
         raise argparse.ArgumentTypeError(err.message) from None
 
 
-def add_graph_options(p: argparse.ArgumentParser) -> None:
-    """``--domain`` and ``--endpoint``: which graph to join."""
+def add_graph_options(p: argparse.ArgumentParser, *, ros_master: bool = True) -> None:
+    """``--domain`` and ``--endpoint``: which graph to join; ``--ros-master``: a ROS 1
+    master it joins too."""
     p.add_argument(
         "--domain",
         type=_domain,
@@ -34,12 +35,21 @@ def add_graph_options(p: argparse.ArgumentParser) -> None:
         metavar="ENDPOINT",
         help="Zenoh endpoint of the graph (default: BELVEDERE_ENDPOINT, else the domain's)",
     )
+    if ros_master:
+        p.add_argument(
+            "--ros-master",
+            metavar="URI",
+            help="also join this running ROS 1 master (http://HOST:11311, a robot's or "
+            "roscore's): the graph's nodes register there as a ROS 1 node",
+        )
 
 
 def graph_address(args: argparse.Namespace) -> GraphAddress:
     """The graph that ``--domain``/``--endpoint`` name (a verb without them: the default)."""
     return GraphAddress(
-        endpoint=getattr(args, "endpoint", None), domain=getattr(args, "domain", None)
+        endpoint=getattr(args, "endpoint", None),
+        domain=getattr(args, "domain", None),
+        ros_master=getattr(args, "ros_master", None),
     )
 
 

@@ -44,7 +44,7 @@ from belvedere.cli._script import parse_rtf
 from belvedere.cli._tool import action_parsers, graph_address
 from belvedere.errors import BelvedereError
 from belvedere.graph import Graph
-from belvedere.runtime import open_clock_transport, open_transport
+from belvedere.runtime import join_ros_master, open_clock_transport, open_transport
 
 __all__ = ["add_parser", "run"]
 
@@ -149,6 +149,13 @@ def _stop_on_signals(stop: threading.Event) -> Iterator[None]:
 
 
 def _record(args: argparse.Namespace) -> int:
+    if getattr(args, "ros_master", None):
+        msg = "bag record does not join a ROS 1 master yet (--ros-master)"
+        raise BelvedereError(
+            msg,
+            hint="record there with ROS 1's own `rosbag record`, or bridge the graph with "
+            "`belvedere roscore` and record with belvedere",
+        )
     options = record_options(args, quiet=args.quiet > 0)
     timed = options.duration is not None and not options.split
     bar = ProgressBar(
@@ -201,6 +208,7 @@ def _play_bags(args: argparse.Namespace, options: PlayOptions, bags: list[BagFil
         transport=transport,
         clock_hz=options.hz if options.clock else None,
     )
+    join_ros_master(graph, graph_address(args))
     bar: ProgressBar | None = None
     stop = threading.Event()
     try:

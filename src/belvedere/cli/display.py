@@ -15,7 +15,7 @@ from belvedere.cli._tool import add_graph_options, graph_address, serve_for
 from belvedere.description.urdf import RobotModel
 from belvedere.graph import Graph
 from belvedere.packages import PackageIndex
-from belvedere.runtime import open_transport, start_bridge
+from belvedere.runtime import join_ros_master, open_transport, start_bridge
 from belvedere.tf import JointStatePublisher, RobotStatePublisher
 
 __all__ = ["add_parser", "run"]
@@ -44,6 +44,7 @@ def run(args: argparse.Namespace) -> int:
     model = RobotModel.from_path(args.input, mappings=mappings, packages=packages)
     report_diagnostics(model.warnings, source=args.input)
     graph = Graph(sim_time=False, transport=open_transport(graph_address(args)))
+    join_ros_master(graph, graph_address(args))
     graph.params.set("/robot_description", model.to_urdf())
     RobotStatePublisher(graph.create_node("robot_state_publisher"), model)
     jsp = JointStatePublisher(graph.create_node("joint_state_publisher"), model)

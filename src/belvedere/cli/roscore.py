@@ -44,7 +44,7 @@ def add_parser(
         "protocol has no authentication: anyone who reaches the port can do anything",
     )
     p.add_argument("--duration", type=float, help="exit after SECONDS (for scripts)")
-    add_graph_options(p)
+    add_graph_options(p, ros_master=False)
     p.set_defaults(run=run)
 
 

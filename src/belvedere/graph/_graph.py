@@ -7,6 +7,7 @@ them to other processes when someone there wants them.
 from __future__ import annotations
 
 import itertools
+import logging
 import os
 import threading
 import time
@@ -268,6 +269,9 @@ class Graph:
         self.topics: dict[str, Topic] = {}
         self.services: dict[str, ServiceServer] = {}
         self.nodes: dict[str, Node] = {}
+        self.shutdown_hooks: list[Callable[[], None]] = []
+        """Run first by :meth:`shutdown`, last added first (a bridge leaves before the
+        executor stops)."""
         self.transport = transport
         if transport is not None:
             transport.attach(self)
@@ -461,6 +465,12 @@ class Graph:
         return thread
 
     def shutdown(self) -> None:
+        while self.shutdown_hooks:
+            hook = self.shutdown_hooks.pop()
+            try:
+                hook()
+            except Exception:  # one hook's failure must not keep the graph running
+                logging.getLogger(__name__).exception("a shutdown hook failed")
         self.executor.stop()
         if self.transport is not None:
             self.transport.close()

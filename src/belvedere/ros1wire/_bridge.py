@@ -31,7 +31,7 @@ from belvedere.errors import BelvedereError
 from belvedere.graph import Graph, Publisher, Subscription, ZenohTransport
 from belvedere.msgs import canonical, learn_full_text, ros1_name, ros1_text, types
 from belvedere.ros1._spec import service_md5
-from belvedere.ros1wire._master import Master, Registrations
+from belvedere.ros1wire._master import MasterSide, Registrations
 from belvedere.ros1wire._tcpros import (
     TcprosError,
     read_frame,
@@ -76,6 +76,7 @@ class _Inlet:
     topic: str
     ros1_type: str
     publisher: Publisher | None = None
+    advertised: bool = False
     sources: dict[str, socket.socket | None] = field(default_factory=dict)
     """publisher's slave API → its connection (None while connecting)"""
     closed: bool = False
@@ -84,7 +85,7 @@ class _Inlet:
 class Ros1Bridge:
     """Serve the graph to ROS 1 programs registered with ``master`` (and tell it so)."""
 
-    def __init__(self, graph: Graph, master: Master, host: str = "127.0.0.1") -> None:
+    def __init__(self, graph: Graph, master: MasterSide, host: str = "127.0.0.1") -> None:
         self.graph = graph
         self.master = master
         self.host = host
@@ -162,8 +163,7 @@ class Ros1Bridge:
             state.nodes = {n: self.uri for n in info.nodes if n != own}
         with self._lock:
             before, self._state = self._state, state
-        for topic in set(before.publishers) ^ set(state.publishers):
-            self.master.publisher_update(topic)
+        self.master.graph_changed(before, state)
         self._reconcile_inlets(state)
         self._learn_new_types()
         self._reconcile_services(state)
@@ -181,21 +181,30 @@ class Ros1Bridge:
 
     # --- ROS 1 publishers → the graph ----------------------------------------------------------
     def _reconcile_inlets(self, state: Registrations) -> None:
-        ros1 = self.master.ros1
-        with self.master._lock:
-            published = {t: dict(users) for t, users in ros1.publishers.items() if users}
-            apis = dict(ros1.nodes)
-        wanted = {t for t in published if state.subscribers.get(t)}
+        """Each topic ROS 1 programs publish is advertised on the graph by the bridge's node
+        (so belvedere's tools list it with its type); its publishers are read only while a
+        graph node subscribes."""
+        ros1 = self.master.ros1_view()
+        published = {t: users for t, users in ros1.publishers.items() if users}
+        apis = ros1.nodes
         with self._lock:
-            gone = [i for t, i in self._inlets.items() if t not in wanted]
+            gone = [i for t, i in self._inlets.items() if t not in published]
             for inlet in gone:
                 del self._inlets[inlet.topic]
         for inlet in gone:
             self._close_inlet(inlet)
-        for topic in wanted:
-            users = published[topic]
+        for topic, users in published.items():
+            typ = next(iter(users.values()))
             with self._lock:
-                inlet = self._inlets.setdefault(topic, _Inlet(topic, next(iter(users.values()))))
+                inlet = self._inlets.setdefault(topic, _Inlet(topic, typ))
+            if not inlet.advertised and _known(typ):
+                inlet.advertised = True
+                store_type = types().resolve(typ)
+                self.graph.executor.post(partial(self._open_publisher, inlet, store_type, False))
+            if not state.subscribers.get(topic):
+                self._drop_sources(inlet)
+                continue
+            with self._lock:
                 for node in users:
                     api = apis.get(node)
                     retry = self._failed.get((topic, api or ""))
@@ -209,6 +218,14 @@ class Ros1Bridge:
                             name="belvedere-tcpros-in",
                             daemon=True,
                         ).start()
+
+    def _drop_sources(self, inlet: _Inlet) -> None:
+        """Stop reading a topic nobody on the graph listens to (its readers end)."""
+        with self._lock:
+            socks = [s for s in inlet.sources.values() if s is not None]
+        for sock in socks:
+            with contextlib.suppress(OSError):
+                sock.shutdown(socket.SHUT_RDWR)
 
     def _read_from(self, inlet: _Inlet, api: str) -> None:
         try:
@@ -229,7 +246,7 @@ class Ros1Bridge:
             latched = header.get("latching", "0") == "1"
             self.graph.executor.post(partial(self._open_publisher, inlet, store_type, latched))
             while not inlet.closed:
-                data = read_frame(sock)
+                data = read_frame(sock)  # ends (OSError) when the sources are dropped
                 msg = types().store.deserialize_ros1(data, store_type)
                 self.graph.executor.post(partial(self._publish, inlet, msg))
         except (OSError, TcprosError) as err:
@@ -296,12 +313,12 @@ class Ros1Bridge:
     def _learn_new_types(self) -> None:
         """Ask each ROS 1 publisher of a type the graph does not know for its definition
         (the connection header has it), so graph nodes can subscribe to the topic."""
-        with self.master._lock:
-            published = [
-                (topic, typ, self.master.ros1.nodes.get(node))
-                for topic, users in self.master.ros1.publishers.items()
-                for node, typ in users.items()
-            ]
+        ros1 = self.master.ros1_view()
+        published = [
+            (topic, typ, ros1.nodes.get(node))
+            for topic, users in ros1.publishers.items()
+            for node, typ in users.items()
+        ]
         for topic, typ, api in published:
             if api is None or (topic, api) in self._probed or _known(typ):
                 continue
@@ -325,12 +342,11 @@ class Ros1Bridge:
     def _reconcile_services(self, state: Registrations) -> None:
         """Offer each ROS 1 service on the graph (its type asked of the server with a
         probe, as rosservice does), and withdraw those gone."""
-        with self.master._lock:
-            ros1 = {
-                name: next(iter(providers.values()))
-                for name, providers in self.master.ros1.services.items()
-                if providers
-            }
+        ros1 = {
+            name: next(iter(providers.values()))
+            for name, providers in self.master.ros1_view().services.items()
+            if providers
+        }
         for name in [n for n in self._offered if n not in ros1]:
             server = self._offered.pop(name)
             self.graph.executor.post(server.unregister)
@@ -396,11 +412,7 @@ class Ros1Bridge:
 
     def _close_inlet(self, inlet: _Inlet) -> None:
         inlet.closed = True
-        with self._lock:
-            socks = [s for s in inlet.sources.values() if s is not None]
-        for sock in socks:
-            with contextlib.suppress(OSError):
-                sock.shutdown(socket.SHUT_RDWR)
+        self._drop_sources(inlet)
         publisher = inlet.publisher
         if publisher is not None:
             self.graph.executor.post(publisher.unregister)
@@ -580,6 +592,10 @@ class Ros1Bridge:
                     for o in self._outlets.values()
                 ]
             return [1, "bus info", out]
+        if method == "publisherUpdate" and len(params) >= 3:
+            self.master.publishers_updated(str(params[1]), [str(u) for u in params[2]])
+            self._wake.set()
+            return [1, "", 0]
         if method in ("paramUpdate", "publisherUpdate"):
             return [1, "", 0]
         if method == "shutdown":

@@ -21,7 +21,7 @@ from belvedere.errors import BelvedereError
 from belvedere.ros1wire._params import GraphParams, resolve_key
 from belvedere.ros1wire._xmlrpc import XmlRpcServer, server_proxy
 
-__all__ = ["Master", "Peers", "Registrations"]
+__all__ = ["Master", "MasterSide", "Peers", "Registrations"]
 
 logger = logging.getLogger("belvedere.ros1wire")
 
@@ -43,6 +43,25 @@ class Peers(Protocol):
         """A ROS 1 program registered or unregistered on ``topic``."""
 
 
+class MasterSide(Protocol):
+    """What the bridge needs of a master: this process's own (:class:`Master`) or a running
+    one it registers with (``ros1wire._remote``)."""
+
+    uri: str
+
+    def attach(self, peers: Peers) -> None: ...
+
+    def ros1_view(self) -> Registrations:
+        """The ROS 1 programs' registrations (a copy): topic → {node: type}, node → API."""
+        ...
+
+    def graph_changed(self, before: Registrations, after: Registrations) -> None:
+        """The graph's publishers, subscribers or services changed."""
+
+    def publishers_updated(self, topic: str, uris: list[str]) -> None:
+        """The master said who publishes ``topic`` now (``publisherUpdate``)."""
+
+
 @dataclass
 class Registrations:
     """topic → {node: type} of publishers and subscribers; service → {node: URI}; node →
@@ -52,6 +71,14 @@ class Registrations:
     subscribers: dict[str, dict[str, str]] = field(default_factory=dict)
     services: dict[str, dict[str, str]] = field(default_factory=dict)
     nodes: dict[str, str] = field(default_factory=dict)
+
+    def copy(self) -> Registrations:
+        return Registrations(
+            {k: dict(v) for k, v in self.publishers.items()},
+            {k: dict(v) for k, v in self.subscribers.items()},
+            {k: dict(v) for k, v in self.services.items()},
+            dict(self.nodes),
+        )
 
     def topic_type(self, topic: str) -> str | None:
         for table in (self.publishers, self.subscribers):
@@ -82,6 +109,17 @@ class Master:
     def close(self) -> None:
         self.server.close()
         self._calls.shutdown(wait=False, cancel_futures=True)
+
+    def ros1_view(self) -> Registrations:
+        with self._lock:
+            return self.ros1.copy()
+
+    def graph_changed(self, before: Registrations, after: Registrations) -> None:
+        for topic in set(before.publishers) ^ set(after.publishers):
+            self.publisher_update(topic)
+
+    def publishers_updated(self, topic: str, uris: list[str]) -> None:
+        pass  # this master sends publisherUpdate; it is never sent one
 
     # --- calls out ------------------------------------------------------------------------------
     def _call_later(self, uri: str, method: str, *args: Any) -> None:

@@ -27,6 +27,7 @@ __all__ = [
     "Tool",
     "holds_parameters",
     "join_graph",
+    "join_ros_master",
     "open_tool",
     "open_transport",
     "running_params",
@@ -46,6 +47,9 @@ class GraphAddress:
     """A Zenoh endpoint (``tcp/127.0.0.1:7450``)."""
     domain: int | None = None
     """A domain number: domain N meets on ``tcp/127.0.0.1:<7450+N>``."""
+    ros_master: str | None = None
+    """A running ROS 1 master (``http://host:11311``) the graph also joins, its nodes
+    registered there as a ROS 1 node (``--ros-master``)."""
 
 
 def open_transport(address: GraphAddress, **options: Any) -> ZenohTransport:
@@ -116,6 +120,7 @@ def open_tool(address: GraphAddress, kind: str) -> Tool:
     node = graph.create_node(f"belvedere_{kind}_{os.getpid()}")
     if sim_time:
         graph.follow_clock(node)
+    join_ros_master(graph, address)
     tool = Tool(graph, transport, node)
     threading.Thread(target=tool._end_when_asked, name="belvedere-tool-watch", daemon=True).start()
     return tool
@@ -132,15 +137,31 @@ def join_graph(address: GraphAddress, *, seed: int = 0, alone: bool | None = Non
     remote = running_params(transport)
     if remote is None:
         if alone is None:
-            return Graph(sim_time=False, seed=seed, transport=transport, clock_hz=None)
-        transport.serve_params = True  # read when the graph attaches it, just below
-        return Graph(sim_time=alone, seed=seed, transport=transport)
+            graph = Graph(sim_time=False, seed=seed, transport=transport, clock_hz=None)
+        else:
+            transport.serve_params = True  # read when the graph attaches it, just below
+            graph = Graph(sim_time=alone, seed=seed, transport=transport)
+        join_ros_master(graph, address)
+        return graph
     following = bool(remote.get("use_sim_time", False))
     graph = Graph(sim_time=following, seed=seed, transport=transport, clock_hz=None)
     graph.params.set("/", remote)
     if following:
         graph.follow_clock(graph.create_node(f"belvedere_clock_follower_{os.getpid()}"))
+    join_ros_master(graph, address)
     return graph
+
+
+def join_ros_master(graph: Graph, address: GraphAddress) -> None:
+    """With ``--ros-master URI``: the graph joins that ROS 1 master too (its parameters
+    copied in where the graph has none of that name), until it shuts down."""
+    if address.ros_master is None:
+        return
+    from belvedere.ros1wire import join_master
+
+    handle = join_master(graph, address.ros_master)
+    graph.shutdown_hooks.append(handle.close)
+    logger.info("ROS 1 master: %s (joined)", handle.uri)
 
 
 def running_params(transport: ZenohTransport) -> dict[str, Any] | None:

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 from belvedere.graph import Graph, GraphError, graph_running
 from belvedere.runtime._bridge import BridgeOptions, start_bridge
 from belvedere.runtime._clock import hold_time_base, open_clock_transport
-from belvedere.runtime._join import GraphAddress, join_graph
+from belvedere.runtime._join import GraphAddress, join_graph, join_ros_master
 from belvedere.runtime._scripted import EchoWait, ScriptOptions, install_script
 
 if TYPE_CHECKING:
@@ -128,6 +128,7 @@ def run_session(
     else:
         transport = open_clock_transport(options.address, clock=sim_time)
         graph = Graph(sim_time=sim_time, seed=options.seed, transport=transport)
+        join_ros_master(graph, options.address)
     hold_time_base(config, graph)
     runtime = LaunchRuntime(
         config,
