@@ -114,6 +114,9 @@ class _Reader:
         if not isinstance(bag, bool):
             msg = "bag: expects true or false"
             raise self.fail(msg, "bag")
+        if bag and kind != "launch":
+            msg = "bag: true needs launch: (the bag is recorded by a rosbag node beside the run's)"
+            raise self.fail(msg, "bag")
         dims = self._dimensions(data.get("runs") or {}, kind)
         runs = []
         for index, combo in enumerate(itertools.product(*(values for _, values in dims))):
