@@ -129,6 +129,7 @@ class HostAccess:
         opened = (
             self.discover
             or (self.listen is not None and endpoint == self.listen)
+            or (self.connect is not None and endpoint == self.connect)  # a --listen graph
             or not is_loopback_endpoint(endpoint)
         )
         if self.token is not None:

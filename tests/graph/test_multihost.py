@@ -1,0 +1,154 @@
+"""One graph across hosts, on one machine: each "host" on its own loopback address (Linux
+routes all of 127.0.0.0/8 to lo), real processes, the graph guarded by its token. The tests
+never contact the machine's other addresses."""
+
+from __future__ import annotations
+
+import os
+import socket
+import subprocess
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from belvedere.graph import HostAccess, HostAccessError, check_token, new_token
+from belvedere.graph._hosts import is_loopback_endpoint
+from tests.processes import BelvedereProcess
+from tests.waiting import DEADLINE
+
+ROOT = Path(__file__).resolve().parents[2]
+MODEL = ROOT / "examples/mbot_description/urdf/xacro/gazebo/mbot_gazebo.xacro"
+HOST_A = "127.0.0.2"
+
+
+def _free_port(host: str) -> int:
+    with socket.socket() as sock:
+        sock.bind((host, 0))
+        port: int = sock.getsockname()[1]
+    return port
+
+
+def _host_env(**graph: str) -> dict[str, str]:
+    """The environment of a process on "another host": none of the test's own graph."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith("BELVEDERE_")}
+    env.update(graph)
+    return env
+
+
+def _belvedere(args: list[str], env: dict[str, str]) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "belvedere", *args],
+        capture_output=True,
+        text=True,
+        timeout=DEADLINE,
+        check=False,
+        env=env,
+    )
+
+
+@pytest.fixture
+def host_a() -> Iterator[tuple[str, str]]:
+    """A simulation on "host" 127.0.0.2 opened with ``--listen``: (endpoint, its token)."""
+    endpoint = f"tcp/{HOST_A}:{_free_port(HOST_A)}"
+    saved, host_env = dict(os.environ), _host_env()
+    os.environ.clear()
+    os.environ.update(host_env)
+    try:
+        sim = BelvedereProcess(
+            ["sim", str(MODEL), "--headless", "--listen", endpoint],
+            ready="ArbotiX being simulated",
+            ended="the listening simulation ended",
+        )
+    finally:
+        os.environ.clear()
+        os.environ.update(saved)
+    printed = "".join(sim.lines)
+    assert f"export BELVEDERE_CONNECT={endpoint} BELVEDERE_TOKEN=" in printed
+    token = printed.split("BELVEDERE_TOKEN=", 1)[1].split()[0]
+    assert f"graph: domain 0 ({endpoint}, listening)" in printed
+    yield endpoint, token
+    sim.stop()
+
+
+def test_a_host_with_the_token_joins_the_graph(host_a: tuple[str, str]) -> None:
+    endpoint, token = host_a
+    env = _host_env(BELVEDERE_TOKEN=token)
+    echo = _belvedere(["topic", "echo", "-n", "1", "/odom", "--connect", endpoint], env)
+    assert echo.returncode == 0, echo.stderr
+    assert 'frame_id: "odom"' in echo.stdout
+    assert f"({endpoint}, connected)" in echo.stderr
+    # the environment alone, as a second machine's shell would set it
+    env = _host_env(BELVEDERE_CONNECT=endpoint, BELVEDERE_TOKEN=token)
+    nodes = _belvedere(["node", "list"], env)
+    assert nodes.returncode == 0, nodes.stderr
+    assert "/robot_state_publisher" in nodes.stdout.split()
+
+
+def test_a_peer_without_the_token_is_refused(host_a: tuple[str, str]) -> None:
+    endpoint, token = host_a
+    missing = _belvedere(["topic", "list", "--connect", endpoint], _host_env())
+    assert missing.returncode == 1
+    assert "error: joining the graph at" in missing.stderr
+    assert "needs its token" in missing.stderr
+    assert "Traceback" not in missing.stderr
+    # asked to stay on loopback, it tries without one: the host's authentication refuses it
+    unguarded = _belvedere(["topic", "list", "--endpoint", endpoint], _host_env())
+    assert unguarded.returncode == 1
+    assert f"the graph at {endpoint} refused this process: its token is missing" in (
+        unguarded.stderr
+    )
+    wrong = new_token()
+    assert wrong != token
+    refused = _belvedere(["topic", "list", "--connect", endpoint, "--token", wrong], _host_env())
+    assert refused.returncode == 1
+    assert f"the graph at {endpoint} refused this process: its token is wrong" in (refused.stderr)
+
+
+def test_a_graph_off_loopback_never_opens_without_a_token() -> None:
+    # refused before any socket is opened: nothing listens on the machine's addresses
+    port = _free_port("127.0.0.1")
+    ran = _belvedere(["topic", "list", "--endpoint", f"tcp/0.0.0.0:{port}"], _host_env())
+    assert ran.returncode == 1
+    assert f"a graph open to other hosts (tcp/0.0.0.0:{port}) needs a token" in ran.stderr
+    bad = _belvedere(["topic", "list", "--connect", "somewhere"], _host_env())
+    assert bad.returncode == 2
+    assert "'somewhere' is not a graph endpoint (tcp/HOST:PORT)" in bad.stderr
+
+
+def test_host_access_rules(monkeypatch: pytest.MonkeyPatch) -> None:
+    for var in ("BELVEDERE_LISTEN", "BELVEDERE_CONNECT", "BELVEDERE_TOKEN", "BELVEDERE_DISCOVER"):
+        monkeypatch.delenv(var, raising=False)
+    monkeypatch.delenv("BELVEDERE_ENDPOINT", raising=False)
+    plain = HostAccess.from_environment()
+    assert plain.endpoint(None, "tcp/127.0.0.1:7450") == "tcp/127.0.0.1:7450"
+    assert plain.guard("tcp/127.0.0.1:7450") is None
+    assert plain.guard("tcp/[::1]:7450") is None
+    with pytest.raises(HostAccessError, match="needs a token"):
+        plain.guard("tcp/192.0.2.1:7450")  # documentation address: only checked, not used
+    assert is_loopback_endpoint("tcp/localhost:1")
+    assert not is_loopback_endpoint("tcp/robot.local:1")
+    token = new_token()
+    assert check_token(token) == token
+    with pytest.raises(HostAccessError, match="not a graph token"):
+        check_token("short")
+    with pytest.raises(HostAccessError, match="not a graph token"):
+        check_token("a" * 20 + ":evil\nuser")  # would add a line to Zenoh's dictionary
+    monkeypatch.setenv("BELVEDERE_LISTEN", "tcp/127.0.0.3:7450")
+    monkeypatch.setenv("BELVEDERE_CONNECT", "tcp/127.0.0.4:7450")
+    both = HostAccess.from_environment()
+    assert both.endpoint("tcp/127.0.0.1:1", "d") == "tcp/127.0.0.1:1"  # --endpoint first
+    assert both.endpoint(None, "d") == "tcp/127.0.0.4:7450"  # then where it connects
+    with pytest.raises(HostAccessError, match="needs its token"):
+        both.guard("tcp/127.0.0.4:7450")
+    monkeypatch.delenv("BELVEDERE_CONNECT")
+    with pytest.raises(HostAccessError, match="needs a token"):
+        HostAccess.from_environment().guard("tcp/127.0.0.3:7450")  # --listen, even on lo
+    monkeypatch.setenv("BELVEDERE_TOKEN", token)
+    assert HostAccess.from_environment().guard("tcp/127.0.0.3:7450") == token
+    monkeypatch.delenv("BELVEDERE_LISTEN")
+    monkeypatch.delenv("BELVEDERE_TOKEN")
+    monkeypatch.setenv("BELVEDERE_DISCOVER", "1")
+    with pytest.raises(HostAccessError, match="needs a token"):
+        HostAccess.from_environment().guard("tcp/127.0.0.1:7450")  # scouting the LAN
