@@ -152,3 +152,54 @@ def test_host_access_rules(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("BELVEDERE_DISCOVER", "1")
     with pytest.raises(HostAccessError, match="needs a token"):
         HostAccess.from_environment().guard("tcp/127.0.0.1:7450")  # scouting the LAN
+
+
+def test_navigation_on_one_host_localises_the_robot_simulated_on_another() -> None:
+    """The course's split: Gazebo's world on the robot's host, map_server, amcl, move_base
+    and rviz (headless) on the laptop; amcl's pose needs the other host's /scan, /odom and
+    /clock, so it proves the graph is one."""
+    endpoint = f"tcp/{HOST_A}:{_free_port(HOST_A)}"
+    examples = str(ROOT / "examples")
+
+    def launch(path: str) -> list[str]:
+        return ["launch", "--headless", "--package-path", path]
+
+    saved, host_env = dict(os.environ), _host_env()
+    os.environ.clear()
+    os.environ.update(host_env)
+    try:
+        sim = BelvedereProcess(
+            [
+                *launch(examples),
+                "mbot_gazebo",
+                "mbot_laser_nav_gazebo.launch",
+                "--listen",
+                endpoint,
+            ],
+            ready="graph: domain 0",
+            ended="the simulation host's launch ended",
+        )
+        token = "".join(sim.lines).split("BELVEDERE_TOKEN=", 1)[1].split()[0]
+        os.environ.update(BELVEDERE_CONNECT=endpoint, BELVEDERE_TOKEN=token)
+        nav = BelvedereProcess(
+            [*launch(examples), "mbot_navigation", "nav_cloister_demo.launch"],
+            ready="graph: domain 0",
+            ended="the navigation host's launch ended",
+        )
+    finally:
+        os.environ.clear()
+        os.environ.update(saved)
+    try:
+        assert f"({endpoint}, connected)" in nav.ready
+        env = _host_env(BELVEDERE_CONNECT=endpoint, BELVEDERE_TOKEN=token)
+        pose = _belvedere(["topic", "echo", "-n", "1", "/amcl_pose"], env)
+        assert pose.returncode == 0, pose.stderr
+        assert 'frame_id: "map"' in pose.stdout
+        # stamped in the simulation's time, whose /clock only the other host publishes
+        stamp = pose.stdout.split("secs:", 1)[1].split("nsecs:", 1)
+        assert int(stamp[0]) + int(stamp[1].split()[0]) > 0, pose.stdout
+        nodes = _belvedere(["node", "list"], env).stdout.split()
+        assert {"/gazebo", "/amcl", "/move_base", "/map_server"} <= set(nodes)
+    finally:
+        nav.stop()
+        sim.stop()
