@@ -5,6 +5,7 @@ never contact the machine's other addresses."""
 from __future__ import annotations
 
 import os
+import shutil
 import socket
 import subprocess
 import sys
@@ -203,3 +204,45 @@ def test_navigation_on_one_host_localises_the_robot_simulated_on_another() -> No
     finally:
         nav.stop()
         sim.stop()
+
+
+DISCOVER_SCRIPT = """
+set -e
+ip link set lo up multicast on
+ip route add 224.0.0.0/4 dev lo
+"$PYTHON" -m belvedere sim "$MODEL" --headless --discover --endpoint tcp/127.0.0.2:7450 \
+    2>"$LOG" &
+trap 'kill -INT $!; wait $!' EXIT
+"$PYTHON" -m belvedere topic echo -n 1 /odom --discover --endpoint tcp/127.0.0.3:7450
+"""
+
+
+def test_discover_finds_the_graph_by_scouting_inside_a_network_namespace(
+    tmp_path: Path,
+) -> None:
+    """``--discover``: no endpoint names the other host, Zenoh's multicast scouting finds it —
+    only inside a network namespace the test makes, where lo is the only interface."""
+    unshare, ip = shutil.which("unshare"), shutil.which("ip")
+    if unshare is None or ip is None:
+        pytest.skip("unshare or ip (iproute2) is not installed")
+    if subprocess.run([unshare, "-n", "true"], check=False, capture_output=True).returncode:
+        pytest.skip("cannot make a network namespace here (needs root or user namespaces)")
+    env = _host_env(
+        BELVEDERE_TOKEN=new_token(),
+        PYTHON=sys.executable,
+        MODEL=str(MODEL),
+        LOG=str(tmp_path / "sim.log"),
+    )
+    ran = subprocess.run(
+        [unshare, "-n", "bash", "-c", DISCOVER_SCRIPT],
+        capture_output=True,
+        text=True,
+        timeout=DEADLINE,
+        check=False,
+        env=env,
+    )
+    log = (tmp_path / "sim.log").read_text()
+    assert ran.returncode == 0, ran.stderr + log
+    assert 'frame_id: "odom"' in ran.stdout
+    assert "(tcp/127.0.0.2:7450, listening)" in log
+    assert "(tcp/127.0.0.3:7450, listening)" in ran.stderr  # each its own peer, found by scouting
