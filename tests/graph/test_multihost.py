@@ -49,10 +49,11 @@ def _belvedere(args: list[str], env: dict[str, str]) -> subprocess.CompletedProc
     )
 
 
-@pytest.fixture
-def host_a() -> Iterator[tuple[str, str]]:
-    """A simulation on "host" 127.0.0.2 opened with ``--listen``: (endpoint, its token)."""
-    endpoint = f"tcp/{HOST_A}:{_free_port(HOST_A)}"
+@pytest.fixture(params=["tcp", "tls"])
+def host_a(request: pytest.FixtureRequest) -> Iterator[tuple[str, str]]:
+    """A simulation on "host" 127.0.0.2 opened with ``--listen`` (plain TCP, or TLS with the
+    token's certificates): (endpoint, its token)."""
+    endpoint = f"{request.param}/{HOST_A}:{_free_port(HOST_A)}"
     saved, host_env = dict(os.environ), _host_env()
     os.environ.clear()
     os.environ.update(host_env)
@@ -94,17 +95,20 @@ def test_a_peer_without_the_token_is_refused(host_a: tuple[str, str]) -> None:
     assert "error: joining the graph at" in missing.stderr
     assert "needs its token" in missing.stderr
     assert "Traceback" not in missing.stderr
-    # asked to stay on loopback, it tries without one: the host's authentication refuses it
+    # asked to stay on loopback, TCP tries without one: the host's authentication refuses it
     unguarded = _belvedere(["topic", "list", "--endpoint", endpoint], _host_env())
     assert unguarded.returncode == 1
-    assert f"the graph at {endpoint} refused this process: its token is missing" in (
-        unguarded.stderr
+    expected = (
+        f"a graph open to other hosts ({endpoint}) needs a token"  # TLS: no certificates
+        if endpoint.startswith("tls/")
+        else f"the graph at {endpoint} refused this process: its token is missing"
     )
+    assert expected in unguarded.stderr
     wrong = new_token()
     assert wrong != token
     refused = _belvedere(["topic", "list", "--connect", endpoint, "--token", wrong], _host_env())
     assert refused.returncode == 1
-    assert f"the graph at {endpoint} refused this process: its token is wrong" in (refused.stderr)
+    assert f"the graph at {endpoint} refused this process: its token is wrong" in refused.stderr
 
 
 def test_a_graph_off_loopback_never_opens_without_a_token() -> None:
@@ -246,3 +250,31 @@ def test_discover_finds_the_graph_by_scouting_inside_a_network_namespace(
     assert 'frame_id: "odom"' in ran.stdout
     assert "(tcp/127.0.0.2:7450, listening)" in log
     assert "(tcp/127.0.0.3:7450, listening)" in ran.stderr  # each its own peer, found by scouting
+
+
+def test_tls_certificates_are_the_tokens_alone(tmp_path: Path) -> None:
+    """Two hosts with one token build the same certificates (nothing to copy); another token
+    makes others, which the first graph's authority does not sign."""
+    from cryptography import x509
+    from cryptography.exceptions import InvalidSignature
+
+    token = new_token()
+    script = (
+        "import sys; from belvedere.graph._tls import tls_settings\n"
+        "s = tls_settings(sys.argv[1])\n"
+        "sys.stdout.write(''.join(open(s[k]).read() for k in "
+        "('root_ca_certificate', 'listen_certificate', 'listen_private_key')))"
+    )
+    made = [
+        subprocess.run(
+            [sys.executable, "-c", script, t], capture_output=True, text=True, check=True
+        ).stdout
+        for t in (token, token, new_token())
+    ]
+    assert made[0] == made[1]
+    assert "BEGIN PRIVATE KEY" in made[0]
+    ours, theirs = (x509.load_pem_x509_certificates(m.encode()) for m in (made[0], made[2]))
+    assert made[0] != made[2]
+    ours[1].verify_directly_issued_by(ours[0])
+    with pytest.raises(InvalidSignature):
+        theirs[1].verify_directly_issued_by(ours[0])

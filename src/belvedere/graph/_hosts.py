@@ -10,7 +10,9 @@ Nothing is open without protection: a graph that listens off loopback, listens b
 ``--listen`` or scouts needs ``BELVEDERE_TOKEN``, and every Zenoh session of it then
 authenticates with Zenoh's user/password scheme (user ``belvedere``, the token as password).
 Zenoh checks it by a challenge, so the token never crosses the network, and refuses a peer
-without it before any message flows. The traffic itself is not encrypted.
+without it before any message flows. On a ``tcp/`` endpoint the traffic itself is not
+encrypted; on a ``tls/`` endpoint it is, with certificates made from the token
+(:mod:`belvedere.graph._tls`).
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ from typing import Final
 import zenoh
 
 from belvedere.errors import BelvedereError
+from belvedere.graph._tls import tls_settings
 
 __all__ = [
     "TOKEN_USER",
@@ -128,6 +131,7 @@ class HostAccess:
         on loopback unguarded. Raises for a graph that would be open without one."""
         opened = (
             self.discover
+            or endpoint.startswith("tls/")  # its certificates come from the token
             or (self.listen is not None and endpoint == self.listen)
             or (self.connect is not None and endpoint == self.connect)  # a --listen graph
             or not is_loopback_endpoint(endpoint)
@@ -144,12 +148,15 @@ class HostAccess:
             hint = "use --listen (it makes one), or set BELVEDERE_TOKEN"
         raise HostAccessError(msg, hint=hint)
 
-    def configure(self, conf: zenoh.Config, token: str | None) -> None:
-        """Add scouting and the token's authentication to a session's ``conf``."""
+    def configure(self, conf: zenoh.Config, endpoint: str, token: str | None) -> None:
+        """Add scouting, the token's authentication and (on a ``tls/`` endpoint) the
+        token's certificates to the ``conf`` of a session on ``endpoint``."""
         if self.discover:
             conf.insert_json5("scouting/multicast/enabled", "true")
         if token is None:
             return
+        if endpoint.startswith("tls/"):
+            conf.insert_json5("transport/link/tls", json.dumps(tls_settings(token)))
         auth = {"user": TOKEN_USER, "password": token, "dictionary_file": _dictionary(token)}
         conf.insert_json5("transport/auth/usrpwd", json.dumps(auth))
 

@@ -87,14 +87,14 @@ def decode_key(chunk: str) -> str:
 
 def graph_running(endpoint: str | None = None, domain: int | None = None) -> bool:
     """Is a graph already listening on the endpoint (``--endpoint``/``--domain``'s, else the
-    environment's)? Only TCP endpoints can be asked; others count as not running."""
+    environment's)? Only TCP (and TLS) endpoints can be asked; others count as not running."""
     if endpoint is None:
         endpoint = HostAccess.from_environment().endpoint(
             None, domain_endpoint(check_domain(domain))
         )
     proto, _, where = endpoint.partition("/")
     host, _, port = where.rpartition(":")
-    if proto != "tcp" or not port.isdigit():
+    if proto not in ("tcp", "tls") or not port.isdigit():  # TLS runs over TCP
         return False
     try:
         with socket.create_connection((host.strip("[]"), int(port)), timeout=0.5):
@@ -127,14 +127,14 @@ def open_session(endpoint: str | None = None, *, role: str = "auto") -> tuple[ze
     errors = []
     if role in ("auto", "listen"):
         conf = _config("peer", listen=endpoint, connect=None)
-        access.configure(conf, token)
+        access.configure(conf, endpoint, token)
         try:
             return zenoh.open(conf), "listen"
         except zenoh.ZError as err:
             errors.append(str(err).split(" at ")[0])
     if role in ("auto", "connect"):
         conf = _config("client", listen=None, connect=endpoint)
-        access.configure(conf, token)
+        access.configure(conf, endpoint, token)
         try:
             return zenoh.open(conf), "connect"
         except zenoh.ZError as err:
@@ -142,7 +142,10 @@ def open_session(endpoint: str | None = None, *, role: str = "auto") -> tuple[ze
             if graph_running(endpoint):
                 # it accepts connections but not this session: Zenoh's authentication said no
                 msg = f"the graph at {endpoint} refused this process: its token is " + (
-                    "wrong" if token else "missing"
+                    "wrong (or the graph speaks tls/ where this process speaks tcp/, or the "
+                    "other way round)"
+                    if token
+                    else "missing"
                 )
                 raise TransportError(
                     msg,
