@@ -36,8 +36,10 @@ def _domain(text: str) -> int:
         raise argparse.ArgumentTypeError(err.message) from None
 
 
-def add_graph_options(p: argparse.ArgumentParser) -> None:
-    """``--domain`` and ``--endpoint``: which graph to join."""
+def add_graph_options(p: argparse.ArgumentParser, *, hosts: bool = True) -> None:
+    """``--domain`` and ``--endpoint``: which graph to join; with ``hosts``, the options of a
+    graph across hosts too (:func:`add_host_options`; a verb whose own ``--listen`` came
+    first leaves them to the environment, ``BELVEDERE_CONNECT`` …)."""
     p.add_argument(
         "--domain",
         type=_domain,
@@ -50,7 +52,8 @@ def add_graph_options(p: argparse.ArgumentParser) -> None:
         metavar="ENDPOINT",
         help="Zenoh endpoint of the graph (default: BELVEDERE_ENDPOINT, else the domain's)",
     )
-    add_host_options(p)
+    if hosts:
+        add_host_options(p)
 
 
 def _endpoint(text: str) -> str:
@@ -73,14 +76,14 @@ def add_host_options(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--listen",
         type=_endpoint,
-        metavar="tcp/IP:PORT",
+        metavar="tls/IP:PORT",
         help="open this graph to other hosts on IP:PORT (BELVEDERE_LISTEN), guarded by a "
-        "token printed at start (or BELVEDERE_TOKEN)",
+        "token printed at start (or BELVEDERE_TOKEN); tls/ encrypts, tcp/ does not",
     )
     p.add_argument(
         "--connect",
         type=_endpoint,
-        metavar="tcp/HOST:PORT",
+        metavar="tls/HOST:PORT",
         help="join the graph another host opened with --listen (BELVEDERE_CONNECT); "
         "needs its token",
     )
