@@ -33,7 +33,15 @@ Row = dict[str, Any]
 """column → value, the columns of :attr:`BatchSpec.columns`."""
 
 _Loader: Any = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
-_GRAPH_ENV = ("BELVEDERE_DOMAIN", "BELVEDERE_ENDPOINT", "BELVEDERE_CONNECT")
+_GRAPH_ENV = (
+    "BELVEDERE_DOMAIN",
+    "BELVEDERE_ENDPOINT",
+    "BELVEDERE_CONNECT",
+    # a graph across hosts (graph/_hosts.py): scouting would let runs find one another
+    "BELVEDERE_LISTEN",
+    "BELVEDERE_TOKEN",
+    "BELVEDERE_DISCOVER",
+)
 
 
 def execute_run(run: RunDescription, folder: Path, *, bag_dir: Path | None = None) -> Row:
