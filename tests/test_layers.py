@@ -50,6 +50,7 @@ LAYERS: tuple[tuple[str, frozenset[str]], ...] = (
     ("the ROS executables", frozenset({"nodes"})),
     ("roslaunch", frozenset({"launch"})),
     ("what the commands share", frozenset({"runtime"})),
+    ("many runs", frozenset({"batch"})),
     ("the command line", frozenset({"cli"})),
     ("python -m belvedere", frozenset({"__main__"})),
 )

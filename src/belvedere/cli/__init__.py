@@ -51,6 +51,7 @@ _VERBS = (
     "map",
     "slam",
     "world",
+    "batch",
 )
 """The verbs, in the order ``--help`` lists them; each is the module ``belvedere.cli.VERB``.
 Only the verb being run is imported (``xacro`` need not load the simulator)."""

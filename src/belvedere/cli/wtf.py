@@ -19,7 +19,7 @@ def add_parser(
         parents=[common],
         help="what is wrong with the graph: unconnected topics, TF tree, /clock (roswtf)",
     )
-    add_graph_options(p)
+    add_graph_options(p, hosts=False)  # roswtf's own --listen SECONDS
     p.add_argument(
         "--listen", type=float, default=1.0, metavar="SECONDS", help="hear transforms this long"
     )

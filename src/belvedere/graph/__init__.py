@@ -10,6 +10,13 @@ from belvedere.graph._endpoints import Publisher, SeqRule, ServiceServer, Subscr
 from belvedere.graph._errors import GraphError, ServiceFailedError, ServiceUnavailableError
 from belvedere.graph._executor import NS, Executor, Timer
 from belvedere.graph._graph import Graph, Node, Rate, Transport, process_node_name
+from belvedere.graph._hosts import (
+    HostAccess,
+    HostAccessError,
+    check_token,
+    endpoint_host,
+    new_token,
+)
 from belvedere.graph._log import NodeLogger
 from belvedere.graph._log_rows import SEVERITIES, LogFilter, LogRow, log_row
 from belvedere.graph._names import RosArgs, did_you_mean, parse_ros_args, resolve_name
@@ -48,6 +55,8 @@ __all__ = [
     "GraphError",
     "GraphInfo",
     "GraphTopics",
+    "HostAccess",
+    "HostAccessError",
     "LatchedOnce",
     "LogFilter",
     "LogRow",
@@ -70,10 +79,13 @@ __all__ = [
     "TransportError",
     "ZenohTransport",
     "check_domain",
+    "check_token",
     "did_you_mean",
     "domain_endpoint",
+    "endpoint_host",
     "graph_running",
     "log_row",
+    "new_token",
     "param_documents",
     "param_dump_text",
     "param_get_text",

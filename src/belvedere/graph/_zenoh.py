@@ -39,6 +39,7 @@ import zenoh
 from belvedere.graph._endpoints import Publisher, ServiceServer, Subscription, Topic
 from belvedere.graph._errors import ServiceFailedError, ServiceUnavailableError
 from belvedere.graph._graph import Graph, Node
+from belvedere.graph._hosts import HostAccess
 from belvedere.graph._zenoh_control import _NodeControl
 from belvedere.graph._zenoh_discovery import _Discovery
 from belvedere.graph._zenoh_latch import _STAMP, Sent, _LatchedSeen, _sender, _sent
@@ -77,8 +78,8 @@ class ZenohTransport(_Discovery, _ParamService, _NodeControl, _TypeService):
         """``domain`` (default ``BELVEDERE_DOMAIN`` or 0) picks the endpoint and the key
         prefix; ``endpoint`` (default ``BELVEDERE_ENDPOINT``) overrides the endpoint only."""
         self.domain = check_domain(domain)
-        self.endpoint = (
-            endpoint or os.environ.get("BELVEDERE_ENDPOINT") or domain_endpoint(self.domain)
+        self.endpoint = HostAccess.from_environment().endpoint(
+            endpoint, domain_endpoint(self.domain)
         )
         self.session, self.role = open_session(self.endpoint, role=role)
         self.prefix = f"bv/{self.domain}"

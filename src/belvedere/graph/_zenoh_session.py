@@ -7,8 +7,8 @@ own 7447; ROS 2's DDS uses UDP) and keeps every key under ``bv/<d>/``, so two do
 apart even when ``BELVEDERE_ENDPOINT``/``--endpoint`` points them at one endpoint.
 
 Default: localhost only, no scouting. The first process of a domain listens on its endpoint;
-later ones connect to it. Opening to other machines is explicit (``listen_on`` another
-address).
+later ones connect to it. Opening to other machines is explicit and guarded by a token
+(``--listen``/``--connect``, :mod:`belvedere.graph._hosts`).
 
 Key expressions (under ``bv/<d>``): ``t/<topic>`` data; ``l/<topic>`` each latching
 publisher's last message; ``s/<service>`` service calls; ``p`` parameters; liveliness tokens
@@ -28,6 +28,7 @@ import zenoh
 
 from belvedere.errors import BelvedereError
 from belvedere.graph._graph import Graph
+from belvedere.graph._hosts import HostAccess
 
 __all__ = [
     "DEFAULT_ENDPOINT",
@@ -86,13 +87,14 @@ def decode_key(chunk: str) -> str:
 
 def graph_running(endpoint: str | None = None, domain: int | None = None) -> bool:
     """Is a graph already listening on the endpoint (``--endpoint``/``--domain``'s, else the
-    environment's)? Only TCP endpoints can be asked; others count as not running."""
-    endpoint = (
-        endpoint or os.environ.get("BELVEDERE_ENDPOINT") or domain_endpoint(check_domain(domain))
-    )
+    environment's)? Only TCP (and TLS) endpoints can be asked; others count as not running."""
+    if endpoint is None:
+        endpoint = HostAccess.from_environment().endpoint(
+            None, domain_endpoint(check_domain(domain))
+        )
     proto, _, where = endpoint.partition("/")
     host, _, port = where.rpartition(":")
-    if proto != "tcp" or not port.isdigit():
+    if proto not in ("tcp", "tls") or not port.isdigit():  # TLS runs over TCP
         return False
     try:
         with socket.create_connection((host.strip("[]"), int(port)), timeout=0.5):
@@ -113,19 +115,42 @@ def _config(mode: str, *, listen: str | None, connect: str | None) -> zenoh.Conf
 
 def open_session(endpoint: str | None = None, *, role: str = "auto") -> tuple[zenoh.Session, str]:
     """Open a session: listen on the endpoint if it is free (``auto``/``listen``), else
-    connect to whoever listens there (``auto``/``connect``). Returns (session, role taken)."""
-    endpoint = endpoint or os.environ.get("BELVEDERE_ENDPOINT") or domain_endpoint(check_domain())
+    connect to whoever listens there (``auto``/``connect``). Returns (session, role taken).
+
+    A graph open to other hosts (:mod:`belvedere.graph._hosts`) authenticates every session
+    with its token; ``BELVEDERE_CONNECT``'s endpoint is only connected to."""
+    access = HostAccess.from_environment()
+    endpoint = access.endpoint(endpoint, domain_endpoint(check_domain()))
+    token = access.guard(endpoint)
+    if role == "auto" and access.connect is not None and endpoint == access.connect:
+        role = "connect"
     errors = []
     if role in ("auto", "listen"):
+        conf = _config("peer", listen=endpoint, connect=None)
+        access.configure(conf, endpoint, token)
         try:
-            return zenoh.open(_config("peer", listen=endpoint, connect=None)), "listen"
+            return zenoh.open(conf), "listen"
         except zenoh.ZError as err:
             errors.append(str(err).split(" at ")[0])
     if role in ("auto", "connect"):
+        conf = _config("client", listen=None, connect=endpoint)
+        access.configure(conf, endpoint, token)
         try:
-            return zenoh.open(_config("client", listen=None, connect=endpoint)), "connect"
+            return zenoh.open(conf), "connect"
         except zenoh.ZError as err:
             errors.append(str(err).split(" at ")[0])
+            if graph_running(endpoint):
+                # it accepts connections but not this session: Zenoh's authentication said no
+                msg = f"the graph at {endpoint} refused this process: its token is " + (
+                    "wrong (or the graph speaks tls/ where this process speaks tcp/, or the "
+                    "other way round)"
+                    if token
+                    else "missing"
+                )
+                raise TransportError(
+                    msg,
+                    hint="set BELVEDERE_TOKEN (or --token) to the token the listening host printed",
+                ) from None
     msg = f"cannot open the transport on {endpoint}: {'; '.join(errors)}"
     raise TransportError(
         msg, hint="use another domain (--domain N), or --endpoint with a free port"

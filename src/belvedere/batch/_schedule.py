@@ -1,0 +1,97 @@
+"""Where a batch's runs execute: a local pool of ``--workers`` processes (each run is a
+process of its own; the pool's threads only wait on them) or Ray tasks on a cluster.
+
+Either way rows arrive as runs finish, to ``on_row``, and come back in run order: a row
+depends on its run alone (its seed decides it), never on who ran it or when.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import logging
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from belvedere.batch._execute import Row, execute_run
+from belvedere.batch._spec import BatchSpec, RunDescription
+from belvedere.errors import BelvedereError
+
+__all__ = ["RAY_RETRIES", "run_local", "run_ray"]
+
+RAY_RETRIES = 3
+"""How many times Ray runs a task again whose worker or node was lost mid-run."""
+
+OnRow = Callable[[Row], None]
+
+
+def run_local(
+    spec: BatchSpec, workers: int, on_row: OnRow, *, bag_dir: Path | None = None
+) -> list[Row]:
+    """Every run of ``spec``, at most ``workers`` at a time on this machine."""
+    rows = []
+    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, workers)) as pool:
+        futures = [pool.submit(execute_run, run, spec.folder, bag_dir=bag_dir) for run in spec.runs]
+        for future in concurrent.futures.as_completed(futures):
+            row = future.result()
+            on_row(row)
+            rows.append(row)
+    return sorted(rows, key=lambda r: int(r["run"]))
+
+
+def _ray_task(run: RunDescription, bag_dir: Path | None) -> Row:
+    """A run on a Ray worker: its working directory is the spec's folder Ray shipped."""
+    return execute_run(run, Path.cwd(), bag_dir=bag_dir)
+
+
+def run_ray(
+    spec: BatchSpec, address: str, on_row: OnRow, *, bag_dir: Path | None = None
+) -> list[Row]:
+    """Every run of ``spec`` as a Ray task on the cluster at ``address`` (``auto``: the one
+    this machine belongs to), the spec's folder shipped as each task's working directory."""
+    try:
+        import ray  # an optional extra: only --ray needs it
+    except ImportError:
+        msg = "--ray needs Ray, which is not installed"
+        raise BelvedereError(msg, hint="pip install 'belvedere[ray]'") from None
+    runtime_env: dict[str, Any] = {
+        "working_dir": str(spec.folder),
+        "excludes": [".git", "*.bag", "*.mcap", "__pycache__"],
+    }
+    try:
+        ray.init(
+            address=address,
+            runtime_env=runtime_env,
+            logging_level=logging.ERROR,
+            log_to_driver=False,
+            configure_logging=False,
+        )
+    except ConnectionError as err:
+        msg = f"--ray {address}: no Ray cluster there ({err})"
+        raise BelvedereError(msg, hint="start one: ray start --head, or --ray auto") from None
+    try:
+        task = ray.remote(num_cpus=1, max_retries=RAY_RETRIES, retry_exceptions=False)(_ray_task)
+        pending = {task.remote(run, bag_dir): run for run in spec.runs}
+        rows = []
+        while pending:
+            done, _ = ray.wait(list(pending), num_returns=1)
+            for ref in done:
+                run = pending.pop(ref)
+                try:
+                    row = ray.get(ref)
+                except ray.exceptions.RayError as err:
+                    row = _lost(spec, run, err)
+                on_row(row)
+                rows.append(row)
+    finally:
+        ray.shutdown()
+    return sorted(rows, key=lambda r: int(r["run"]))
+
+
+def _lost(spec: BatchSpec, run: RunDescription, err: Exception) -> Row:
+    """The row of a run Ray could not finish even after its retries."""
+    first = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
+    row: Row = {"run": run.index, **dict(run.values)}
+    row.update(status="lost", error=f"Ray: {first}", wall_s=None)
+    row.update({m.name: None for m in spec.measures})
+    return row
