@@ -178,6 +178,13 @@ _EXTRA_SERVICES: Final = {
         "geometry_msgs/PoseStamped start\ngeometry_msgs/PoseStamped goal\nfloat32 tolerance",
         "nav_msgs/Path plan",
     ),
+    "nav_msgs/srv/LoadMap": (
+        "string map_url",
+        "uint8 RESULT_SUCCESS=0\nuint8 RESULT_MAP_DOES_NOT_EXIST=1\n"
+        "uint8 RESULT_INVALID_MAP_DATA=2\nuint8 RESULT_INVALID_MAP_METADATA=3\n"
+        "uint8 RESULT_UNDEFINED_FAILURE=255\n"
+        "nav_msgs/OccupancyGrid map\nuint8 result",
+    ),
     "nav_msgs/srv/SetMap": (
         "nav_msgs/OccupancyGrid map\ngeometry_msgs/PoseWithCovarianceStamped initial_pose",
         "bool success",
