@@ -29,6 +29,7 @@ from pathlib import Path
 from typing import Any
 
 from belvedere.graph import Graph, ZenohTransport
+from belvedere.msgs import types
 from belvedere.ros1wire import start_master
 
 ROS_PYTHON = "/usr/bin/python3"
@@ -173,6 +174,7 @@ def graph_to_ros1(size: int, seconds: float, folder: Path) -> tuple[float, float
     graph, handle = _graph()
     pub = graph.create_node("flood_pub").publisher("/flood", "std_msgs/String", queue_size=1000)
     pad = "x" * size
+    string = types().cls("std_msgs/msg/String")
     stop = threading.Event()
 
     def flood() -> None:
@@ -180,7 +182,8 @@ def graph_to_ros1(size: int, seconds: float, folder: Path) -> tuple[float, float
             done = threading.Event()
 
             def send(done: threading.Event = done) -> None:
-                pub.publish_data({"data": f"{time.time():.6f}|{pad}"})
+                # the message made as rospy's sender makes its String(data=...)
+                pub.publish(string(data=f"{time.time():.6f}|{pad}"))
                 done.set()
 
             graph.executor.post(send)

@@ -100,8 +100,18 @@ def read_frame(sock: socket.socket) -> bytes:
     return _read_exactly(sock, _read_length(sock, MAX_MESSAGE, "message"))
 
 
+_JOIN_BELOW: Final = 1 << 16
+"""Frames smaller than this go in one send (one packet with TCP_NODELAY); larger ones are
+not copied to join their length on."""
+
+
 def write_frame(sock: socket.socket, data: bytes | memoryview) -> None:
-    sock.sendall(_LENGTH.pack(len(data)) + bytes(data))
+    length = _LENGTH.pack(len(data))
+    if len(data) < _JOIN_BELOW:
+        sock.sendall(length + bytes(data))
+    else:
+        sock.sendall(length)
+        sock.sendall(data)
 
 
 def read_service_reply(sock: socket.socket) -> tuple[bool, bytes]:
