@@ -35,7 +35,8 @@ RUNTIME_DEBIAN=(libegl1 libegl-mesa0 libgl1-mesa-dri libopengl0 graphviz)
 # check_urdf (the URDF oracle), Chromium (the viewer's browser tests), and Debian's ROS 1
 # (ros_comm 1.15: roscore, roslaunch, rospy, robot_state_publisher, tf, rosbag, rviz) with
 # the message packages rospack needs, the oracle of the differential tests; xvfb and xauth
-# run Debian's rviz for tests/viewer/rviz_pair.py
+# run Debian's rviz for tests/viewer/rviz_pair.py; python3-cv-bridge is the oracle of
+# tests/ros1/test_cv_bridge.py
 DEV_DEBIAN=(
   liburdfdom-tools chromium
   ros-base ros-robot-state-publisher python3-rospy python3-roslaunch python3-rostopic
@@ -43,7 +44,7 @@ DEV_DEBIAN=(
   libstd-msgs-dev libgeometry-msgs-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev
   libros-rosgraph-msgs-dev libactionlib-msgs-dev libtrajectory-msgs-dev
   libvisualization-msgs-dev libdiagnostic-msgs-dev libstd-srvs-dev
-  rviz xvfb xauth
+  rviz xvfb xauth python3-cv-bridge
 )
 
 debian=("${RUNTIME_DEBIAN[@]}")
