@@ -11,6 +11,7 @@ from __future__ import annotations
 import atexit
 import builtins
 import contextlib
+import importlib.abc
 import os
 import sys
 import threading
@@ -43,6 +44,44 @@ class _BelvedereMessages:
         return spec
 
 
+class _OpenCvWindows:
+    """Gives OpenCV, when a script imports ``cv2``, belvedere's windows
+    (:mod:`belvedere.ros1.highgui`): first on :data:`sys.meta_path`, it finds ``cv2`` where
+    Python would and wraps its loader."""
+
+    busy = False
+
+    def find_spec(self, name: str, path: Sequence[str] | None, target: Any = None) -> Any:
+        if name != "cv2" or self.busy:
+            return None
+        import importlib.util
+
+        self.busy = True
+        try:
+            spec = importlib.util.find_spec(name)
+        finally:
+            self.busy = False
+        if spec is not None and spec.loader is not None:
+            spec.loader = _Windowed(spec.loader)
+        return spec
+
+
+class _Windowed(importlib.abc.Loader):
+    def __init__(self, loader: Any) -> None:
+        self.loader = loader
+
+    def create_module(self, spec: ModuleSpec) -> types.ModuleType | None:
+        module: types.ModuleType | None = self.loader.create_module(spec)
+        return module
+
+    def exec_module(self, module: types.ModuleType) -> None:
+        self.loader.exec_module(module)
+        from belvedere.ros1.highgui import install
+
+        # cv2's package replaces itself with its native module's contents while it loads
+        install(sys.modules.get("cv2", module))
+
+
 def run_as_main(argv0: str, file: str, runnable: str, site: str, args: Sequence[str]) -> NoReturn:
     """Run ``runnable`` (the script, or its Python 3 form) as the script ``file`` would run
     as ``__main__``, and end the process with its exit status.
@@ -57,6 +96,7 @@ def run_as_main(argv0: str, file: str, runnable: str, site: str, args: Sequence[
     sys.argv = [argv0, *args]
     sys.path[0:1] = [os.path.dirname(os.path.realpath(file)), site]
     sys.meta_path.append(_BelvedereMessages())
+    sys.meta_path.insert(0, _OpenCvWindows())
     with open(runnable, "rb") as f:
         source = f.read()
     # The original is compiled as Python reads a file (its coding line); a translation is
