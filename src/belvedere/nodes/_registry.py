@@ -160,6 +160,7 @@ MODULES: Final = {
     "gazebo_ros": "gazebo_ros",
     "gmapping": "gmapping",
     "hector_mapping": "hector_mapping",
+    "image_publisher": "image_publisher",
     "joint_state_publisher": "joint_state_publisher",
     "joint_state_publisher_gui": "joint_state_publisher_gui",
     "map_server": "map_server",
@@ -179,6 +180,8 @@ MODULES: Final = {
     "turtlesim": "turtlesim",
     "urdf": "urdfdom",
     "urdfdom": "urdfdom",
+    "usb_cam": "usb_cam",
+    "video_stream_opencv": "video_stream_opencv",
 }
 """ROS package → the module here that provides its executables."""
 
