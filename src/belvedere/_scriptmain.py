@@ -12,6 +12,7 @@ import atexit
 import builtins
 import contextlib
 import importlib.abc
+import importlib.util
 import os
 import sys
 import threading
@@ -52,9 +53,11 @@ class _OpenCvWindows:
     busy = False
 
     def find_spec(self, name: str, path: Sequence[str] | None, target: Any = None) -> Any:
+        if name == "cv2.cv" and "cv2" in sys.modules and not self.busy:
+            # OpenCV 2's constants module, which OpenCV 4 no longer has
+            return importlib.util.spec_from_loader(name, _Legacy())
         if name != "cv2" or self.busy:
             return None
-        import importlib.util
 
         self.busy = True
         try:
@@ -80,6 +83,19 @@ class _Windowed(importlib.abc.Loader):
 
         # cv2's package replaces itself with its native module's contents while it loads
         install(sys.modules.get("cv2", module))
+
+
+class _Legacy(importlib.abc.Loader):
+    def create_module(self, spec: ModuleSpec) -> types.ModuleType:
+        from belvedere.ros1.cv_legacy import legacy_module
+
+        cv2 = sys.modules["cv2"]
+        legacy = legacy_module(cv2)
+        cv2.cv = legacy  # type: ignore[attr-defined]
+        return legacy
+
+    def exec_module(self, module: types.ModuleType) -> None:
+        del module
 
 
 def run_as_main(argv0: str, file: str, runnable: str, site: str, args: Sequence[str]) -> NoReturn:
