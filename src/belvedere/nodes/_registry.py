@@ -162,6 +162,7 @@ MODULES: Final = {
     "hector_mapping": "hector_mapping",
     "image_publisher": "image_publisher",
     "joint_state_publisher": "joint_state_publisher",
+    "joy": "joy",
     "joint_state_publisher_gui": "joint_state_publisher_gui",
     "map_server": "map_server",
     "move_base": "move_base",
