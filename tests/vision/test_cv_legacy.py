@@ -20,6 +20,22 @@ print(cv.CV_AA == cv2.LINE_AA, cv.RGB(255, 0, 0))
 cv.CreateImage((2, 2), 8, 3)
 """
 
+# rbx1_vision's style: Python 2, ``from cv2 import cv``, its window calls and an integer
+# division for WaitKey's delay
+PYTHON2 = """\
+from cv2 import cv as cv
+import cv2
+import numpy as np
+fps = 25
+cv.NamedWindow("Video Playback", True)
+cv.MoveWindow("Video Playback", 375, 25)
+frame = np.zeros((48, 64, 3), np.uint8)
+cv2.putText(frame, "FPS: " + str(fps), (10, 20), cv2.FONT_HERSHEY_SIMPLEX, 0.5, cv.RGB(255, 255, 0))
+cv2.imshow("Video Playback", frame)
+key = cv.WaitKey(1000 / fps)
+print "key", key, frame[15:21, 10:40, 1].max()
+"""
+
 
 def test_constants_are_translated_by_name() -> None:
     assert translate(cv2, "CV_BGR2GRAY") == cv2.COLOR_BGR2GRAY
@@ -46,3 +62,17 @@ def test_a_script_imports_cv2_cv(tmp_path: Path) -> None:
     assert run.stderr.count("cv2.cv is OpenCV 2's") == 1
     assert "AttributeError: cv2.cv.CreateImage: OpenCV 4 has no cv2.cv" in run.stderr
     assert run.returncode == 1
+
+
+def test_a_python2_script_with_cv2_cv_windows(tmp_path: Path) -> None:
+    script = tmp_path / "playback.py"
+    script.write_text(PYTHON2)
+    run = subprocess.run(
+        [sys.executable, "-m", "belvedere", "run", str(script)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.splitlines() == ["key -1 255"]

@@ -3,7 +3,8 @@ OpenCV 2 constants they use, translated by name to OpenCV 4's, with a one-line n
 
 Where it stops: constants (``CV_CAP_PROP_*``, colour conversions ``CV_BGR2GRAY``,
 ``CV_HAAR_*``, ``CV_FILLED``/``CV_AA``, fonts, thresholds, windows, term criteria), the
-``RGB`` macro and the window functions (``NamedWindow``, ``WaitKey``, ``DestroyAllWindows``).
+``RGB`` macro and the window functions (``NamedWindow``, ``WaitKey``, ``DestroyAllWindows``,
+``MoveWindow``, ``ResizeWindow``, ``ShowImage``).
 The OpenCV 1 C API (``CreateImage``, ``fromarray``, IplImage, CvMat) is gone from OpenCV 4;
 each of its names is an error saying so.
 """
@@ -86,6 +87,8 @@ def legacy_module(cv2: ModuleType) -> ModuleType:
         "DestroyAllWindows": lambda: cv2.destroyAllWindows(),
         "DestroyWindow": lambda name: cv2.destroyWindow(name),
         "ShowImage": lambda name, image: cv2.imshow(name, image),
+        "MoveWindow": lambda name, x, y: cv2.moveWindow(name, x, y),
+        "ResizeWindow": lambda name, width, height: cv2.resizeWindow(name, width, height),
     }
     for name, function in functions.items():
         setattr(module, name, function)

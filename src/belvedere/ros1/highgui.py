@@ -4,9 +4,10 @@
 The headless OpenCV wheel belvedere depends on has no GUI, and a script belvedere runs has
 no display in the normal case; so each named window becomes an image topic,
 ``/image_window/<name>`` (sensor_msgs/Image, bgr8/mono8/bgra8 as shown), once the script's
-node is initialized: rqt_image_view's page or the viewer shows it in the browser. ``waitKey``
-waits its delay and returns -1 (no keys reach a script through these windows yet). When the
-OpenCV a user installed has its own GUI and a DISPLAY is set, its windows are left alone.
+node is initialized: rqt_image_view's page or the viewer shows it in the browser.
+``waitKey`` waits its delay and returns -1 (no keys reach a script through these windows
+yet); moving, sizing and titling a window do nothing. When the OpenCV a user installed has
+its own GUI and a DISPLAY is set, its windows are left alone.
 """
 
 from __future__ import annotations
@@ -90,7 +91,11 @@ def named_window(winname: str, flags: int = 0) -> None:
     del flags  # sizes are the browser's
 
 
-def wait_key(delay: int = 0) -> int:
+def place_window(winname: str, *args: Any) -> None:
+    del winname, args  # placing and sizing are the browser's
+
+
+def wait_key(delay: float = 0) -> int:
     if delay > 0:
         time.sleep(delay / 1000.0)
     return -1
@@ -118,6 +123,9 @@ def install(cv2: ModuleType) -> None:
         "waitKeyEx": wait_key,
         "destroyWindow": destroy_window,
         "destroyAllWindows": destroy_all_windows,
+        "moveWindow": place_window,
+        "resizeWindow": place_window,
+        "setWindowTitle": place_window,
     }
     for name, function in windows.items():
         setattr(cv2, name, function)
