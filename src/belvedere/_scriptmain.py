@@ -11,6 +11,8 @@ from __future__ import annotations
 import atexit
 import builtins
 import contextlib
+import importlib.abc
+import importlib.util
 import os
 import sys
 import threading
@@ -43,6 +45,59 @@ class _BelvedereMessages:
         return spec
 
 
+class _OpenCvWindows:
+    """Gives OpenCV, when a script imports ``cv2``, belvedere's windows
+    (:mod:`belvedere.ros1.highgui`): first on :data:`sys.meta_path`, it finds ``cv2`` where
+    Python would and wraps its loader."""
+
+    busy = False
+
+    def find_spec(self, name: str, path: Sequence[str] | None, target: Any = None) -> Any:
+        if name == "cv2.cv" and "cv2" in sys.modules and not self.busy:
+            # OpenCV 2's constants module, which OpenCV 4 no longer has
+            return importlib.util.spec_from_loader(name, _Legacy())
+        if name != "cv2" or self.busy:
+            return None
+
+        self.busy = True
+        try:
+            spec = importlib.util.find_spec(name)
+        finally:
+            self.busy = False
+        if spec is not None and spec.loader is not None:
+            spec.loader = _Windowed(spec.loader)
+        return spec
+
+
+class _Windowed(importlib.abc.Loader):
+    def __init__(self, loader: Any) -> None:
+        self.loader = loader
+
+    def create_module(self, spec: ModuleSpec) -> types.ModuleType | None:
+        module: types.ModuleType | None = self.loader.create_module(spec)
+        return module
+
+    def exec_module(self, module: types.ModuleType) -> None:
+        self.loader.exec_module(module)
+        from belvedere.ros1.highgui import install
+
+        # cv2's package replaces itself with its native module's contents while it loads
+        install(sys.modules.get("cv2", module))
+
+
+class _Legacy(importlib.abc.Loader):
+    def create_module(self, spec: ModuleSpec) -> types.ModuleType:
+        from belvedere.ros1.cv_legacy import legacy_module
+
+        cv2 = sys.modules["cv2"]
+        legacy = legacy_module(cv2)
+        cv2.cv = legacy  # type: ignore[attr-defined]
+        return legacy
+
+    def exec_module(self, module: types.ModuleType) -> None:
+        del module
+
+
 def run_as_main(argv0: str, file: str, runnable: str, site: str, args: Sequence[str]) -> NoReturn:
     """Run ``runnable`` (the script, or its Python 3 form) as the script ``file`` would run
     as ``__main__``, and end the process with its exit status.
@@ -57,6 +112,7 @@ def run_as_main(argv0: str, file: str, runnable: str, site: str, args: Sequence[
     sys.argv = [argv0, *args]
     sys.path[0:1] = [os.path.dirname(os.path.realpath(file)), site]
     sys.meta_path.append(_BelvedereMessages())
+    sys.meta_path.insert(0, _OpenCvWindows())
     with open(runnable, "rb") as f:
         source = f.read()
     # The original is compiled as Python reads a file (its coding line); a translation is

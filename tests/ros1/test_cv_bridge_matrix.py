@@ -1,6 +1,7 @@
-"""cv_bridge against Debian's python3-cv-bridge: the same script (``cv_bridge_cases.py``:
-every encoding sensor_msgs defines to every other, generated images, messages' bytes, step
-and endianness, compressed images, the errors) prints the same under both."""
+"""cv_bridge against Debian's python3-cv-bridge, as a matrix: the same script
+(``cv_bridge_cases.py``: every encoding sensor_msgs defines to every other, generated images,
+messages' bytes, step and endianness, compressed images, the errors) prints the same under
+both."""
 
 from __future__ import annotations
 

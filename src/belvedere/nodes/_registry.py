@@ -160,7 +160,9 @@ MODULES: Final = {
     "gazebo_ros": "gazebo_ros",
     "gmapping": "gmapping",
     "hector_mapping": "hector_mapping",
+    "image_publisher": "image_publisher",
     "joint_state_publisher": "joint_state_publisher",
+    "joy": "joy",
     "joint_state_publisher_gui": "joint_state_publisher_gui",
     "map_server": "map_server",
     "move_base": "move_base",
@@ -173,12 +175,16 @@ MODULES: Final = {
     "rqt_reconfigure": "rqt_reconfigure",
     "rqt_tf_tree": "rqt_tf_tree",
     "rviz": "rviz",
+    "teleop_twist_joy": "teleop_twist_joy",
     "teleop_twist_keyboard": "teleop_twist_keyboard",
     "tf": "tf",
     "tf2_ros": "tf2_ros",
+    "turtlebot_teleop": "turtlebot_teleop",
     "turtlesim": "turtlesim",
     "urdf": "urdfdom",
     "urdfdom": "urdfdom",
+    "usb_cam": "usb_cam",
+    "video_stream_opencv": "video_stream_opencv",
 }
 """ROS package → the module here that provides its executables."""
 

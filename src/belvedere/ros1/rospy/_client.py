@@ -105,10 +105,6 @@ def init_node(
         _start_clock(runtime)
     for action in _topics.take_pending():
         action(runtime)
-    if "cv2" in sys.modules:  # only a script that imported OpenCV pays for this
-        from belvedere.ros1._cv_windows import install
-
-        install(runtime)
     threading.Thread(target=_watch_node, args=(runtime,), daemon=True).start()
 
 

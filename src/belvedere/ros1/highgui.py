@@ -1,0 +1,131 @@
+"""OpenCV's windows (``cv2.imshow``, ``namedWindow``, ``waitKey``, ``destroyWindow``,
+``destroyAllWindows``) for the scripts belvedere runs, where there is no screen.
+
+The headless OpenCV wheel belvedere depends on has no GUI, and a script belvedere runs has
+no display in the normal case; so each named window becomes an image topic,
+``/image_window/<name>`` (sensor_msgs/Image, bgr8/mono8/bgra8 as shown), once the script's
+node is initialized: rqt_image_view's page or the viewer shows it in the browser.
+``waitKey`` waits its delay and returns -1 (no keys reach a script through these windows
+yet); moving, sizing and titling a window do nothing. When the OpenCV a user installed has
+its own GUI and a DISPLAY is set, its windows are left alone.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import sys
+import time
+from types import ModuleType
+from typing import Any, Final
+
+import numpy as np
+
+__all__ = ["TOPIC_PREFIX", "has_own_gui", "install", "topic_of"]
+
+TOPIC_PREFIX: Final = "/image_window"
+_publishers: dict[str, Any] = {}
+_noticed: set[str] = set()
+
+
+def topic_of(window: str) -> str:
+    """The image topic a window's pictures are published on."""
+    name = re.sub(r"[^A-Za-z0-9_]+", "_", window).strip("_") or "window"
+    if not name[0].isalpha():
+        name = f"w_{name}"
+    return f"{TOPIC_PREFIX}/{name}"
+
+
+def has_own_gui(cv2: ModuleType) -> bool:
+    """Whether this OpenCV was built with a GUI backend (the headless wheel is not)."""
+    info = cv2.getBuildInformation()
+    gui = re.search(r"GUI:\s*(\S+)", info)
+    return gui is not None and gui[1].upper() not in ("NONE", "NO")
+
+
+def _shown(image: Any) -> tuple[Any, str]:
+    """The picture imshow shows for ``image`` (OpenCV scales 16-bit by 1/256 and floats by
+    255) and its encoding."""
+    array = np.asarray(image)
+    if array.dtype == np.uint16:
+        array = (array >> 8).astype(np.uint8)
+    elif array.dtype.kind == "f":
+        array = np.clip(np.rint(array * 255.0), 0, 255).astype(np.uint8)
+    elif array.dtype != np.uint8:
+        array = np.clip(array, 0, 255).astype(np.uint8)
+    if array.ndim == 3 and array.shape[2] == 1:
+        array = array[:, :, 0]
+    encoding = "mono8" if array.ndim == 2 else "bgra8" if array.shape[2] == 4 else "bgr8"
+    return np.ascontiguousarray(array), encoding
+
+
+def imshow(winname: str, mat: Any) -> None:
+    from belvedere.ros1 import message_class, rospy
+    from belvedere.ros1.rospy import _state
+
+    topic = topic_of(winname)
+    if not _state.is_initialized():
+        if winname not in _noticed:
+            _noticed.add(winname)
+            sys.stderr.write(
+                f"[belvedere] cv2.imshow({winname!r}): no window here; call "
+                "rospy.init_node first to see it in the browser\n"
+            )
+        return
+    publisher = _publishers.get(winname)
+    if publisher is None:
+        image_class = message_class("sensor_msgs/Image")
+        publisher = rospy.Publisher(topic, image_class, queue_size=1)
+        _publishers[winname] = publisher
+        sys.stderr.write(
+            f"[belvedere] cv2 window {winname!r} is the image topic {topic} "
+            f"(belvedere rqt_image_view {topic}, or the viewer, shows it)\n"
+        )
+    from belvedere.ros1.cv_bridge import CvBridge
+
+    array, encoding = _shown(mat)
+    publisher.publish(CvBridge().cv2_to_imgmsg(array, encoding))
+
+
+def named_window(winname: str, flags: int = 0) -> None:
+    del flags  # sizes are the browser's
+
+
+def place_window(winname: str, *args: Any) -> None:
+    del winname, args  # placing and sizing are the browser's
+
+
+def wait_key(delay: float = 0) -> int:
+    if delay > 0:
+        time.sleep(delay / 1000.0)
+    return -1
+
+
+def destroy_window(winname: str) -> None:
+    publisher = _publishers.pop(winname, None)
+    if publisher is not None:
+        publisher.unregister()
+
+
+def destroy_all_windows() -> None:
+    for name in list(_publishers):
+        destroy_window(name)
+
+
+def install(cv2: ModuleType) -> None:
+    """Give ``cv2`` these windows, unless it has its own GUI and a display to show them."""
+    if has_own_gui(cv2) and os.environ.get("DISPLAY"):
+        return
+    windows = {
+        "imshow": imshow,
+        "namedWindow": named_window,
+        "waitKey": wait_key,
+        "waitKeyEx": wait_key,
+        "destroyWindow": destroy_window,
+        "destroyAllWindows": destroy_all_windows,
+        "moveWindow": place_window,
+        "resizeWindow": place_window,
+        "setWindowTitle": place_window,
+    }
+    for name, function in windows.items():
+        setattr(cv2, name, function)

@@ -1,0 +1,4 @@
+"""cv_bridge.core (belvedere.ros1.cv_bridge)."""
+
+from belvedere.ros1.cv_bridge import *  # noqa: F403
+from belvedere.ros1.cv_bridge import __all__ as __all__
