@@ -63,7 +63,7 @@ def answer(case: dict[str, Any], bridge: Any, image_class: Any, compressed_class
 
 def main() -> None:
     import sensor_msgs.msg  # type: ignore[import-not-found]
-    from cv_bridge import CvBridge  # type: ignore[import-not-found]
+    from cv_bridge import CvBridge
 
     bridge = CvBridge()
     cases = json.load(sys.stdin)

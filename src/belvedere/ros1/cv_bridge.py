@@ -103,9 +103,14 @@ def _convert(image: NDArray[Any], src: str, dst: str) -> NDArray[Any]:
     """``image`` (in ``src``) in encoding ``dst``: cv_bridge's cvtColor."""
     try:
         cv_type(src)
-        cv_type(dst)
     except EncodingError as error:
         raise CvBridgeError(str(error)) from None
+    try:
+        cv_type(dst)
+    except EncodingError:
+        # cv_bridge's cvtColor2 names a desired encoding it does not know so
+        msg = f"Unknown encoding {dst}"
+        raise CvBridgeError(msg) from None
     if src == dst:
         return image.copy()
     for step in _conversion(src, dst):
