@@ -10,6 +10,7 @@ from __future__ import annotations
 import concurrent.futures
 import ipaddress
 import logging
+import multiprocessing
 import socket
 from collections.abc import Callable
 from pathlib import Path
@@ -30,9 +31,13 @@ OnRow = Callable[[Row], None]
 def run_local(
     spec: BatchSpec, workers: int, on_row: OnRow, *, bag_dir: Path | None = None
 ) -> list[Row]:
-    """Every run of ``spec``, at most ``workers`` at a time on this machine."""
+    """Every run of ``spec``, at most ``workers`` at a time on this machine.
+
+    The pool's workers are processes, not threads: a run's echoed messages are parsed where
+    it ran, and parsing in threads of one process would take turns on its GIL."""
     rows = []
-    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, workers)) as pool:
+    context = multiprocessing.get_context("spawn")  # no threads of this process forked
+    with concurrent.futures.ProcessPoolExecutor(max(1, workers), mp_context=context) as pool:
         futures = [pool.submit(execute_run, run, spec.folder, bag_dir=bag_dir) for run in spec.runs]
         for future in concurrent.futures.as_completed(futures):
             row = future.result()
