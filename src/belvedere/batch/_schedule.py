@@ -8,7 +8,10 @@ depends on its run alone (its seed decides it), never on who ran it or when.
 from __future__ import annotations
 
 import concurrent.futures
+import ipaddress
 import logging
+import multiprocessing
+import socket
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -28,9 +31,13 @@ OnRow = Callable[[Row], None]
 def run_local(
     spec: BatchSpec, workers: int, on_row: OnRow, *, bag_dir: Path | None = None
 ) -> list[Row]:
-    """Every run of ``spec``, at most ``workers`` at a time on this machine."""
+    """Every run of ``spec``, at most ``workers`` at a time on this machine.
+
+    The pool's workers are processes, not threads: a run's echoed messages are parsed where
+    it ran, and parsing in threads of one process would take turns on its GIL."""
     rows = []
-    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, workers)) as pool:
+    context = multiprocessing.get_context("spawn")  # no threads of this process forked
+    with concurrent.futures.ProcessPoolExecutor(max(1, workers), mp_context=context) as pool:
         futures = [pool.submit(execute_run, run, spec.folder, bag_dir=bag_dir) for run in spec.runs]
         for future in concurrent.futures.as_completed(futures):
             row = future.result()
@@ -58,9 +65,22 @@ def run_ray(
         "working_dir": str(spec.folder),
         "excludes": [".git", "*.bag", "*.mcap", "__pycache__"],
     }
+    host = address.removeprefix("ray://").rpartition(":")[0].strip("[]")
+    try:
+        loopback = ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        loopback = False
+    port = address.rpartition(":")[2]
+    if host and port.isdigit() and not _listening(host, int(port)):
+        # Ray itself would retry its GCS for minutes before it says so
+        msg = f"--ray {address}: no Ray cluster there (nothing listens on that port)"
+        raise BelvedereError(msg, hint="start one: ray start --head, or --ray auto")
     try:
         ray.init(
             address=address,
+            # a cluster on a loopback address: this driver is on it too (Ray would otherwise
+            # take the machine's network address for this node's and look for a raylet there)
+            _node_ip_address=host if loopback else None,
             runtime_env=runtime_env,
             logging_level=logging.ERROR,
             log_to_driver=False,
@@ -86,6 +106,14 @@ def run_ray(
     finally:
         ray.shutdown()
     return sorted(rows, key=lambda r: int(r["run"]))
+
+
+def _listening(host: str, port: int) -> bool:
+    try:
+        with socket.create_connection((host, port), timeout=2.0):
+            return True
+    except OSError:
+        return False
 
 
 def _lost(spec: BatchSpec, run: RunDescription, err: Exception) -> Row:

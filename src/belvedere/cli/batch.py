@@ -1,7 +1,8 @@
 """``belvedere batch SPEC.yaml -o OUT.csv``: many headless runs, one CSV row each.
 
-The spec (docs/batch.md) names one run (``sim:`` or ``launch:`` and a ``duration``), the
-values that vary (their cartesian product is the batch) and the columns each run reports.
+The spec (docs/launch-and-run.md, "Many runs") names one run (``sim:`` or ``launch:`` and
+a ``duration``), the values that vary (their cartesian product is the batch) and the
+columns each run reports.
 Runs go to ``--workers`` local processes, or to a Ray cluster with ``--ray``.
 """
 
@@ -40,7 +41,7 @@ def add_parser(
         description="Run every combination of a spec's varied values as its own headless "
         "simulation (--rtf max, a graph of its own) and write one CSV row per run.",
     )
-    p.add_argument("spec", metavar="SPEC.yaml", help="the batch spec (see docs/batch.md)")
+    p.add_argument("spec", metavar="SPEC.yaml", help="the batch spec (see docs/launch-and-run.md)")
     p.add_argument("-o", "--output", required=True, metavar="OUT.csv", help="the rows' CSV file")
     p.add_argument(
         "--workers",
