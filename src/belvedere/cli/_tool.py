@@ -83,6 +83,8 @@ def _token(text: str) -> str:
 
 def add_host_options(p: argparse.ArgumentParser) -> None:
     """``--listen``, ``--connect``, ``--token``, ``--discover``: one graph across hosts."""
+    # marks the verbs that have them: roswtf's own --listen SECONDS is no endpoint
+    p.set_defaults(host_options=True)
     p.add_argument(
         "--listen",
         type=_endpoint,
@@ -115,6 +117,8 @@ def _apply_host_options(args: argparse.Namespace) -> None:
     """Put ``--listen``/``--connect``/``--token``/``--discover`` in the environment, where
     the transport and every process this one starts (a launch's nodes) read them; a
     ``--listen`` without a token makes one and prints how other hosts join."""
+    if not getattr(args, "host_options", False):
+        return
     env = os.environ
     for option, var in (("listen", "BELVEDERE_LISTEN"), ("connect", "BELVEDERE_CONNECT")):
         value = getattr(args, option, None)
