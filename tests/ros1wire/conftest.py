@@ -5,10 +5,12 @@ from __future__ import annotations
 
 import os
 import subprocess
+import textwrap
 import time
 import xmlrpc.client
 from collections.abc import Iterator
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -110,3 +112,27 @@ def debian_roscore(needs_debian_ros: None) -> Iterator[Ros1]:
         except subprocess.TimeoutExpired:
             os.killpg(proc.pid, 9)
             proc.wait()
+
+
+def rospy_talker(folder: Path, topic: str, count: int, words: str) -> Path:
+    """A rospy script (for Debian's Python) that waits for a subscriber, then publishes
+    ``"<words> 0"`` … ``"<words> count-1"`` on ``topic`` (std_msgs/String), 20 ms apart."""
+    script = folder / "talker.py"
+    script.write_text(
+        textwrap.dedent(
+            f"""
+            import rospy
+            from std_msgs.msg import String
+            rospy.init_node("ros1_talker")
+            pub = rospy.Publisher({topic!r}, String, queue_size=100)
+            while pub.get_num_connections() == 0 and not rospy.is_shutdown():
+                rospy.sleep(0.05)
+            rospy.sleep(0.3)
+            for i in range({count}):
+                pub.publish(String(data="{words} %d" % i))
+                rospy.sleep(0.02)
+            rospy.sleep(0.5)
+            """
+        )
+    )
+    return script

@@ -16,7 +16,7 @@ import pytest
 from belvedere.graph import Graph
 from belvedere.ros1wire import MasterHandle
 from tests.debian_ros import ROS_PYTHON
-from tests.ros1wire.conftest import Ros1
+from tests.ros1wire.conftest import Ros1, rospy_talker
 from tests.waiting import DEADLINE, wait_until
 
 pytestmark = pytest.mark.usefixtures("needs_debian_ros")
@@ -65,28 +65,6 @@ def test_parameters_set_by_rosparam_are_the_graphs(ros_graph: tuple[Graph, Maste
     assert graph.params.get("/amcl/max_particles") == 2000
 
 
-def _talker(tmp_path: Path, topic: str, count: int) -> Path:
-    script = tmp_path / "talker.py"
-    script.write_text(
-        textwrap.dedent(
-            f"""
-            import rospy
-            from std_msgs.msg import String
-            rospy.init_node("ros1_talker")
-            pub = rospy.Publisher({topic!r}, String, queue_size=100)
-            while pub.get_num_connections() == 0 and not rospy.is_shutdown():
-                rospy.sleep(0.05)
-            rospy.sleep(0.3)
-            for i in range({count}):
-                pub.publish(String(data="hello %d" % i))
-                rospy.sleep(0.02)
-            rospy.sleep(0.5)
-            """
-        )
-    )
-    return script
-
-
 def test_a_rospy_talker_reaches_a_graph_subscriber_message_for_message(
     ros_graph: tuple[Graph, MasterHandle], tmp_path: Path
 ) -> None:
@@ -96,7 +74,9 @@ def test_a_rospy_talker_reaches_a_graph_subscriber_message_for_message(
     graph.executor.post(
         lambda: node.subscribe("/chatter", "std_msgs/String", lambda m: heard.append(m.data))
     )
-    talker = Ros1(handle.uri).start(str(ROS_PYTHON), str(_talker(tmp_path, "/chatter", 30)))
+    talker = Ros1(handle.uri).start(
+        str(ROS_PYTHON), str(rospy_talker(tmp_path, "/chatter", 30, "hello"))
+    )
     try:
         assert talker.wait(timeout=DEADLINE) == 0, talker.stderr.read() if talker.stderr else ""
     finally:

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import subprocess
 import sys
-import textwrap
 import time
 from functools import partial
 from pathlib import Path
@@ -16,31 +15,8 @@ from belvedere.graph import Graph, ZenohTransport
 from belvedere.ros1wire import RemoteMasterError, join_master
 from tests.conftest import free_port
 from tests.debian_ros import ROS_PYTHON
-from tests.ros1wire.conftest import Ros1
+from tests.ros1wire.conftest import Ros1, rospy_talker
 from tests.waiting import DEADLINE, wait_until
-
-
-def _talker(tmp_path: Path, count: int) -> Path:
-    script = tmp_path / "talker.py"
-    script.write_text(
-        textwrap.dedent(
-            f"""
-            import rospy
-            from std_msgs.msg import String
-            rospy.init_node("robot_talker")
-            rospy.set_param("/robot/name", "mbot")
-            pub = rospy.Publisher("/chatter", String, queue_size=100)
-            while pub.get_num_connections() == 0 and not rospy.is_shutdown():
-                rospy.sleep(0.05)
-            rospy.sleep(0.3)
-            for i in range({count}):
-                pub.publish(String(data="robot %d" % i))
-                rospy.sleep(0.02)
-            rospy.sleep(0.5)
-            """
-        )
-    )
-    return script
 
 
 def test_the_graph_joins_a_running_roscore(
@@ -59,7 +35,9 @@ def test_the_graph_joins_a_running_roscore(
         node.service(
             "laptop_ping", "std_srvs/Trigger", lambda r: {"success": True, "message": "pong"}
         )
-        talker = debian_roscore.start(str(ROS_PYTHON), str(_talker(tmp_path, 20)))
+        talker = debian_roscore.start(
+            str(ROS_PYTHON), str(rospy_talker(tmp_path, "/chatter", 20, "robot"))
+        )
         assert talker.wait(timeout=DEADLINE) == 0
         wait_until(lambda: len(heard) >= 20, what="20 messages from rospy", detail=lambda: heard)
         assert heard == [f"robot {i}" for i in range(20)]
@@ -102,7 +80,9 @@ def test_belvedere_topic_echo_with_ros_master(debian_roscore: Ros1, tmp_path: Pa
         text=True,
     )
     time.sleep(1.0)
-    talker = debian_roscore.start(str(ROS_PYTHON), str(_talker(tmp_path, 200)))
+    talker = debian_roscore.start(
+        str(ROS_PYTHON), str(rospy_talker(tmp_path, "/chatter", 200, "robot"))
+    )
     try:
         out, err = echo.communicate(timeout=DEADLINE)
     finally:
