@@ -278,3 +278,8 @@ def test_tls_certificates_are_the_tokens_alone(tmp_path: Path) -> None:
     ours[1].verify_directly_issued_by(ours[0])
     with pytest.raises(InvalidSignature):
         theirs[1].verify_directly_issued_by(ours[0])
+
+
+def test_a_new_token_is_never_read_as_an_option() -> None:
+    """``--token TOKEN`` takes any token ``new_token`` makes: none starts with ``-``."""
+    assert not any(new_token().startswith("-") for _ in range(2000))

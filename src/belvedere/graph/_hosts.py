@@ -54,8 +54,12 @@ class HostAccessError(BelvedereError):
 
 
 def new_token() -> str:
-    """A fresh graph token: 32 URL-safe characters (192 bits)."""
-    return secrets.token_urlsafe(24)
+    """A fresh graph token: 32 URL-safe characters (192 bits), never starting with ``-``
+    (``--token -x…`` would read as an option: one token in 64 did)."""
+    while True:
+        token = secrets.token_urlsafe(24)
+        if not token.startswith("-"):
+            return token
 
 
 def check_token(token: str, *, where: str = "BELVEDERE_TOKEN") -> str:
