@@ -79,7 +79,7 @@ def imshow(winname: str, mat: Any) -> None:
         _publishers[winname] = publisher
         sys.stderr.write(
             f"[belvedere] cv2 window {winname!r} is the image topic {topic} "
-            f"(belvedere rqt_image_view {topic}, or the viewer, shows it)\n"
+            f"(belvedere run rqt_image_view rqt_image_view {topic}, or the viewer, shows it)\n"
         )
     from belvedere.ros1.cv_bridge import CvBridge
 
