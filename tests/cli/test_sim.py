@@ -128,9 +128,15 @@ def test_paced_run_with_the_viewer_and_tools(endpoint: str) -> None:
             line = sim.stderr.readline()
         assert f"viewer: http://127.0.0.1:{port}" in line
         pub = ["topic", "pub", "-1", "/cmd_vel", "geometry_msgs/Twist", "{linear: {x: 1.0}}"]
-        assert main(pub) == 0
-        # The fake base keeps its last command: once odometry shows it, every message does.
-        wait_until(lambda: 1.0 in speeds, what="the sim's /odom to show the command")
+
+        def commanded() -> bool:
+            # The sim prints the viewer's URL before its base may have subscribed (seen on a
+            # busy CI run): a one-shot command is sent again until odometry shows it. The
+            # fake base keeps its last command: once odometry shows it, every message does.
+            assert main(pub) == 0
+            return 1.0 in speeds
+
+        wait_until(commanded, what="the sim's /odom to show the command", interval=0.5)
         tool = subprocess.run(
             [sys.executable, "-m", "belvedere", "topic", "echo", "-n", "1", "/odom"],
             capture_output=True,
