@@ -8,6 +8,7 @@ from __future__ import annotations
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 from tests.conftest import EXAMPLES
 
@@ -39,12 +40,13 @@ def _wait_listening(host: subprocess.Popen[str]) -> None:
     assert "listening" in line
 
 
-def test_cv_bridge_test_marks_the_cameras_picture(tmp_path: Path) -> None:
-    launch = EXAMPLES / "robot_vision/launch/cv_bridge_test.launch"
-    probe = tmp_path / "probe.py"
-    probe.write_text(PROBE)
+def _probe_beside(launch: list[str], probe_text: str, folder: Path) -> tuple[Any, str]:
+    """``belvedere launch LAUNCH…`` and, once its graph listens, the script ``probe_text``
+    run beside it: the probe's completed process and the launch's output."""
+    probe = folder / "probe.py"
+    probe.write_text(probe_text)
     host = subprocess.Popen(
-        [*BELVEDERE, "launch", "--package-path", str(EXAMPLES), str(launch), "--headless"],
+        [*BELVEDERE, "launch", "--package-path", str(EXAMPLES), *launch],
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,
         text=True,
@@ -61,6 +63,12 @@ def test_cv_bridge_test_marks_the_cameras_picture(tmp_path: Path) -> None:
     finally:
         host.terminate()
         output = host.communicate(timeout=DEADLINE)[0] or ""
+    return done, output
+
+
+def test_cv_bridge_test_marks_the_cameras_picture(tmp_path: Path) -> None:
+    launch = EXAMPLES / "robot_vision/launch/cv_bridge_test.launch"
+    done, output = _probe_beside([str(launch), "--headless"], PROBE, tmp_path)
     assert done.returncode == 0, done.stderr + output
     lines = done.stdout.splitlines()
     assert lines[0] == "sizes (720, 1280, 3) (720, 1280, 3) 1280 720 bgr8", output
@@ -97,25 +105,6 @@ def test_motion_detector_boxes_a_moving_block_in_a_video(tmp_path: Path) -> None
         writer.write(picture)
     writer.release()
     launch = EXAMPLES / "robot_vision/launch/motion_detector.launch"
-    probe = tmp_path / "probe.py"
-    probe.write_text(MOTION_PROBE)
-    host = subprocess.Popen(
-        [*BELVEDERE, "launch", "--package-path", str(EXAMPLES), str(launch), f"video:={video}"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-    )
-    try:
-        _wait_listening(host)
-        done = subprocess.run(
-            [*BELVEDERE, "run", "--package-path", str(EXAMPLES), str(probe)],
-            capture_output=True,
-            text=True,
-            timeout=DEADLINE,
-            check=False,
-        )
-    finally:
-        host.terminate()
-        output = host.communicate(timeout=DEADLINE)[0] or ""
+    done, output = _probe_beside([str(launch), f"video:={video}"], MOTION_PROBE, tmp_path)
     assert done.returncode == 0, done.stderr + output
     assert done.stdout.splitlines() == ["boxed True"], output
