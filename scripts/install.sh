@@ -41,7 +41,7 @@ DEV_DEBIAN=(
   liburdfdom-tools chromium
   ros-base ros-robot-state-publisher python3-rospy python3-roslaunch python3-rostopic
   python3-rosservice python3-tf2-ros python3-tf python3-actionlib python3-std-srvs python3-nav-msgs
-  python3-cv-bridge catkin libroscpp-dev ros-message-generation
+  python3-cv-bridge catkin libroscpp-dev ros-message-generation g++
   libstd-msgs-dev libgeometry-msgs-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev
   libros-rosgraph-msgs-dev libactionlib-msgs-dev libtrajectory-msgs-dev
   libvisualization-msgs-dev libdiagnostic-msgs-dev libstd-srvs-dev
