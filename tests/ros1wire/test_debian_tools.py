@@ -234,3 +234,18 @@ def test_a_rospy_node_runs_in_the_graphs_simulated_time(
     finally:
         handle.close()
         graph.shutdown()
+
+
+def test_a_rospy_node_that_ends_is_unregistered(
+    ros_graph: tuple[Graph, MasterHandle], tmp_path: Path
+) -> None:
+    """rospy unregisters its topics at its end in one ``system.multicall``."""
+    graph, handle = ros_graph
+    graph.create_node("listener").subscribe("/chatter", "std_msgs/String", lambda m: None)
+    ros = Ros1(handle.uri)
+    talker = ros.start(str(ROS_PYTHON), str(rospy_talker(tmp_path, "/chatter", 3, "bye")))
+    assert talker.wait(timeout=DEADLINE) == 0
+    wait_until(
+        lambda: "ros1_talker" not in ros.run("rosnode", "list").stdout,
+        what="the ended rospy node unregistered",
+    )

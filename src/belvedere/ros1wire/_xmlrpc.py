@@ -39,6 +39,8 @@ class XmlRpcServer:
             (host, port), requestHandler=_Quiet, allow_none=False, logRequests=False
         )
         self._server.register_instance(_Instance(dispatch))
+        # rospy unregisters all of a node's topics at its end in one system.multicall
+        self._server.register_multicall_functions()
         self.host = host
         self.port = int(self._server.server_address[1])
         self.uri = f"http://{host}:{self.port}/"
