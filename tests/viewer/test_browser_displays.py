@@ -133,7 +133,8 @@ def test_a_scan_stays_on_the_walls_while_the_robot_spins(tmp_path: Path) -> None
                     lambda: graph.now_ns() > start + 0.3e9,  # noqa: B023
                     what="0.3 s of simulated time",
                 )
-                on, off, err = _scan_pixels(_screenshot(page))
+                shot = _screenshot(page)
+                on, off, err = _scan_pixels(shot)
                 on_walls += on
                 off_walls += off
                 worst = max(worst, err)
@@ -141,7 +142,23 @@ def test_a_scan_stays_on_the_walls_while_the_robot_spins(tmp_path: Path) -> None
                 turned += abs(math.remainder(now - heading, math.tau))
                 heading = now
             assert turned > 2.0  # it did turn (a screenshot's wall time turns it on as well)
-            assert on_walls > 2000, (on_walls, off_walls)
+            if on_walls <= 2000:
+                # seen once on a loaded CI run: name the cause should it come again
+                from PIL import Image
+
+                Image.fromarray(shot).save(tmp_path / "last.png")
+                red = (shot[..., 0] > 150) & (shot[..., 1] < 90) & (shot[..., 2] < 90)
+                cameras = [
+                    (c.camera.image_height, c.camera.position, c.camera.look_at)
+                    for c in viewer.server.get_clients().values()
+                ]
+                why = (
+                    f"{on_walls} scan pixels on the walls, {off_walls} off; red pixels "
+                    f"anywhere in the last screenshot: {int(red.sum())}; clouds kept: "
+                    f"{len(getattr(scan, 'clouds', ()))}; "
+                    f"cameras: {cameras}; screenshot {tmp_path / 'last.png'}"
+                )
+                raise AssertionError(why)
             assert off_walls / on_walls < 0.01, (on_walls, off_walls, worst)
     finally:
         viewer.close()
