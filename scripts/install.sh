@@ -45,7 +45,7 @@ DEV_DEBIAN=(
   libstd-msgs-dev libgeometry-msgs-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev
   libros-rosgraph-msgs-dev libactionlib-msgs-dev libtrajectory-msgs-dev
   libvisualization-msgs-dev libdiagnostic-msgs-dev libstd-srvs-dev
-  rviz xvfb xauth
+  rviz xvfb xauth ros-image-view
 )
 
 debian=("${RUNTIME_DEBIAN[@]}")

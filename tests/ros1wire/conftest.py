@@ -10,6 +10,7 @@ import time
 import xmlrpc.client
 from collections.abc import Iterator
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -19,6 +20,7 @@ from belvedere.graph import Graph, ZenohTransport
 from belvedere.ros1wire import MasterHandle, start_master
 from tests.conftest import free_port
 from tests.debian_ros import ROSCORE, missing_debian_ros
+from tests.waiting import DEADLINE
 
 
 def ros_env(master_uri: str) -> dict[str, str]:
@@ -136,3 +138,13 @@ def rospy_talker(folder: Path, topic: str, count: int, words: str) -> Path:
         )
     )
     return script
+
+
+def publish_until(graph: Graph, pub: Any, done: Any, make: Any, period: float = 0.02) -> None:
+    """Publish ``make(i)`` every ``period`` seconds (on the executor) until ``done()``."""
+    i = 0
+    deadline = time.monotonic() + DEADLINE
+    while not done() and time.monotonic() < deadline:
+        graph.executor.post(partial(pub.publish_data, make(i)))
+        i += 1
+        time.sleep(period)

@@ -16,7 +16,7 @@ import pytest
 from belvedere.graph import Graph
 from belvedere.ros1wire import MasterHandle
 from tests.debian_ros import ROS_PYTHON
-from tests.ros1wire.conftest import Ros1, rospy_talker
+from tests.ros1wire.conftest import Ros1, publish_until, rospy_talker
 from tests.waiting import DEADLINE, wait_until
 
 pytestmark = pytest.mark.usefixtures("needs_debian_ros")
@@ -166,16 +166,6 @@ def test_rospy_calls_a_graph_service_and_a_failure_is_its_error(
     assert "no turtle here" in r.stdout.splitlines()[1]
 
 
-def _publish_until(graph: Graph, pub: Any, done: Any, make: Any) -> None:
-    """Publish ``make(i)`` every 20 ms (on the executor) until ``done()``."""
-    i = 0
-    deadline = time.monotonic() + DEADLINE
-    while not done() and time.monotonic() < deadline:
-        graph.executor.post(partial(pub.publish_data, make(i)))
-        i += 1
-        time.sleep(0.02)
-
-
 def test_rosbag_records_a_graph_topic(
     ros_graph: tuple[Graph, MasterHandle], tmp_path: Path
 ) -> None:
@@ -184,7 +174,7 @@ def test_rosbag_records_a_graph_topic(
     bag = tmp_path / "count.bag"
     ros = Ros1(handle.uri)
     record = ros.start("rosbag", "record", "-O", str(bag), "--duration=3", "/count")
-    _publish_until(graph, pub, lambda: record.poll() is not None, lambda i: {"data": i})
+    publish_until(graph, pub, lambda: record.poll() is not None, lambda i: {"data": i})
     assert record.wait(timeout=DEADLINE) == 0, record.stderr.read() if record.stderr else ""
     read = ros.run(
         str(ROS_PYTHON),
