@@ -239,3 +239,112 @@ def test_a_rospy_node_that_ends_is_unregistered(
         lambda: "ros1_talker" not in ros.run("rosnode", "list").stdout,
         what="the ended rospy node unregistered",
     )
+
+
+def _bag_of_counts(ros: Ros1, bag: Path, count: int) -> None:
+    """A bag Debian's rosbag writes: /count (std_msgs/Int32) 0 … count-1, 50 ms apart from
+    t = 1000 s."""
+    write = ros.run(
+        str(ROS_PYTHON),
+        "-c",
+        textwrap.dedent(
+            f"""
+            import rosbag, rospy
+            from std_msgs.msg import Int32
+            with rosbag.Bag({str(bag)!r}, "w") as out:
+                for i in range({count}):
+                    out.write("/count", Int32(data=i), rospy.Time(1000 + 0.05 * i))
+            """
+        ),
+    )
+    assert write.returncode == 0, write.stderr
+
+
+def test_rosbag_play_reaches_a_graph_subscriber_in_order(
+    ros_graph: tuple[Graph, MasterHandle], tmp_path: Path
+) -> None:
+    graph, handle = ros_graph
+    heard: list[int] = []
+    graph.create_node("listener").subscribe(
+        "/count", "std_msgs/Int32", lambda m: heard.append(m.data), queue_size=100
+    )
+    ros = Ros1(handle.uri)
+    bag = tmp_path / "count.bag"
+    _bag_of_counts(ros, bag, 40)
+    play = ros.run("rosbag", "play", "-q", "--wait-for-subscribers", str(bag), timeout=DEADLINE)
+    assert play.returncode == 0, play.stderr
+    wait_until(lambda: len(heard) >= 40, what="the bag's 40 messages", timeout=DEADLINE)
+    assert heard == list(range(40))
+
+
+def test_rosbag_play_clock_drives_a_graph_in_simulated_time(
+    endpoint: str, needs_debian_ros: None, tmp_path: Path
+) -> None:
+    """``rosbag play --clock``: a graph that follows /clock runs in the bag's time, as a
+    ROS 1 node with /use_sim_time does."""
+    from belvedere.graph import ZenohTransport
+    from belvedere.ros1wire import start_master
+
+    graph = Graph(sim_time=True, transport=ZenohTransport(endpoint=endpoint), clock_hz=None)
+    graph.params.set("/use_sim_time", True)
+    listener = graph.create_node("listener")
+    graph.follow_clock(listener)
+    stamps: list[tuple[int, int]] = []
+    listener.subscribe(
+        "/count",
+        "std_msgs/Int32",
+        lambda m: stamps.append((m.data, graph.now_ns())),
+        queue_size=100,
+    )
+    graph.start(rtf=None)
+    handle = start_master(graph, port=0)
+    try:
+        ros = Ros1(handle.uri)
+        bag = tmp_path / "count.bag"
+        _bag_of_counts(ros, bag, 40)
+        play = ros.run(
+            "rosbag", "play", "-q", "--clock", "--wait-for-subscribers", str(bag), timeout=DEADLINE
+        )
+        assert play.returncode == 0, play.stderr
+        wait_until(lambda: len(stamps) >= 40, what="the bag's 40 messages", timeout=DEADLINE)
+        assert [value for value, _ in stamps] == list(range(40))
+        # each message is heard at its bag time (the clock runs at 100 Hz by default)
+        for value, now in stamps:
+            assert abs(now / 1e9 - (1000 + 0.05 * value)) < 0.1, (value, now)
+    finally:
+        handle.close()
+        graph.shutdown()
+
+
+def test_rostopic_hz_measures_a_graph_rate_in_simulated_time(
+    endpoint: str, needs_debian_ros: None
+) -> None:
+    """rostopic hz takes its times from /clock under /use_sim_time: a 10 Hz timer of the
+    simulation is 10 Hz to it, whatever the machine's load does to wall time."""
+    from belvedere.graph import ZenohTransport
+    from belvedere.ros1wire import start_master
+
+    graph = Graph(sim_time=True, transport=ZenohTransport(endpoint=endpoint))
+    graph.params.set("/use_sim_time", True)
+    node = graph.create_node("ticker")
+    pub = node.publisher("/tick", "std_msgs/Int32")
+    node.timer(0.1, lambda: pub.publish_data({"data": 1}))
+    graph.start(rtf=1.0)
+    handle = start_master(graph, port=0)
+    # unbuffered: rostopic prints a rate a second, into a pipe
+    hz = Ros1(handle.uri).start(str(ROS_PYTHON), "-u", "/usr/bin/rostopic", "hz", "/tick")
+    rates: list[float] = []
+    try:
+        assert hz.stdout is not None
+        for line in hz.stdout:
+            if "average rate:" in line:
+                rates.append(float(line.split(":")[1]))
+            if len(rates) >= 3:
+                break
+    finally:
+        hz.terminate()
+        hz.communicate(timeout=DEADLINE)
+        handle.close()
+        graph.shutdown()
+    assert rates, "rostopic hz printed no rate"
+    assert all(abs(rate - 10.0) < 0.5 for rate in rates[1:]), rates
