@@ -4,20 +4,22 @@ same run.
 For 1 KB and 1 MB ``std_msgs/String`` messages, each sent as fast as the sender can for a few
 seconds (its send time written at the start of the text, so the receiver measures latency):
 
-- reference: a rospy publisher to a rospy subscriber through Debian's own roscore;
-- ROS 1 → belvedere: the same rospy publisher to a graph subscriber through
+- reference: a ROS 1 publisher to a ROS 1 subscriber through Debian's own roscore;
+- ROS 1 → belvedere: the same publisher to a graph subscriber through
   ``belvedere roscore``'s master and bridge;
-- belvedere → ROS 1: a graph publisher to the same rospy subscriber.
+- belvedere → ROS 1: a graph publisher to the same subscriber.
 
 Messages per second received and mean latency, and the ratios to the reference. The ROS 1
-side is Debian's rospy (``/usr/bin/python3``); roscpp nodes speak the same TCPROS.
+side is Debian's rospy (``/usr/bin/python3``), Debian's roscpp (two nodes compiled here with
+g++ against ``libroscpp-dev``, kept in ~/.cache/belvedere-bench), or both in turn.
 
-    python benchmarks/ros1_wire.py [--seconds 5]
+    python benchmarks/ros1_wire.py [--seconds 5] [--client rospy|roscpp|both]
 """
 
 from __future__ import annotations
 
 import argparse
+import hashlib
 import os
 import socket
 import subprocess
@@ -69,6 +71,91 @@ span = got[-1][0] - got[0][0]
 print(n / span if span > 0 else 0.0, sum(a - b for a, b in got) / n)
 """
 
+CPP_PUBLISHER = r"""
+#include <ros/ros.h>
+#include <std_msgs/String.h>
+#include <cstdio>
+#include <string>
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "flood_pub", ros::init_options::AnonymousName);
+  size_t size = std::stoul(argv[1]);
+  double seconds = std::stod(argv[2]);
+  ros::NodeHandle n;
+  ros::Publisher pub = n.advertise<std_msgs::String>("/flood", 1000);
+  while (pub.getNumSubscribers() == 0 && ros::ok()) ros::WallDuration(0.01).sleep();
+  ros::WallDuration(0.5).sleep();
+  std::string pad(size, 'x');
+  double end = ros::WallTime::now().toSec() + seconds;
+  std_msgs::String msg;
+  char stamp[32];
+  while (ros::ok() && ros::WallTime::now().toSec() < end) {
+    std::snprintf(stamp, sizeof stamp, "%.6f|", ros::WallTime::now().toSec());
+    msg.data = stamp + pad;
+    pub.publish(msg);
+  }
+  ros::WallDuration(0.5).sleep();
+  return 0;
+}
+"""
+
+CPP_SUBSCRIBER = r"""
+#include <ros/ros.h>
+#include <ros/callback_queue.h>
+#include <std_msgs/String.h>
+#include <cstdio>
+#include <cstdlib>
+#include <vector>
+static std::vector<std::pair<double, double>> got;
+static void take(const std_msgs::String::ConstPtr& m) {
+  got.emplace_back(ros::WallTime::now().toSec(), std::atof(m->data.c_str()));
+}
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "flood_sub", ros::init_options::AnonymousName);
+  double seconds = std::stod(argv[1]);
+  ros::NodeHandle n;
+  ros::Subscriber sub = n.subscribe("/flood", 1000, take);
+  std::printf("READY\n");
+  std::fflush(stdout);
+  ros::CallbackQueue* queue = ros::getGlobalCallbackQueue();
+  while (got.empty() && ros::ok()) queue->callAvailable(ros::WallDuration(0.01));
+  double end = ros::WallTime::now().toSec() + seconds;
+  while (ros::ok() && ros::WallTime::now().toSec() < end)
+    queue->callAvailable(ros::WallDuration(0.01));
+  size_t count = got.size();
+  double span = got.back().first - got.front().first, lag = 0;
+  for (auto& g : got) lag += g.first - g.second;
+  std::printf("%f %f\n", span > 0 ? count / span : 0.0, lag / count);
+  return 0;
+}
+"""
+
+ROSCPP_LIBS = ["-lroscpp", "-lrosconsole", "-lroscpp_serialization", "-lrostime", "-lcpp_common"]
+
+
+def _compiled(source: str, name: str) -> str:
+    """``source`` built with g++ against Debian's roscpp, once per text."""
+    digest = hashlib.sha256(source.encode()).hexdigest()[:16]
+    folder = Path.home() / ".cache" / "belvedere-bench" / f"ros1_wire-{digest}"
+    binary = folder / name
+    if not binary.exists():
+        folder.mkdir(parents=True, exist_ok=True)
+        (folder / f"{name}.cpp").write_text(source)
+        subprocess.run(
+            ["g++", "-O2", "-o", str(binary), str(folder / f"{name}.cpp"), *ROSCPP_LIBS],
+            check=True,
+        )
+    return str(binary)
+
+
+def _commands(client: str, folder: Path) -> tuple[list[str], list[str]]:
+    """The publisher's and the subscriber's command (their arguments follow)."""
+    if client == "roscpp":
+        return [_compiled(CPP_PUBLISHER, "pub")], [_compiled(CPP_SUBSCRIBER, "sub")]
+    return (
+        [ROS_PYTHON, _script(PUBLISHER, folder, "pub.py")],
+        [ROS_PYTHON, _script(SUBSCRIBER, folder, "sub.py")],
+    )
+
 
 def _free_port() -> int:
     with socket.socket() as s:
@@ -89,9 +176,9 @@ def _script(text: str, directory: Path, name: str) -> str:
     return str(path)
 
 
-def _subscriber(uri: str, seconds: float, folder: Path) -> subprocess.Popen[str]:
+def _subscriber(uri: str, seconds: float, command: list[str]) -> subprocess.Popen[str]:
     proc = subprocess.Popen(
-        [ROS_PYTHON, _script(SUBSCRIBER, folder, "sub.py"), str(seconds)],
+        [*command, str(seconds)],
         env=_env(uri),
         stdout=subprocess.PIPE,
         text=True,
@@ -107,15 +194,15 @@ def _result(proc: subprocess.Popen[str]) -> tuple[float, float]:
     return float(rate), float(latency)
 
 
-def _publisher(uri: str, size: int, seconds: float, folder: Path) -> subprocess.Popen[str]:
+def _publisher(uri: str, size: int, seconds: float, command: list[str]) -> subprocess.Popen[str]:
     return subprocess.Popen(
-        [ROS_PYTHON, _script(PUBLISHER, folder, "pub.py"), str(size), str(seconds + 2)],
+        [*command, str(size), str(seconds + 2)],
         env=_env(uri),
         text=True,
     )
 
 
-def reference(size: int, seconds: float, folder: Path) -> tuple[float, float]:
+def reference(size: int, seconds: float, ends: tuple[list[str], list[str]]) -> tuple[float, float]:
     port = _free_port()
     uri = f"http://127.0.0.1:{port}/"
     core = subprocess.Popen(
@@ -132,8 +219,8 @@ def reference(size: int, seconds: float, folder: Path) -> tuple[float, float]:
                 break
             except OSError:
                 time.sleep(0.1)
-        sub = _subscriber(uri, seconds, folder)
-        pub = _publisher(uri, size, seconds, folder)
+        sub = _subscriber(uri, seconds, ends[1])
+        pub = _publisher(uri, size, seconds, ends[0])
         result = _result(sub)
         pub.wait(timeout=120)
         return result
@@ -149,7 +236,9 @@ def _graph() -> tuple[Graph, Any]:
     return graph, start_master(graph, port=0)
 
 
-def ros1_to_graph(size: int, seconds: float, folder: Path) -> tuple[float, float]:
+def ros1_to_graph(
+    size: int, seconds: float, ends: tuple[list[str], list[str]]
+) -> tuple[float, float]:
     graph, handle = _graph()
     got: list[tuple[float, float]] = []
 
@@ -158,7 +247,7 @@ def ros1_to_graph(size: int, seconds: float, folder: Path) -> tuple[float, float
 
     graph.create_node("flood_sub").subscribe("/flood", "std_msgs/String", take, queue_size=1000)
     try:
-        pub = _publisher(handle.uri, size, seconds, folder)
+        pub = _publisher(handle.uri, size, seconds, ends[0])
         while not got:
             time.sleep(0.005)
         time.sleep(seconds)
@@ -170,7 +259,9 @@ def ros1_to_graph(size: int, seconds: float, folder: Path) -> tuple[float, float
         graph.shutdown()
 
 
-def graph_to_ros1(size: int, seconds: float, folder: Path) -> tuple[float, float]:
+def graph_to_ros1(
+    size: int, seconds: float, ends: tuple[list[str], list[str]]
+) -> tuple[float, float]:
     graph, handle = _graph()
     pub = graph.create_node("flood_pub").publisher("/flood", "std_msgs/String", queue_size=1000)
     pad = "x" * size
@@ -182,6 +273,8 @@ def graph_to_ros1(size: int, seconds: float, folder: Path) -> tuple[float, float
             done = threading.Event()
 
             def send(done: threading.Event = done) -> None:
+                # one at a time, as a script's loop hands each to the graph (a burst on the
+                # executor overflows the bridge's 100-message queue, as it would roscpp's);
                 # the message made as rospy's sender makes its String(data=...)
                 pub.publish(string(data=f"{time.time():.6f}|{pad}"))
                 done.set()
@@ -190,7 +283,7 @@ def graph_to_ros1(size: int, seconds: float, folder: Path) -> tuple[float, float
             done.wait()
 
     try:
-        sub = _subscriber(handle.uri, seconds, folder)
+        sub = _subscriber(handle.uri, seconds, ends[1])
         thread = threading.Thread(target=flood, daemon=True)
         thread.start()
         result = _result(sub)
@@ -205,22 +298,28 @@ def graph_to_ros1(size: int, seconds: float, folder: Path) -> tuple[float, float
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seconds", type=float, default=5.0)
+    parser.add_argument("--client", choices=("rospy", "roscpp", "both"), default="both")
     args = parser.parse_args()
+    clients = ("rospy", "roscpp") if args.client == "both" else (args.client,)
     with tempfile.TemporaryDirectory() as tmp:
-        folder = Path(tmp)
-        for label, size in SIZES.items():
-            ref = reference(size, args.seconds, folder)
-            into = ros1_to_graph(size, args.seconds, folder)
-            out = graph_to_ros1(size, args.seconds, folder)
-            print(
-                f"{label}: rospy → rospy (Debian's roscore): {ref[0]:8.0f} msg/s, "
-                f"latency {ref[1] * 1e3:6.2f} ms"
-            )
-            for what, got in (("rospy → belvedere", into), ("belvedere → rospy", out)):
+        for client in clients:
+            ends = _commands(client, Path(tmp))
+            for label, size in SIZES.items():
+                ref = reference(size, args.seconds, ends)
+                into = ros1_to_graph(size, args.seconds, ends)
+                out = graph_to_ros1(size, args.seconds, ends)
                 print(
-                    f"{label}: {what:28s}: {got[0]:8.0f} msg/s, latency {got[1] * 1e3:6.2f} ms"
-                    f"  ({got[0] / ref[0]:.2f}x the reference's messages/s)"
+                    f"{label}: {client} → {client} (Debian's roscore): {ref[0]:8.0f} msg/s, "
+                    f"latency {ref[1] * 1e3:6.2f} ms"
                 )
+                for what, got in (
+                    (f"{client} → belvedere", into),
+                    (f"belvedere → {client}", out),
+                ):
+                    print(
+                        f"{label}: {what:30s}: {got[0]:8.0f} msg/s, latency "
+                        f"{got[1] * 1e3:6.2f} ms  ({got[0] / ref[0]:.2f}x the reference's msg/s)"
+                    )
 
 
 if __name__ == "__main__":
