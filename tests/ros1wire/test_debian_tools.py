@@ -348,3 +348,30 @@ def test_rostopic_hz_measures_a_graph_rate_in_simulated_time(
         graph.shutdown()
     assert rates, "rostopic hz printed no rate"
     assert all(abs(rate - 10.0) < 0.5 for rate in rates[1:]), rates
+
+
+def test_rosbag_record_keeps_a_graph_topics_latching(
+    ros_graph: tuple[Graph, MasterHandle], tmp_path: Path
+) -> None:
+    """The connection header says a latched graph topic latches: rosbag keeps the flag, and
+    its play latches the topic again."""
+    graph, handle = ros_graph
+    node = graph.create_node("map_server")
+    latched = node.publisher("/map_name", "std_msgs/String", latch=True)
+    plain = node.publisher("/chatter", "std_msgs/String")
+    graph.executor.post(partial(latched.publish_data, {"data": "cloister"}))
+    ros = Ros1(handle.uri)
+    bag = tmp_path / "latch.bag"
+    record = ros.start("rosbag", "record", "-O", str(bag), "--duration=2", "/map_name", "/chatter")
+    publish_until(graph, plain, lambda: record.poll() is not None, lambda i: {"data": str(i)})
+    assert record.wait(timeout=DEADLINE) == 0
+    read = ros.run(
+        str(ROS_PYTHON),
+        "-c",
+        "import sys, rosbag\n"
+        "for c in rosbag.Bag(sys.argv[1])._get_connections():\n"
+        "    print(c.topic, c.header.get('latching').decode())",
+        str(bag),
+    )
+    flags = dict(line.split() for line in read.stdout.splitlines())
+    assert flags == {"/map_name": "1", "/chatter": "0"}, read.stderr

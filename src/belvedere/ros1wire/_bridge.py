@@ -409,7 +409,7 @@ class Ros1Bridge(ServiceSide):
                 "callerid": sorted(users)[0],
                 "md5sum": text.md5sum,
                 "type": ros1_type,
-                "latching": "0",
+                "latching": "1" if self._latches(topic) else "0",
                 "message_definition": text.full_text,
                 "topic": topic,
             },
@@ -432,6 +432,12 @@ class Ros1Bridge(ServiceSide):
                     write_frame(sock, serialize(msg, store_type))
         finally:
             self._close_outlet(outlet)
+
+    def _latches(self, topic: str) -> bool:
+        """Whether a publisher of ``topic`` in this process latches (rosbag record keeps the
+        flag, and its play latches again). One in another process is not known here: 0."""
+        found = self.graph.topics.get(topic)
+        return found is not None and any(pub.latch for pub in list(found.publishers))
 
     def _subscribe(self, outlet: _Outlet, store_type: str) -> None:
         if outlet.closed:
