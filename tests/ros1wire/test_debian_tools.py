@@ -375,3 +375,30 @@ def test_rosbag_record_keeps_a_graph_topics_latching(
     )
     flags = dict(line.split() for line in read.stdout.splitlines())
     assert flags == {"/map_name": "1", "/chatter": "0"}, read.stderr
+
+
+def test_rosnode_kill_shuts_a_graph_node_down(ros_graph: tuple[Graph, MasterHandle]) -> None:
+    """Each graph node has its own slave URI, so rosnode kill (the slave API's shutdown)
+    reaches that node alone, as ``belvedere node kill`` does."""
+    graph, handle = ros_graph
+    doomed = graph.create_node("doomed")
+    doomed.publisher("/doomed_out", "std_msgs/Int32")
+    graph.create_node("spared").publisher("/spared_out", "std_msgs/Int32")
+    ros = Ros1(handle.uri)
+    wait_until(
+        lambda: {"/doomed", "/spared"} <= set(ros.run("rosnode", "list").stdout.split()),
+        what="both graph nodes listed by rosnode",
+    )
+    info = ros.run("rosnode", "info", "/doomed").stdout
+    assert "/doomed_out" in info, info
+    assert "/spared_out" not in info, info
+    kill = ros.run("rosnode", "kill", "/doomed")
+    assert kill.returncode == 0, kill.stderr
+    assert "killed" in kill.stdout, kill.stdout
+    wait_until(
+        lambda: "/doomed" not in ros.run("rosnode", "list").stdout.split(),
+        what="the killed node to leave",
+    )
+    assert doomed.shutdown_request is not None
+    assert doomed.shutdown_request[1] == "user request"
+    assert "/spared" in ros.run("rosnode", "list").stdout.split()

@@ -26,6 +26,7 @@ from collections import deque
 from dataclasses import dataclass, field
 from functools import partial
 from typing import Any, Final
+from urllib.parse import quote, unquote
 
 from belvedere.errors import BelvedereError
 from belvedere.graph import Graph, Publisher, Subscription, ZenohTransport
@@ -39,7 +40,7 @@ from belvedere.ros1wire._tcpros import (
     write_frame,
     write_header,
 )
-from belvedere.ros1wire._xmlrpc import XmlRpcServer, server_proxy
+from belvedere.ros1wire._xmlrpc import XmlRpcServer, request_path, server_proxy
 
 __all__ = ["BRIDGE_NODE", "Ros1Bridge"]
 
@@ -130,6 +131,11 @@ class Ros1Bridge(ServiceSide):
         with self._lock:
             return self._state
 
+    def node_uri(self, node: str) -> str:
+        """A graph node's slave URI: the bridge's, with the node's name as its path (what
+        ``shutdown`` is asked of is then known)."""
+        return self.uri + quote(node.lstrip("/"), safe="/")
+
     def service_uri(self) -> str:
         return f"rosrpc://{self.host}:{self.port}"
 
@@ -159,7 +165,7 @@ class Ros1Bridge(ServiceSide):
                 for typ, node in providers:
                     if node != own:
                         state.services.setdefault(service, {})[node] = typ
-            state.nodes = {n: self.uri for n in info.nodes if n != own}
+            state.nodes = {n: self.node_uri(n) for n in info.nodes if n != own}
         with self._lock:
             before, self._state = self._state, state
         self.master.graph_changed(before, state)
@@ -494,9 +500,20 @@ class Ros1Bridge(ServiceSide):
         if method in ("paramUpdate", "publisherUpdate"):
             return [1, "", 0]
         if method == "shutdown":
-            return [1, "shutdown", 0]
+            return self._shutdown(unquote(request_path()), state, str(params[0] if params else ""))
         msg = f'method "{method}" is not supported'
         raise xmlrpc.client.Fault(1, msg)
+
+    def _shutdown(self, node: str, state: Registrations, caller: str) -> Any:
+        """rosnode kill of a graph node: its process is asked to shut it down, as ``belvedere
+        node kill`` asks it."""
+        transport = self.graph.transport
+        if node not in state.nodes or not isinstance(transport, ZenohTransport):
+            return [1, "shutdown", 0]  # the bridge itself, or a node already gone
+        if transport.node_request(node, "kill", caller=caller, timeout=5.0) is None:
+            return [0, f"{node}'s process did not answer", 0]
+        self._wake.set()
+        return [1, "shutdown", 0]
 
 
 def _known(ros1_type: str) -> bool:

@@ -14,7 +14,15 @@ import xmlrpc.server
 from collections.abc import Callable
 from typing import Any
 
-__all__ = ["XmlRpcServer", "server_proxy"]
+__all__ = ["XmlRpcServer", "request_path", "server_proxy"]
+
+_request = threading.local()
+
+
+def request_path() -> str:
+    """The path the request being answered (on this thread) was posted to: one server can
+    stand for several ROS 1 nodes, each with its own URI."""
+    return str(getattr(_request, "path", "/"))
 
 
 class _Server(socketserver.ThreadingMixIn, xmlrpc.server.SimpleXMLRPCServer):
@@ -27,6 +35,10 @@ class _Quiet(xmlrpc.server.SimpleXMLRPCRequestHandler):
 
     def log_message(self, format: str, *args: Any) -> None:
         pass
+
+    def do_POST(self) -> None:  # noqa: N802 (http.server's name)
+        _request.path = self.path  # each request has its own thread (ThreadingMixIn)
+        super().do_POST()
 
 
 class XmlRpcServer:
