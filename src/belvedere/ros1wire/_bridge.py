@@ -37,7 +37,7 @@ from belvedere.ros1wire._tcpros import (
     TcprosError,
     read_frame,
     read_header,
-    write_frame,
+    write_frames,
     write_header,
 )
 from belvedere.ros1wire._xmlrpc import XmlRpcServer, request_path, server_proxy
@@ -434,8 +434,7 @@ class Ros1Bridge(ServiceSide):
                         outlet.ready.wait(1.0)
                     batch = list(outlet.queue)
                     outlet.queue.clear()
-                for msg in batch:
-                    write_frame(sock, serialize(msg, store_type))
+                write_frames(sock, (serialize(msg, store_type) for msg in batch))
         finally:
             self._close_outlet(outlet)
 

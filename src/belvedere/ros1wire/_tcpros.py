@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import socket
 import struct
+from collections.abc import Iterable
 from typing import Final
 
 __all__ = [
@@ -20,6 +21,7 @@ __all__ = [
     "read_header",
     "read_service_reply",
     "write_frame",
+    "write_frames",
     "write_header",
 ]
 
@@ -118,3 +120,19 @@ def read_service_reply(sock: socket.socket) -> tuple[bool, bytes]:
     """(ok, the response's bytes or the error's text)."""
     ok = _read_exactly(sock, 1) != b"\x00"
     return ok, read_frame(sock)
+
+
+def write_frames(sock: socket.socket, frames: Iterable[bytes | memoryview]) -> None:
+    """Several messages in as few sends as their sizes allow (small ones joined)."""
+    joined = bytearray()
+    for data in frames:
+        if len(data) >= _JOIN_BELOW:
+            if joined:
+                sock.sendall(joined)
+                joined.clear()
+            write_frame(sock, data)
+        else:
+            joined += _LENGTH.pack(len(data))
+            joined += data
+    if joined:
+        sock.sendall(joined)
