@@ -113,3 +113,50 @@ def test_no_cluster_at_the_address_is_one_clear_error(tmp_path: Path) -> None:
     assert ran.returncode == 1
     assert f"error: --ray {HOST}:" in ran.stderr
     assert "Traceback" not in ran.stderr
+
+
+LOSES_ITS_WORKER = """\
+import os
+import signal
+from pathlib import Path
+
+MARK = Path({mark!r})
+
+
+def once(messages):
+    # the first attempt's worker dies mid-run, as on a lost machine; Ray runs it again
+    if not MARK.exists():
+        MARK.touch()
+        os.kill(os.getpid(), signal.SIGKILL)
+    return len(messages["/odom"])
+
+
+def always(messages):
+    os.kill(os.getpid(), signal.SIGKILL)
+"""
+
+
+def test_a_run_whose_worker_is_lost_is_run_again(cluster: str, tmp_path: Path) -> None:
+    (tmp_path / "metrics.py").write_text(LOSES_ITS_WORKER.format(mark=str(tmp_path / "died")))
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(f"sim: [{MBOT}]\nduration: 1\nmetrics:\n  n: python metrics.py:once /odom\n")
+    ran = _batch(spec, "-o", tmp_path / "out.csv", "--ray", cluster, cwd=tmp_path)
+    assert ran.returncode == 0, ran.stderr
+    assert (tmp_path / "died").exists()  # the first attempt's worker did die
+    rows = _rows(tmp_path / "out.csv")
+    assert [r["status"] for r in rows] == ["ok"]
+    assert int(rows[0]["n"]) > 0
+
+
+def test_a_run_that_loses_every_worker_is_a_lost_row(cluster: str, tmp_path: Path) -> None:
+    (tmp_path / "metrics.py").write_text(LOSES_ITS_WORKER.format(mark=str(tmp_path / "died")))
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(
+        f"sim: [{MBOT}]\nduration: 1\nruns:\n  seed: [1, 2]\n"
+        "metrics:\n  n: python metrics.py:always /odom\n"
+    )
+    ran = _batch(spec, "-o", tmp_path / "out.csv", "--ray", cluster, cwd=tmp_path)
+    rows = _rows(tmp_path / "out.csv")
+    assert [r["status"] for r in rows] == ["lost", "lost"], ran.stderr
+    assert all(r["error"].startswith("Ray: ") for r in rows)
+    assert "Traceback" not in ran.stderr
