@@ -265,6 +265,7 @@ def graph_to_ros1(
     graph, handle = _graph()
     pub = graph.create_node("flood_pub").publisher("/flood", "std_msgs/String", queue_size=1000)
     pad = "x" * size
+    burst = max(1, min(50, (1 << 20) // size))
     string = types().cls("std_msgs/msg/String")
     stop = threading.Event()
 
@@ -273,10 +274,12 @@ def graph_to_ros1(
             done = threading.Event()
 
             def send(done: threading.Event = done) -> None:
-                # one at a time, as a script's loop hands each to the graph (a burst on the
-                # executor overflows the bridge's 100-message queue, as it would roscpp's);
-                # the message made as rospy's sender makes its String(data=...)
-                pub.publish(string(data=f"{time.time():.6f}|{pad}"))
+                # a node's burst: up to 50 messages (1 MB) per turn of the executor, fewer
+                # than the bridge's queue holds for a ROS 1 subscriber (100: as roscpp's
+                # queue, it drops past its size); each made as rospy's sender makes its
+                # String(data=...)
+                for _ in range(burst):
+                    pub.publish(string(data=f"{time.time():.6f}|{pad}"))
                 done.set()
 
             graph.executor.post(send)

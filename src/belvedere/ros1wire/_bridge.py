@@ -35,7 +35,7 @@ from belvedere.ros1wire._master import MasterSide, Registrations
 from belvedere.ros1wire._services import ServiceSide
 from belvedere.ros1wire._tcpros import (
     TcprosError,
-    read_frame,
+    read_frames,
     read_header,
     write_frames,
     write_header,
@@ -80,6 +80,11 @@ class _Inlet:
     sources: dict[str, socket.socket | None] = field(default_factory=dict)
     """publisher's slave API → its connection (None while connecting)"""
     closed: bool = False
+    waiting: deque[Any] = field(default_factory=deque)
+    """Messages read and not yet published on the graph: one executor job publishes all
+    that came in meanwhile, not one job each."""
+    posted: bool = False
+    lock: threading.Lock = field(default_factory=threading.Lock)
 
 
 class Ros1Bridge(ServiceSide):
@@ -250,10 +255,16 @@ class Ros1Bridge(ServiceSide):
             store_type = self._learn(header, inlet)
             latched = header.get("latching", "0") == "1"
             self.graph.executor.post(partial(self._open_publisher, inlet, store_type, latched))
-            while not inlet.closed:
-                data = read_frame(sock)  # ends (OSError) when the sources are dropped
-                msg = types().store.deserialize_ros1(data, store_type)
-                self.graph.executor.post(partial(self._publish, inlet, msg))
+            deserialize = types().store.deserialize_ros1
+            for data in read_frames(sock):  # ends (OSError) when the sources are dropped
+                if inlet.closed:
+                    break
+                msg = deserialize(data, store_type)
+                with inlet.lock:
+                    inlet.waiting.append(msg)
+                    post, inlet.posted = not inlet.posted, True
+                if post:
+                    self.graph.executor.post(partial(self._publish, inlet))
         except (OSError, TcprosError) as err:
             if not inlet.closed:
                 logger.debug("ros1: %s from %s ended: %s", inlet.topic, api, err)
@@ -348,9 +359,14 @@ class Ros1Bridge(ServiceSide):
         if inlet.publisher is None and not inlet.closed:
             inlet.publisher = self.node.publisher(inlet.topic, store_type, latch=latched)
 
-    def _publish(self, inlet: _Inlet, msg: Any) -> None:
+    def _publish(self, inlet: _Inlet) -> None:
+        with inlet.lock:
+            batch = list(inlet.waiting)
+            inlet.waiting.clear()
+            inlet.posted = False
         if inlet.publisher is not None and not inlet.closed:
-            inlet.publisher.publish(msg)
+            for msg in batch:
+                inlet.publisher.publish(msg)
 
     def _close_inlet(self, inlet: _Inlet) -> None:
         inlet.closed = True
