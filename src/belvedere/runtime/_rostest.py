@@ -114,7 +114,7 @@ def run_rostest(
         BelvedereError: the file cannot be read (a malformed file, a missing arg …), at its
             line, before anything runs.
     """
-    root = find_package_root(path)
+    root = find_package_root(path.resolve())
     package = read_package_name(root / "package.xml") if root is not None else "belvedere"
     config = load_launch(path, args=args, packages=packages, tests=True)
     for warning in config.warnings:
