@@ -339,7 +339,7 @@ def test_many_files_run_side_by_side(tmp_path: Path) -> None:
     out = tmp_path / "out"
     proc = _rostest(passing, failing, "--workers", "2", "--results", out, cwd=tmp_path)
     assert proc.returncode == 2, proc.stdout + proc.stderr
-    assert proc.stdout.index("==== demo.test") < proc.stdout.index("==== failing.test")
+    assert proc.stdout.index("==== test/demo.test") < proc.stdout.index("==== test/failing.test")
     assert " * RESULT: SUCCESS" in proc.stdout
     assert " * RESULT: FAIL" in proc.stdout
     assert _counts(out / "demo" / "rosunit-check_it.xml") == (2, 0, 0)
@@ -380,3 +380,29 @@ def test_summary_counts_tests_that_failed_to_run() -> None:
         "ERROR: The following tests failed to run:",
         " * testb",
     ]
+
+
+def test_many_files_on_a_ray_cluster_give_what_local_workers_give(
+    cluster: str, tmp_path: Path
+) -> None:
+    """``--ray``: each file a Ray task, its package shipped as the task's working folder."""
+    passing = _package(
+        tmp_path,
+        '<launch><test test-name="check_it" pkg="demo" type="check.py"/></launch>',
+        {"check.py": CHECK},
+    )
+    failing = passing.with_name("failing.test")
+    failing.write_text(
+        '<launch><test test-name="check_two" pkg="demo" type="check.py">'
+        '<param name="want" value="2"/></test></launch>'
+    )
+    outcomes = []
+    for how in (["--workers", "2"], ["--ray", cluster]):
+        out = tmp_path / how[0].strip("-")
+        proc = _rostest(passing, failing, *how, "--results", out, cwd=tmp_path)
+        assert proc.returncode == 2, proc.stdout + proc.stderr
+        outcomes.append(
+            [line for line in proc.stdout.splitlines() if line.startswith(("====", " * ", "["))]
+        )
+        assert _counts(out / "demo" / "rosunit-check_two.xml") == (2, 1, 0)
+    assert outcomes[0] == outcomes[1]

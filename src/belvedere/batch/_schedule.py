@@ -133,8 +133,8 @@ def map_ray(
         raise BelvedereError(msg, hint="start one: ray start --head, or --ray auto") from None
     results: list[R | None] = [None] * len(items)
     try:
-        task = ray.remote(num_cpus=1, max_retries=RAY_RETRIES, retry_exceptions=False)(work)
-        pending = {task.remote(item): i for i, item in enumerate(items)}
+        task: Any = ray.remote(num_cpus=1, max_retries=RAY_RETRIES, retry_exceptions=False)(_call)
+        pending = {task.remote(work, item): i for i, item in enumerate(items)}
         while pending:
             done, _ = ray.wait(list(pending), num_returns=1)
             for ref in done:
@@ -148,6 +148,11 @@ def map_ray(
     finally:
         ray.shutdown()
     return [r for r in results if r is not None]
+
+
+def _call(work: Callable[[T], R], item: T) -> R:
+    """A Ray task: ``work`` (any picklable callable, a ``partial`` too) on ``item``."""
+    return work(item)
 
 
 def _listening(host: str, port: int) -> bool:

@@ -22,7 +22,7 @@ from belvedere.cli._args import mappings_only
 from belvedere.cli._script import parse_rtf
 from belvedere.cli._tool import add_graph_options, graph_address
 from belvedere.errors import BelvedereError, did_you_mean
-from belvedere.packages import PackageIndex
+from belvedere.packages import PackageIndex, find_package_root
 from belvedere.runtime import GraphAddress
 from belvedere.runtime._rostest import RostestOptions, run_rostest
 
@@ -179,7 +179,9 @@ def run(args: argparse.Namespace) -> int:
 
 def _run_many(files: list[Path], args: argparse.Namespace) -> int:
     """Each file a ``belvedere test`` process of its own (its own graph), side by side."""
-    folder = Path(os.path.commonpath([str(f.resolve().parent) for f in files]))
+    # a Ray task gets this folder: the files' packages, so their scripts travel with them
+    roots = [find_package_root(f.resolve()) or f.resolve().parent for f in files]
+    folder = Path(os.path.commonpath([str(r) for r in roots]))
     argv: list[str] = [w for w in args.words if ":=" in w]
     for path in args.package_path or []:
         argv += ["--package-path", str(Path(path).resolve())]
