@@ -129,13 +129,15 @@ def run_rostest(
         runner.cases.append(case)
         started = time.monotonic()
         if name in seen:
-            case.failures.append(("", f"Duplicate tests named [{name}] in rostest suite"))
+            case.failures.append(
+                ("AssertionError", f"Duplicate tests named [{name}] in rostest suite")
+            )
             continue
         seen.add(name)
         missing = _missing(test, packages)
         if missing is not None:
             runner.say(missing, error=True)
-            case.failures.append(("", missing))
+            case.failures.append(("AssertionError", missing))
             continue
         _run_with_retries(config, test, package, packages, options, env, runner, case)
         case.time = time.monotonic() - started
@@ -185,7 +187,7 @@ def _run_with_retries(
         )
         ended = _run_once(config, spec, packages, options)
         if ended == "not started":
-            case.failures.append(("", f"test [{name}] failed to launch"))
+            case.failures.append(("AssertionError", f"test [{name}] failed to launch"))
             return
         timed_out = ended == "timeout"
         if timed_out:
