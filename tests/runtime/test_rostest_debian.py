@@ -96,8 +96,18 @@ def _debian(pkg: Path, results: Path, home: Path) -> subprocess.CompletedProcess
 
 def _ours(pkg: Path, results: Path) -> subprocess.CompletedProcess[str]:
     return subprocess.run(
-        [sys.executable, "-m", "belvedere", "test", "--package-path", str(pkg.parent)]
-        + ["--results", str(results), "demo", "demo.test"],
+        [
+            sys.executable,
+            "-m",
+            "belvedere",
+            "test",
+            "--package-path",
+            str(pkg.parent),
+            "--results",
+            str(results),
+            "demo",
+            "demo.test",
+        ],
         cwd=pkg,
         capture_output=True,
         text=True,
