@@ -406,3 +406,19 @@ def test_many_files_on_a_ray_cluster_give_what_local_workers_give(
         )
         assert _counts(out / "demo" / "rosunit-check_two.xml") == (2, 1, 0)
     assert outcomes[0] == outcomes[1]
+
+
+def test_text_mode_prints_unittests_report_and_writes_no_files(tmp_path: Path) -> None:
+    """``--text``, as rostest's: the test nodes print unittest's report and the run's
+    result is not theirs (rostest warns so and exits 0 once every test ran)."""
+    path = _package(
+        tmp_path,
+        '<launch><test test-name="check_it" pkg="demo" type="check.py">'
+        '<param name="want" value="2"/></test></launch>',
+        {"check.py": CHECK},
+    )
+    proc = _rostest(path, "--text", "--results", tmp_path / "out", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "WARNING: overall test result is not accurate when --text is enabled" in proc.stdout
+    assert "FAIL: test_param (__main__.Check.test_param)" in proc.stderr
+    assert not (tmp_path / "out" / "demo" / "rosunit-check_it.xml").exists()
