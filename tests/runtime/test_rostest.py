@@ -261,6 +261,11 @@ def test_a_missing_test_node_fails_to_run_naming_its_line(tmp_path: Path) -> Non
             ":2",
             "'time-limit' must be a number: [soon]",
         ),
+        (
+            '<launch>\n\n\n  <test test-name="t" pkg="demo" type="x.py" args="\'open"/>\n</launch>',
+            ":4",
+            "cannot be split: No closing quotation",
+        ),
     ],
 )
 def test_a_malformed_test_file_is_one_error_at_its_line(

@@ -23,7 +23,7 @@ from pathlib import Path
 from belvedere import nodes
 from belvedere.errors import BelvedereError
 from belvedere.graph import Graph
-from belvedere.launch import LaunchConfig, LaunchNode, load_launch
+from belvedere.launch import LaunchConfig, LaunchError, LaunchNode, load_launch
 from belvedere.launch._runtime import LaunchRuntime, find_script
 from belvedere.packages import PackageIndex, find_package_root, read_package_name
 from belvedere.ros1._junit import (
@@ -119,6 +119,8 @@ def run_rostest(
     config = load_launch(path, args=args, packages=packages, tests=True)
     for warning in config.warnings:
         logger.warning("%s", warning)
+    for test in config.tests:
+        _check_args(test)
     env = {} if options.results is None else {"ROS_TEST_RESULTS_DIR": str(options.results)}
     outname = rostest_name(root or path.parent, path)
     runner = _Runner()
@@ -142,6 +144,16 @@ def run_rostest(
         _run_with_retries(config, test, package, packages, options, env, runner, case)
         case.time = time.monotonic() - started
     return _finish(path, package, outname, options, env, runner)
+
+
+def _check_args(test: LaunchNode) -> None:
+    """A test's ``args`` split as a shell splits them (the results file is added to them),
+    or one error at its line before anything runs."""
+    try:
+        shlex.split(test.args)
+    except ValueError as err:
+        msg = f"<test> {test.test_name}: args={test.args!r} cannot be split: {err}"
+        raise LaunchError(msg, test.source) from None
 
 
 def _missing(test: LaunchNode, packages: PackageIndex) -> str | None:
