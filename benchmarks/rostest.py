@@ -1,8 +1,9 @@
 """Wall time of ``belvedere test`` against Debian's rostest (the reference, measured in the same
 run) on one package: a rospy unittest node and rostest's ``paramtest``, each test with its
 launch brought up fresh, as rostest does. Then files per minute for many copies of the
-course's example (``examples/mbot_test``: the laser mbot in MuJoCo, hztest on /scan, a rospy
-node driving it to a goal) with one and two local workers.
+course's example (``examples/mbot_test/test/mbot_nav.test``: the laser mbot in MuJoCo in the
+cloister, hztest on /scan, a rospy node sending move_base a goal) with one and two local
+workers.
 
     python benchmarks/rostest.py [--repeat 3] [--files 4]
 """
@@ -124,7 +125,7 @@ def main() -> None:
         # many copies of the course's example, one and two at a time
         package = folder / "examples" / "mbot_test"
         shutil.copytree(EXAMPLES / "mbot_test", package)
-        example = package / "test" / "mbot_laser.test"
+        example = package / "test" / "mbot_nav.test"
         copies = [example.with_name(f"copy_{i}.test") for i in range(options.files)]
         for copy in copies:
             shutil.copy(example, copy)

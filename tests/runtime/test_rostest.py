@@ -109,15 +109,15 @@ def _counts(path: Path) -> tuple[int, int, int]:
 
 
 def test_course_example_passes_with_its_junit_files(tmp_path: Path) -> None:
-    """The course's laser mbot: /scan at 5.5 Hz (hztest) and a rospy node that drives it
-    to a goal, checked from odometry."""
+    """The course's navigation in the cloister: /scan at 5.5 Hz (hztest) and a rospy node
+    that sends move_base a goal through actionlib, checked from odometry."""
     proc = _rostest(
-        "--package-path", EXAMPLES, "--results", tmp_path, "mbot_test", "mbot_laser.test",
+        "--package-path", EXAMPLES, "--results", tmp_path, "mbot_test", "mbot_nav.test",
         cwd=tmp_path,
     )  # fmt: skip
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert "[mbot_test.rosunit-scan_rate/test_hz][passed]" in proc.stdout
-    assert "[mbot_test.rosunit-drive_to_goal/test_reaches_goal][passed]" in proc.stdout
+    assert "[mbot_test.rosunit-reach_goal/test_reaches_goal][passed]" in proc.stdout
     assert _summary(proc.stdout) == [
         "SUMMARY",
         " * RESULT: SUCCESS",
@@ -126,15 +126,15 @@ def test_course_example_passes_with_its_junit_files(tmp_path: Path) -> None:
         " * FAILURES: 0",
     ]
     results = tmp_path / "mbot_test"
-    own = _suite(results / "rostest-test_mbot_laser.xml")
-    assert _counts(results / "rostest-test_mbot_laser.xml") == (2, 0, 0)
+    own = _suite(results / "rostest-test_mbot_nav.xml")
+    assert _counts(results / "rostest-test_mbot_nav.xml") == (2, 0, 0)
     cases = [(c.get("classname"), c.get("name")) for c in own.iter("testcase")]
     assert cases == [
-        ("rostest.runner.RosTest", "testdrive_to_goal"),
+        ("rostest.runner.RosTest", "testreach_goal"),
         ("rostest.runner.RosTest", "testscan_rate"),
     ]
     assert _counts(results / "rosunit-scan_rate.xml") == (1, 0, 0)
-    assert _counts(results / "rosunit-drive_to_goal.xml") == (1, 0, 0)
+    assert _counts(results / "rosunit-reach_goal.xml") == (1, 0, 0)
     # hztest's own report of what it measured, kept in its results as rosunit keeps output
     said = _suite(results / "rosunit-scan_rate.xml").findtext("system-out") or ""
     rate = re.search(r"average rate ([0-9.]+)Hz", said)
@@ -145,7 +145,6 @@ def test_course_example_passes_with_its_junit_files(tmp_path: Path) -> None:
 def test_hztest_fails_a_wrong_rate(tmp_path: Path) -> None:
     test = (EXAMPLES / "mbot_test" / "test" / "mbot_laser.test").read_text()
     test = test.replace('value="5.5"', 'value="10.0"')
-    test = test[: test.index("    <!-- the robot drives")] + "</launch>\n"
     path = tmp_path / "pkg" / "test" / "rate.test"
     path.parent.mkdir(parents=True)
     (tmp_path / "pkg" / "package.xml").write_text(PACKAGE_XML.format(name="rate_pkg"))
