@@ -97,19 +97,18 @@ def load_launch(
     """Read a launch file (and what it includes) with ``args`` given as ``name:=value``;
     ``tests``: for rostest, whose ``<test>`` elements are no notes."""
     packages = packages or PackageIndex.from_environment(near=str(path))
-    loader = _Loader(packages)
-    loader.with_tests = tests
+    loader = _Loader(packages, with_tests=tests)
     loader.file(Path(path), _Scope(str(path), passed=dict(args or {})), top=True)
     return loader.config
 
 
 class _Loader:
-    def __init__(self, packages: PackageIndex) -> None:
+    def __init__(self, packages: PackageIndex, *, with_tests: bool = False) -> None:
         self.packages = packages
         self.config = LaunchConfig()
         self.including: list[str] = []
         self.anon: dict[str, str] = {}
-        self.with_tests = False
+        self.with_tests = with_tests
 
     # --- files -----------------------------------------------------------------------------------
     def file(
@@ -487,8 +486,7 @@ class _Loader:
         )
 
     def tag_test(self, el: Element, scope: _Scope) -> None:
-        """A ``<test>``: read as roslaunch reads it (``--nodes`` lists it); ``launch`` skips
-        it with a note, ``belvedere test`` runs it."""
+        """A ``<test>``, as roslaunch reads it: ``launch`` skips it, ``belvedere test`` runs it."""
         if not self.with_tests:
             self.config.warnings.append(
                 f"{el.loc}: note: <test> {el.attrs.get('test-name', '')} skipped (tests are "
