@@ -426,3 +426,35 @@ def test_text_mode_prints_unittests_report_and_writes_no_files(tmp_path: Path) -
     assert "WARNING: overall test result is not accurate when --text is enabled" in proc.stdout
     assert "FAIL: test_param (__main__.Check.test_param)" in proc.stderr
     assert not (tmp_path / "out" / "demo" / "rosunit-check_it.xml").exists()
+
+
+def test_rosrun_rostest_rostest_is_belvedere_test(tmp_path: Path) -> None:
+    _package(
+        tmp_path,
+        '<launch><test test-name="check_it" pkg="demo" type="check.py">'
+        '<param name="want" value="2"/></test></launch>',
+        {"check.py": CHECK},
+    )
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "belvedere",
+            "run",
+            "--package-path",
+            str(tmp_path / "ws"),
+            "rostest",
+            "rostest",
+            "--results",
+            str(tmp_path / "out"),
+            "demo",
+            "demo.test",
+        ],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=DEADLINE * 4,
+        check=False,
+    )
+    assert proc.returncode == 2, proc.stdout + proc.stderr
+    assert " * FAILURES: 1" in proc.stdout
