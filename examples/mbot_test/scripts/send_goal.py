@@ -9,10 +9,11 @@ import unittest
 
 import actionlib
 import rospy
-import rostest
 from actionlib_msgs.msg import GoalStatus
 from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
 from nav_msgs.msg import Odometry
+
+import rostest
 
 PKG = "mbot_test"
 NAME = "send_goal"
@@ -43,7 +44,7 @@ class SendGoal(unittest.TestCase):
         odom = rospy.wait_for_message("/odom", Odometry, timeout=10.0)
         where = odom.pose.pose.position
         off = math.hypot(where.x - x, where.y - y)
-        self.assertLess(off, tolerance, "stopped at (%.2f, %.2f)" % (where.x, where.y))
+        self.assertLess(off, tolerance, f"stopped at ({where.x:.2f}, {where.y:.2f})")
 
 
 if __name__ == "__main__":
