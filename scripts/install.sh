@@ -36,12 +36,13 @@ RUNTIME_DEBIAN=(libegl1 libegl-mesa0 libgl1-mesa-dri libopengl0 graphviz)
 # (ros_comm 1.15: roscore, roslaunch, rospy, robot_state_publisher, tf, rosbag, rviz) with
 # the message packages rospack needs, the oracle of the differential tests; xvfb and xauth
 # run Debian's rviz for tests/viewer/rviz_pair.py; catkin, roscpp and message generation build
-# the course's C++ nodes (tests/ros1wire/catkin.py); python3-cv-bridge is cv_bridge's oracle
+# the course's C++ nodes (tests/ros1wire/catkin.py); python3-cv-bridge is cv_bridge's oracle;
+# python3-rostest (rostest and its stock test nodes) is belvedere test's oracle
 DEV_DEBIAN=(
   liburdfdom-tools chromium
   ros-base ros-robot-state-publisher python3-rospy python3-roslaunch python3-rostopic
   python3-rosservice python3-tf2-ros python3-tf python3-actionlib python3-std-srvs python3-nav-msgs
-  python3-cv-bridge catkin libroscpp-dev ros-message-generation g++
+  python3-cv-bridge python3-rostest catkin libroscpp-dev ros-message-generation g++
   libstd-msgs-dev libgeometry-msgs-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev
   libros-rosgraph-msgs-dev libactionlib-msgs-dev libtrajectory-msgs-dev
   libvisualization-msgs-dev libdiagnostic-msgs-dev libstd-srvs-dev

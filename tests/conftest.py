@@ -14,6 +14,7 @@ from typing import Any
 import pytest
 from hypothesis import HealthCheck, settings
 
+from tests.ray_cluster import cluster as cluster  # the fixture of the --ray tests
 from tests.waiting import DEADLINE
 
 TESTS = Path(__file__).parent

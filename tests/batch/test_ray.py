@@ -4,15 +4,14 @@
 from __future__ import annotations
 
 import csv
-import socket
 import subprocess
 import sys
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 
 from tests.conftest import EXAMPLES
+from tests.ray_cluster import HOST, free_port
 from tests.waiting import DEADLINE
 
 ray_cluster_utils = pytest.importorskip("ray.cluster_utils", reason="Ray is not installed")
@@ -40,37 +39,6 @@ METRICS = """\
 def far(messages):
     return max(m["pose"]["pose"]["position"]["x"] for m in messages["/odom"])
 """
-
-
-HOST = "127.0.0.2"
-
-
-def _free_port() -> int:
-    with socket.socket() as sock:
-        sock.bind((HOST, 0))
-        port: int = sock.getsockname()[1]
-    return port
-
-
-@pytest.fixture(scope="module")
-def cluster() -> Iterator[str]:
-    """A head and a second node, one CPU each: a task per node at a time."""
-    made = ray_cluster_utils.Cluster(
-        initialize_head=True,
-        head_node_args={
-            "num_cpus": 1,
-            "gcs_server_port": _free_port(),
-            "include_dashboard": False,
-            # 127.0.0.2: Ray takes 127.0.0.1 for "this machine" and swaps in its network address
-            "node_ip_address": HOST,
-        },
-    )
-    made.add_node(num_cpus=1, node_ip_address=HOST)
-    made.wait_for_nodes()
-    try:
-        yield f"{HOST}:{made.address.rpartition(':')[2]}"
-    finally:
-        made.shutdown()
 
 
 def _batch(*args: str | Path, cwd: Path) -> subprocess.CompletedProcess[str]:
@@ -109,7 +77,7 @@ def test_ray_gives_the_rows_local_workers_give(cluster: str, tmp_path: Path) -> 
 def test_no_cluster_at_the_address_is_one_clear_error(tmp_path: Path) -> None:
     spec = tmp_path / "spec.yaml"
     spec.write_text(f"sim: [{MBOT}]\nduration: 1\n")
-    ran = _batch(spec, "-o", "out.csv", "--ray", f"{HOST}:{_free_port()}", cwd=tmp_path)
+    ran = _batch(spec, "-o", "out.csv", "--ray", f"{HOST}:{free_port()}", cwd=tmp_path)
     assert ran.returncode == 1
     assert f"error: --ray {HOST}:" in ran.stderr
     assert "Traceback" not in ran.stderr

@@ -9,7 +9,7 @@ its own) into its row; :func:`run_local` and :func:`run_ray` run them all;
 from belvedere.batch._execute import Row, execute_run
 from belvedere.batch._measure import Measure, parse_measure
 from belvedere.batch._report import Progress, plot_rows, write_csv
-from belvedere.batch._schedule import run_local, run_ray
+from belvedere.batch._schedule import map_local, map_ray, run_local, run_ray
 from belvedere.batch._spec import BatchSpec, RunDescription, read_spec
 
 __all__ = [
@@ -19,6 +19,8 @@ __all__ = [
     "Row",
     "RunDescription",
     "execute_run",
+    "map_local",
+    "map_ray",
     "parse_measure",
     "plot_rows",
     "read_spec",

@@ -52,6 +52,7 @@ _VERBS = (
     "slam",
     "world",
     "batch",
+    "test",
 )
 """The verbs, in the order ``--help`` lists them; each is the module ``belvedere.cli.VERB``.
 Only the verb being run is imported (``xacro`` need not load the simulator)."""

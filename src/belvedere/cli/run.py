@@ -35,6 +35,7 @@ TOOLS = {
     ("rosmsg", "rosmsg"): "msg",
     ("rosmsg", "rossrv"): "srv",
     ("roswtf", "roswtf"): "wtf",
+    ("rostest", "rostest"): "test",
 }
 """Executables that are belvedere verbs rather than nodes: ``rosrun rostopic rostopic list``
 is ``belvedere topic list``, as ROS installs its tools in their packages too."""
@@ -81,7 +82,9 @@ def run(args: argparse.Namespace) -> int:
     if (package, executable) in TOOLS:
         from belvedere.cli import main
 
-        return main([TOOLS[package, executable], *words])
+        # run's own --package-path reaches the tool (rostest finds its packages there)
+        paths = [w for p in args.package_path or [] for w in ("--package-path", str(p))]
+        return main([TOOLS[package, executable], *paths, *words])
     packages = PackageIndex.from_environment(
         package_path=args.package_path, near=script if script is not None else None
     )

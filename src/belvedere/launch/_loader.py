@@ -38,7 +38,7 @@ from belvedere.description.xacro._substitutions import Substitutions
 from belvedere.errors import BelvedereError, ParseError, SourceLocation, did_you_mean
 from belvedere.launch._model import LaunchConfig, LaunchError, LaunchFile, LaunchNode
 from belvedere.launch._names import canonical, child_namespace, global_ns, is_legal, ns_join
-from belvedere.launch._values import param_bool, param_command, typed_value
+from belvedere.launch._values import param_bool, param_command, test_limits, typed_value
 from belvedere.locate import pinpoint
 from belvedere.packages import PackageIndex
 from belvedere.xmldom import Element, parse_file
@@ -92,20 +92,23 @@ def load_launch(
     *,
     args: Mapping[str, str] | None = None,
     packages: PackageIndex | None = None,
+    tests: bool = False,
 ) -> LaunchConfig:
-    """Read a launch file (and what it includes) with ``args`` given as ``name:=value``."""
+    """Read a launch file (and what it includes) with ``args`` given as ``name:=value``;
+    ``tests``: for rostest, whose ``<test>`` elements are no notes."""
     packages = packages or PackageIndex.from_environment(near=str(path))
-    loader = _Loader(packages)
+    loader = _Loader(packages, with_tests=tests)
     loader.file(Path(path), _Scope(str(path), passed=dict(args or {})), top=True)
     return loader.config
 
 
 class _Loader:
-    def __init__(self, packages: PackageIndex) -> None:
+    def __init__(self, packages: PackageIndex, *, with_tests: bool = False) -> None:
         self.packages = packages
         self.config = LaunchConfig()
         self.including: list[str] = []
         self.anon: dict[str, str] = {}
+        self.with_tests = with_tests
 
     # --- files -----------------------------------------------------------------------------------
     def file(
@@ -407,9 +410,13 @@ class _Loader:
         pkg = self.required(el, "pkg", scope)
         kind = self.required(el, "type", scope)
         name = self.attr(el, "name", scope)
+        test_name, time_limit, retry = None, 60.0, 0
         if test:
             test_name = self.required(el, "test-name", scope)
             name = name or test_name
+            time_limit, retry = test_limits(
+                self.attr(el, "time-limit", scope), self.attr(el, "retry", scope), el.loc
+            )
         if not name:
             msg = f"<{el.tag}> needs a name"
             raise LaunchError(msg, el.loc)
@@ -472,15 +479,19 @@ class _Loader:
                 remappings=tuple(remaps),
                 env=tuple(env),
                 source=el.loc,
+                test_name=test_name,
+                time_limit=time_limit,
+                retry=retry,
             )
         )
 
     def tag_test(self, el: Element, scope: _Scope) -> None:
-        """A ``<test>``: read as roslaunch reads it (``--nodes`` lists it), never started."""
-        self.config.warnings.append(
-            f"{el.loc}: note: <test> {el.attrs.get('test-name', '')} skipped (tests are "
-            "not run by belvedere launch)"
-        )
+        """A ``<test>``, as roslaunch reads it: ``launch`` skips it, ``belvedere test`` runs it."""
+        if not self.with_tests:
+            self.config.warnings.append(
+                f"{el.loc}: note: <test> {el.attrs.get('test-name', '')} skipped (tests are "
+                "not run by belvedere launch: belvedere test runs them)"
+            )
         self.tag_node(el, scope, test=True)
 
     def tag_include(self, el: Element, scope: _Scope) -> None:

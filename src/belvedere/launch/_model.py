@@ -50,6 +50,12 @@ class LaunchNode:
     remappings: tuple[tuple[str, str], ...] = ()
     env: tuple[tuple[str, str], ...] = ()
     source: SourceLocation | None = field(default=None, compare=False)
+    test_name: str | None = None
+    """A ``<test>``'s ``test-name`` (None for a ``<node>``)."""
+    time_limit: float = 60.0
+    """A ``<test>``'s ``time-limit``: wall-clock seconds it may run (rostest's default 60)."""
+    retry: int = 0
+    """A ``<test>``'s ``retry``: how many more times a failing test runs."""
 
     @property
     def full_name(self) -> str:
@@ -64,7 +70,8 @@ class LaunchConfig:
     params: dict[str, LaunchParam] = field(default_factory=dict)
     nodes: list[LaunchNode] = field(default_factory=list)
     tests: list[LaunchNode] = field(default_factory=list)
-    """``<test>`` nodes: listed and looked up as roslaunch does, never started."""
+    """``<test>`` nodes: listed and looked up as roslaunch does; ``belvedere test`` runs
+    them."""
     files: list[LaunchFile] = field(default_factory=list)
     """What loading read, in order (the nodes read more once they start: ``launch --files``
     lists those too)."""

@@ -154,6 +154,17 @@ class LaunchRuntime:
         if self.want_viewer and not self.headless:
             self._open_viewer()
 
+    def start_test(self, spec: LaunchNode) -> LaunchProcess | None:
+        """Start a ``<test>`` node once the rest is up (rostest's way), as a process of the
+        launch (:attr:`lifecycle`); its process, or None if it could not start."""
+        assert self.monitor is not None, "tests run with roslaunch's lifecycle"
+        before = len(self.monitor.procs)
+        deferred, controllers = len(self.deferred), len(self.controllers)
+        self._start(spec)
+        for action in [*self.deferred[deferred:], *self.controllers[controllers:]]:
+            action()
+        return self.monitor.procs[before] if len(self.monitor.procs) > before else None
+
     def _warn_transform_conflicts(self) -> None:
         """Two nodes that will publish the same frame's transform: say so once, with both
         launch lines (tf keeps whichever came last, so a localizer's updates win over a

@@ -151,3 +151,28 @@ def finite(value: float, raw: str, at: SourceLocation | None) -> float:
         hint = f'the largest double is ±{sys.float_info.max:.17g}; for text, add type="str"'
         raise LaunchError(msg, at, hint=hint)
     return value
+
+
+def test_limits(
+    time_limit: str | None, retry: str | None, at: SourceLocation | None
+) -> tuple[float, int]:
+    """A ``<test>``'s ``time-limit`` (seconds, positive; 60 when not given) and ``retry``
+    (a whole number; 0), checked as roslaunch checks them."""
+    limit = 60.0
+    if time_limit:
+        try:
+            limit = float(time_limit)
+        except ValueError:
+            msg = f"'time-limit' must be a number: [{time_limit}]"
+            raise LaunchError(msg, at) from None
+        if not limit > 0.0 or not math.isfinite(limit):
+            msg = f"'time-limit' must be a positive number: [{time_limit}]"
+            raise LaunchError(msg, at)
+    count = 0
+    if retry:
+        try:
+            count = int(retry)
+        except ValueError:
+            msg = f"'retry' must be a number: [{retry}]"
+            raise LaunchError(msg, at) from None
+    return limit, count

@@ -168,6 +168,7 @@ MODULES: Final = {
     "move_base": "move_base",
     "robot_state_publisher": "robot_state_publisher",
     "rosbag": "rosbag",
+    "rostest": "rostest",
     "rqt_console": "rqt_console",
     "rqt_graph": "rqt_graph",
     "rqt_image_view": "rqt_image_view",
