@@ -329,7 +329,8 @@ def test_paramtest_and_publishtest(tmp_path: Path) -> None:
     ]
 
 
-def test_many_files_run_side_by_side(tmp_path: Path) -> None:
+def _passing_and_failing(tmp_path: Path) -> tuple[Path, Path]:
+    """Two .test files of one package: one whose test passes, one whose test fails."""
     passing = _package(
         tmp_path,
         '<launch><test test-name="check_it" pkg="demo" type="check.py"/></launch>',
@@ -340,6 +341,11 @@ def test_many_files_run_side_by_side(tmp_path: Path) -> None:
         '<launch><test test-name="check_two" pkg="demo" type="check.py">'
         '<param name="want" value="2"/></test></launch>'
     )
+    return passing, failing
+
+
+def test_many_files_run_side_by_side(tmp_path: Path) -> None:
+    passing, failing = _passing_and_failing(tmp_path)
     out = tmp_path / "out"
     proc = _rostest(passing, failing, "--workers", "2", "--results", out, cwd=tmp_path)
     assert proc.returncode == 2, proc.stdout + proc.stderr
@@ -390,16 +396,7 @@ def test_many_files_on_a_ray_cluster_give_what_local_workers_give(
     cluster: str, tmp_path: Path
 ) -> None:
     """``--ray``: each file a Ray task, its package shipped as the task's working folder."""
-    passing = _package(
-        tmp_path,
-        '<launch><test test-name="check_it" pkg="demo" type="check.py"/></launch>',
-        {"check.py": CHECK},
-    )
-    failing = passing.with_name("failing.test")
-    failing.write_text(
-        '<launch><test test-name="check_two" pkg="demo" type="check.py">'
-        '<param name="want" value="2"/></test></launch>'
-    )
+    passing, failing = _passing_and_failing(tmp_path)
     outcomes = []
     for how in (["--workers", "2"], ["--ray", cluster]):
         out = tmp_path / how[0].strip("-")

@@ -7,7 +7,7 @@ import argparse
 from belvedere.errors import BelvedereError
 from belvedere.mappings import split_mappings
 
-__all__ = ["add_viewer_options", "mappings_only", "origin"]
+__all__ = ["add_viewer_options", "mappings_only", "origin", "worker_count"]
 
 
 def origin(text: str) -> str:
@@ -48,3 +48,12 @@ def mappings_only(extra: list[str]) -> dict[str, str]:
         msg = f"unexpected arguments: {' '.join(rest)} (xacro args are written name:=value)"
         raise BelvedereError(msg)
     return mappings
+
+
+def worker_count(text: str) -> int:
+    """``--workers N``: a positive whole number."""
+    value = int(text) if text.isdigit() else 0
+    if value < 1:
+        msg = f"--workers expects a positive whole number, got {text!r}"
+        raise argparse.ArgumentTypeError(msg)
+    return value

@@ -14,21 +14,11 @@ import sys
 from pathlib import Path
 
 from belvedere.batch import Progress, plot_rows, read_spec, run_local, run_ray, write_csv
+from belvedere.cli._args import worker_count
 from belvedere.cli._report import notice
 from belvedere.errors import BelvedereError
 
 __all__ = ["add_parser", "run"]
-
-
-def _workers(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        value = 0
-    if value < 1:
-        msg = f"--workers expects a positive whole number, got {text!r}"
-        raise argparse.ArgumentTypeError(msg)
-    return value
 
 
 def add_parser(
@@ -45,7 +35,7 @@ def add_parser(
     p.add_argument("-o", "--output", required=True, metavar="OUT.csv", help="the rows' CSV file")
     p.add_argument(
         "--workers",
-        type=_workers,
+        type=worker_count,
         metavar="N",
         help="runs at a time on this machine (default: the number of cores)",
     )

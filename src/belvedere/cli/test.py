@@ -18,7 +18,7 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from belvedere.cli._args import mappings_only
+from belvedere.cli._args import mappings_only, worker_count
 from belvedere.cli._script import parse_rtf
 from belvedere.cli._tool import add_graph_options, graph_address
 from belvedere.errors import BelvedereError, did_you_mean
@@ -29,14 +29,6 @@ from belvedere.runtime._rostest import RostestOptions, run_rostest
 __all__ = ["add_parser", "run"]
 
 _GRAPH_ENV = ("BELVEDERE_DOMAIN", "BELVEDERE_ENDPOINT", "BELVEDERE_CONNECT", "BELVEDERE_LISTEN")
-
-
-def _workers(text: str) -> int:
-    value = int(text) if text.isdigit() else 0
-    if value < 1:
-        msg = f"--workers expects a positive whole number, got {text!r}"
-        raise argparse.ArgumentTypeError(msg)
-    return value
 
 
 def add_parser(
@@ -59,7 +51,7 @@ def add_parser(
         "--text", action="store_true", help="the test nodes print unittest's report, no XML"
     )
     p.add_argument(
-        "--workers", type=_workers, metavar="N", help="files at a time here (default: cores)"
+        "--workers", type=worker_count, metavar="N", help="files at a time here (default: cores)"
     )
     p.add_argument("--ray", metavar="auto|ADDRESS", help="run the files on a Ray cluster")
     p.add_argument(
