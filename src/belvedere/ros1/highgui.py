@@ -4,15 +4,24 @@
 The headless OpenCV wheel belvedere depends on has no GUI, and a script belvedere runs has
 no display in the normal case; so each named window becomes an image topic,
 ``/image_window/<name>`` (sensor_msgs/Image, bgr8/mono8/bgra8 as shown), once the script's
-node is initialized: rqt_image_view's page or the viewer shows it in the browser.
-``waitKey`` waits its delay and returns -1 (no keys reach a script through these windows
-yet); moving, sizing and titling a window do nothing. When the OpenCV a user installed has
-its own GUI and a DISPLAY is set, its windows are left alone.
+node is initialized. The viewer shows every such topic on the graph as a panel of its own,
+titled with the window's name, and takes it away when the window is destroyed (its
+publisher gone); rqt_image_view's page shows one too.
+
+Keys come back on ``/image_window/<name>/key`` (std_msgs/Int32, OpenCV's key code: the
+character's code for a printable key, 13 Enter, 27 Escape, 8 Backspace, 9 Tab), which the
+viewer publishes for the keys typed into the window's panel. ``waitKey(delay)`` returns the
+next key of any window, waiting up to ``delay`` ms (wall time, as OpenCV) or, for a delay of
+0 or less, until a key comes; it returns -1 when the time is up, when the script has no
+window (nothing could send a key) and when rospy shuts down. Moving, sizing and titling a
+window do nothing. When the OpenCV a user installed has its own GUI and a DISPLAY is set,
+its windows are left alone.
 """
 
 from __future__ import annotations
 
 import os
+import queue
 import re
 import sys
 import time
@@ -21,10 +30,18 @@ from typing import Any, Final
 
 import numpy as np
 
-__all__ = ["TOPIC_PREFIX", "has_own_gui", "install", "topic_of"]
+__all__ = ["KEY_SUFFIX", "TOPIC_PREFIX", "has_own_gui", "install", "key_topic_of", "topic_of"]
 
 TOPIC_PREFIX: Final = "/image_window"
+KEY_SUFFIX: Final = "/key"
+"""A window's keys are on its image topic with this suffix (std_msgs/Int32)."""
+KEY_TYPE: Final = "std_msgs/Int32"
+_POLL_S: Final = 0.05
+"""How often a waiting ``waitKey`` looks whether rospy is shutting down."""
 _publishers: dict[str, Any] = {}
+_key_subscribers: dict[str, Any] = {}
+_keys: queue.SimpleQueue[int] = queue.SimpleQueue()
+"""Keys typed into any window, oldest first (OpenCV's waitKey reads one queue too)."""
 _noticed: set[str] = set()
 
 
@@ -34,6 +51,11 @@ def topic_of(window: str) -> str:
     if not name[0].isalpha():
         name = f"w_{name}"
     return f"{TOPIC_PREFIX}/{name}"
+
+
+def key_topic_of(window: str) -> str:
+    """The topic the keys typed into a window come on."""
+    return topic_of(window) + KEY_SUFFIX
 
 
 def has_own_gui(cv2: ModuleType) -> bool:
@@ -77,9 +99,13 @@ def imshow(winname: str, mat: Any) -> None:
         image_class = message_class("sensor_msgs/Image")
         publisher = rospy.Publisher(topic, image_class, queue_size=1)
         _publishers[winname] = publisher
+        _key_subscribers[winname] = rospy.Subscriber(
+            key_topic_of(winname), message_class(KEY_TYPE), _key_typed, queue_size=100
+        )
         sys.stderr.write(
-            f"[belvedere] cv2 window {winname!r} is the image topic {topic} "
-            f"(belvedere run rqt_image_view rqt_image_view {topic}, or the viewer, shows it)\n"
+            f"[belvedere] cv2 window {winname!r} is the image topic {topic}: the viewer "
+            f"shows it (or belvedere run rqt_image_view rqt_image_view {topic}); keys typed "
+            "in its panel reach cv2.waitKey\n"
         )
     from belvedere.ros1.cv_bridge import CvBridge
 
@@ -95,16 +121,35 @@ def place_window(winname: str, *args: Any) -> None:
     del winname, args  # placing and sizing are the browser's
 
 
+def _key_typed(msg: Any) -> None:
+    _keys.put(int(msg.data))
+
+
 def wait_key(delay: float = 0) -> int:
-    if delay > 0:
-        time.sleep(delay / 1000.0)
-    return -1
+    """OpenCV's waitKey: the next key typed into a window, or -1 after ``delay`` ms."""
+    from belvedere.ros1.rospy import _state
+
+    deadline = time.monotonic() + delay / 1000.0 if delay > 0 else None
+    if deadline is None and not _key_subscribers and _keys.empty():
+        return -1  # no window: no key can ever come, and a script must not hang here
+    stopping = _state.shutdown_event()
+    while True:
+        left = _POLL_S if deadline is None else min(_POLL_S, deadline - time.monotonic())
+        try:
+            return _keys.get(timeout=max(0.0, left))
+        except queue.Empty:
+            pass
+        if stopping.is_set() or (deadline is not None and time.monotonic() >= deadline):
+            return -1
 
 
 def destroy_window(winname: str) -> None:
     publisher = _publishers.pop(winname, None)
     if publisher is not None:
         publisher.unregister()
+    subscriber = _key_subscribers.pop(winname, None)
+    if subscriber is not None:
+        subscriber.unregister()
 
 
 def destroy_all_windows() -> None:
