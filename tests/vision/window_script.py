@@ -82,14 +82,14 @@ class WindowScript:
     def wait_for(self, prefix: str) -> str:
         """The first line the script printed that starts with ``prefix`` (waited for)."""
 
-        def printed() -> str | None:
+        def printed() -> str:
             found = [line for line in self.lines if line.startswith(prefix)]
             if not found and self.proc.poll() is not None:
                 msg = f"the script ended ({self.proc.returncode}) first: " + "\n".join(
                     self.lines + self.errors
                 )
                 raise AssertionError(msg)
-            return found[0] if found else None
+            return found[0] if found else ""
 
         line: str = wait_until(
             printed,
