@@ -18,7 +18,7 @@ from belvedere.ros1 import highgui
 from belvedere.viewer import Viewer
 from tests.conftest import free_port
 from tests.viewer.docs_screenshots import docs_screenshot
-from tests.viewer.test_browser import browser_page
+from tests.viewer.test_browser import browser_page, view_centre
 from tests.vision.window_script import PICTURE_BGR, WINDOW, WindowScript
 from tests.waiting import wait_until
 
@@ -45,7 +45,7 @@ def test_a_scripts_window_is_a_viewer_panel_that_takes_keys(endpoint: str, tmp_p
     graph = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint, serve_params=False))
     viewer = Viewer(graph, port=free_port())
     graph.start(rtf=None)
-    script = WindowScript(tmp_path, count=3, destroy=True)
+    script = WindowScript(tmp_path, count=5, destroy=True)
     name = highgui.topic_of(WINDOW).rsplit("/", 1)[1]
     try:
         with browser_page(viewer.url) as page:
@@ -61,16 +61,24 @@ def test_a_scripts_window_is_a_viewer_panel_that_takes_keys(endpoint: str, tmp_p
                     shown
                 )
             docs_screenshot(page, "cv2_window")
+            page.mouse.click(*view_centre())
+            page.keyboard.press("w")  # the 3D view's (viser moves its camera), not the window's
+            picture.first.click()
+            page.keyboard.press("q")
+            page.keyboard.press("Escape")
+            script.wait_for("key: 27")
             keys = page.locator("textarea:visible")
             assert keys.count() == 1
             keys.click()
-            page.keyboard.type("q")
+            page.keyboard.type("a")
             page.keyboard.press("Enter")
             script.wait_for("key: 13")
             page.get_by_role("button", name="Esc", exact=True).click()
             assert script.wait_for("destroyed:") == "destroyed: -1"
             assert [line for line in script.lines if line.startswith("key:")] == [
                 "key: 113",
+                "key: 27",
+                "key: 97",
                 "key: 13",
                 "key: 27",
             ]

@@ -3,14 +3,18 @@
 A script's ``cv2.imshow(name, image)`` publishes ``/image_window/<name>``
 (:mod:`belvedere.ros1.highgui`); the viewer shows every such topic it finds on the graph,
 without being asked, in a panel titled with the window's name, and takes the panel away when
-the topic has no publisher left (``cv2.destroyWindow``, or the script ended). Under the
-picture, a key field sends what is typed into it back to the script's ``cv2.waitKey`` on
-``/image_window/<name>/key`` (std_msgs/Int32, OpenCV's key codes), with buttons for the keys
-a text field cannot take (Escape).
+the topic has no publisher left (``cv2.destroyWindow``, or the script ended). Keys go back
+to the script's ``cv2.waitKey`` on ``/image_window/<name>/key`` (std_msgs/Int32, OpenCV's
+key codes).
 
-viser's page reports no key presses of its own (it has no keyboard events for the Python
-side, and its HTML element does not run scripts), so the keys come from a text field: each
-character typed is one key, a line break is Enter, a character deleted is Backspace.
+viser tells the Python side of no key presses, so each window's panel has a key field (a
+viser text field: each character typed into it is one key, a line break Enter, a character
+deleted Backspace) and buttons for keys a text field cannot take (Escape). A small script
+sent to the page (viser's own way to run JavaScript there, as its Plotly element loads
+Plotly) makes a key pressed while the window's panel has focus — after a click on its
+picture, as one clicks an OpenCV window — go into that field too, so the user presses
+``q`` or Escape on the picture as with OpenCV. Keys pressed elsewhere in the page stay the
+page's (viser moves the 3D camera with some).
 """
 
 from __future__ import annotations
@@ -37,6 +41,49 @@ WIDTH_RANGE: Final = (360, 640)
 at its own size; a small one no narrower than rviz's docked Image panel)."""
 
 
+PAGE_KEYS: Final = """
+if (!window.__belvedereWindowKeys) {
+  window.__belvedereWindowKeys = true;
+  // The panel of the last click: the nearest box around it that holds a key field and no
+  // 3D view (a window's panel; never the control panel or the page as a whole).
+  let field = null;
+  const keyFields = (box) =>
+    [...box.querySelectorAll("textarea")].filter((t) => t.offsetParent !== null);
+  window.addEventListener("pointerdown", (event) => {
+    field = null;
+    for (let box = event.target; box instanceof Element; box = box.parentElement) {
+      if (box.querySelector("canvas")) break;
+      const found = keyFields(box);
+      if (found.length > 0) {
+        field = found.length === 1 ? found[0] : null;
+        break;
+      }
+    }
+  }, true);
+  const named = {Enter: "\\n", Escape: "\\x1b", Tab: "\\t", Backspace: "\\b"};
+  window.addEventListener("keydown", (event) => {
+    const target = event.target;
+    if (field === null || !field.isConnected || event.ctrlKey || event.altKey ||
+        event.metaKey || target instanceof HTMLInputElement ||
+        target instanceof HTMLTextAreaElement || target instanceof HTMLSelectElement) {
+      return;  // typed into a field (the key field itself sends it), or not for a window
+    }
+    const text = event.key.length === 1 ? event.key : named[event.key];
+    if (text === undefined) return;
+    event.preventDefault();
+    event.stopPropagation();  // a window's key, not the 3D camera's
+    // React reads a field's value from its input event: set it as typing does.
+    const setter = Object.getOwnPropertyDescriptor(HTMLTextAreaElement.prototype, "value").set;
+    setter.call(field, field.value + text);
+    field.dispatchEvent(new Event("input", {bubbles: true}));
+  }, true);
+}
+"""
+"""Sent once to every page of the viewer: a key pressed while a window's panel has focus
+goes into that panel's key field (Enter, Escape, Tab and Backspace as their control
+characters). Static text: nothing of a window's name or content is in it."""
+
+
 def typed_keys(before: str, after: str) -> list[int]:
     """The keys that turned the key field's text ``before`` into ``after``, as OpenCV's
     codes: Backspace for each character taken away, then each character put in (a line break
@@ -53,6 +100,16 @@ def typed_keys(before: str, after: str) -> list[int]:
     removed = len(before) - start - end
     inserted = after[start : len(after) - end]
     return [BACKSPACE] * removed + [ENTER if ch in "\r\n" else ord(ch) for ch in inserted]
+
+
+def send_page_keys(gui: Any) -> None:
+    """Have every page of ``gui``'s server (those open and those to come) send the keys
+    pressed on a window's panel into its key field."""
+    from viser import _messages  # heavy: only the viewer imports viser
+
+    # viser's add_plotly sends its JavaScript this way; the message is kept for pages that
+    # connect later (viser never culls it)
+    gui._websock_interface.queue_message(_messages.RunJavascriptMessage(source=PAGE_KEYS))
 
 
 def window_name(topic: str) -> str:
@@ -98,6 +155,7 @@ class ImageWindows:
         self.topics = topics
         self.docked = docked
         self.windows: dict[str, _Window] = {}
+        send_page_keys(gui)
 
     def refresh(self) -> None:
         """Open a panel for each window topic someone publishes, close the others."""
@@ -147,7 +205,8 @@ class ImageWindows:
                 "Keys",
                 "",
                 multiline=True,
-                hint="What you type here goes to the script's cv2.waitKey, a key at a time",
+                hint="Keys for the script's cv2.waitKey: type here, or click the picture and "
+                "press keys",
             )
             window.key_field.on_update(lambda _: self._typed(window))
             buttons = gui.add_button_group("Send", list(KEY_BUTTONS))
