@@ -58,6 +58,12 @@ def test_typed_keys_are_opencvs_codes() -> None:
 def test_a_key_on_the_window_topic_is_what_wait_key_returns(endpoint: str, tmp_path: Path) -> None:
     graph = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint, serve_params=False))
     typist = graph.create_node("typist").publisher(highgui.key_topic_of(WINDOW), "std_msgs/Int32")
+    names: list[str] = []
+    graph.create_node("reader").subscribe(
+        highgui.topic_of(WINDOW) + highgui.NAME_SUFFIX,
+        "std_msgs/String",
+        lambda msg: names.append(msg.data),
+    )
     graph.start(rtf=None)
     script = WindowScript(tmp_path, count=2, destroy=False)
     try:
@@ -65,6 +71,8 @@ def test_a_key_on_the_window_topic_is_what_wait_key_returns(endpoint: str, tmp_p
         assert script.wait_for("no window:") == "no window: -1"
         assert script.wait_for("shown:") == "shown: -1"
         wait_until(lambda: typist.wanted, what="the script to subscribe to its window's keys")
+        wait_until(lambda: names, what="the window's name")
+        assert names == [WINDOW]  # as the script spelled it: "keys test", on /…/keys_test/name
         typist.publish_data({"data": ord("q")})
         typist.publish_data({"data": 27})
         assert script.wait_for("waiting") == "waiting"

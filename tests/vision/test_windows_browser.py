@@ -14,7 +14,6 @@ import numpy as np
 import pytest
 
 from belvedere.graph import Graph, ZenohTransport
-from belvedere.ros1 import highgui
 from belvedere.viewer import Viewer
 from tests.conftest import free_port
 from tests.viewer.docs_screenshots import docs_screenshot
@@ -46,10 +45,9 @@ def test_a_scripts_window_is_a_viewer_panel_that_takes_keys(endpoint: str, tmp_p
     viewer = Viewer(graph, port=free_port())
     graph.start(rtf=None)
     script = WindowScript(tmp_path, count=5, destroy=True)
-    name = highgui.topic_of(WINDOW).rsplit("/", 1)[1]
     try:
         with browser_page(viewer.url) as page:
-            tab = page.get_by_text(name, exact=True)
+            tab = page.get_by_text(WINDOW, exact=True)  # as the script spelled it
             tab.first.wait_for()
             picture = page.locator("img[src^='blob:']")
             picture.first.wait_for()

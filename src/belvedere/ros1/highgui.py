@@ -4,9 +4,10 @@
 The headless OpenCV wheel belvedere depends on has no GUI, and a script belvedere runs has
 no display in the normal case; so each named window becomes an image topic,
 ``/image_window/<name>`` (sensor_msgs/Image, bgr8/mono8/bgra8 as shown), once the script's
-node is initialized. The viewer shows every such topic on the graph as a panel of its own,
-titled with the window's name, and takes it away when the window is destroyed (its
-publisher gone); rqt_image_view's page shows one too.
+node is initialized, with the window's name as the script spelled it on
+``/image_window/<name>/name`` (std_msgs/String, latched). The viewer shows every such topic
+on the graph as a panel of its own, titled with the window's name, and takes it away when
+the window is destroyed (its publisher gone); rqt_image_view's page shows one too.
 
 Keys come back on ``/image_window/<name>/key`` (std_msgs/Int32, OpenCV's key code: the
 character's code for a printable key, 13 Enter, 27 Escape, 8 Backspace, 9 Tab), which the
@@ -14,8 +15,8 @@ viewer publishes for the keys typed into the window's panel. ``waitKey(delay)`` 
 next key of any window, waiting up to ``delay`` ms (wall time, as OpenCV) or, for a delay of
 0 or less, until a key comes; it returns -1 when the time is up, when the script has no
 window (nothing could send a key) and when rospy shuts down. Moving, sizing and titling a
-window do nothing. When the OpenCV a user installed has its own GUI and a DISPLAY is set,
-its windows are left alone.
+window do nothing (the browser places its panels, titled with the window's name). When the
+OpenCV a user installed has its own GUI and a DISPLAY is set, its windows are left alone.
 """
 
 from __future__ import annotations
@@ -25,21 +26,35 @@ import queue
 import re
 import sys
 import time
+from dataclasses import dataclass
 from types import ModuleType
 from typing import Any, Final
 
 import numpy as np
 
-__all__ = ["KEY_SUFFIX", "TOPIC_PREFIX", "has_own_gui", "install", "key_topic_of", "topic_of"]
+__all__ = [
+    "KEY_SUFFIX",
+    "KEY_TYPE",
+    "NAME_SUFFIX",
+    "NAME_TYPE",
+    "TOPIC_PREFIX",
+    "has_own_gui",
+    "install",
+    "key_topic_of",
+    "topic_of",
+]
 
 TOPIC_PREFIX: Final = "/image_window"
 KEY_SUFFIX: Final = "/key"
 """A window's keys are on its image topic with this suffix (std_msgs/Int32)."""
 KEY_TYPE: Final = "std_msgs/Int32"
+NAME_SUFFIX: Final = "/name"
+"""A window's name, as the script spelled it, is on its image topic with this suffix
+(std_msgs/String, latched): the topic's name has only letters, digits and ``_``."""
+NAME_TYPE: Final = "std_msgs/String"
 _POLL_S: Final = 0.05
 """How often a waiting ``waitKey`` looks whether rospy is shutting down."""
-_publishers: dict[str, Any] = {}
-_key_subscribers: dict[str, Any] = {}
+_windows: dict[str, _Window] = {}
 _keys: queue.SimpleQueue[int] = queue.SimpleQueue()
 """Keys typed into any window, oldest first (OpenCV's waitKey reads one queue too)."""
 _noticed: set[str] = set()
@@ -81,11 +96,45 @@ def _shown(image: Any) -> tuple[Any, str]:
     return np.ascontiguousarray(array), encoding
 
 
-def imshow(winname: str, mat: Any) -> None:
+@dataclass(frozen=True)
+class _Window:
+    """A window's topics: its pictures and name out, its keys in."""
+
+    pictures: Any
+    name: Any
+    keys: Any
+
+    def close(self) -> None:
+        for endpoint in (self.pictures, self.name, self.keys):
+            endpoint.unregister()
+
+
+def _open(winname: str) -> _Window:
     from belvedere.ros1 import message_class, rospy
-    from belvedere.ros1.rospy import _state
 
     topic = topic_of(winname)
+    window = _Window(
+        pictures=rospy.Publisher(topic, message_class("sensor_msgs/Image"), queue_size=1),
+        name=rospy.Publisher(
+            topic + NAME_SUFFIX, message_class(NAME_TYPE), queue_size=1, latch=True
+        ),
+        keys=rospy.Subscriber(
+            topic + KEY_SUFFIX, message_class(KEY_TYPE), _key_typed, queue_size=100
+        ),
+    )
+    window.name.publish(window.name.data_class(data=winname))
+    _windows[winname] = window
+    sys.stderr.write(
+        f"[belvedere] cv2 window {winname!r} is the image topic {topic}: the viewer "
+        f"shows it (or belvedere run rqt_image_view rqt_image_view {topic}); keys typed "
+        "in its panel reach cv2.waitKey\n"
+    )
+    return window
+
+
+def imshow(winname: str, mat: Any) -> None:
+    from belvedere.ros1.rospy import _state
+
     if not _state.is_initialized():
         if winname not in _noticed:
             _noticed.add(winname)
@@ -94,23 +143,11 @@ def imshow(winname: str, mat: Any) -> None:
                 "rospy.init_node first to see it in the browser\n"
             )
         return
-    publisher = _publishers.get(winname)
-    if publisher is None:
-        image_class = message_class("sensor_msgs/Image")
-        publisher = rospy.Publisher(topic, image_class, queue_size=1)
-        _publishers[winname] = publisher
-        _key_subscribers[winname] = rospy.Subscriber(
-            key_topic_of(winname), message_class(KEY_TYPE), _key_typed, queue_size=100
-        )
-        sys.stderr.write(
-            f"[belvedere] cv2 window {winname!r} is the image topic {topic}: the viewer "
-            f"shows it (or belvedere run rqt_image_view rqt_image_view {topic}); keys typed "
-            "in its panel reach cv2.waitKey\n"
-        )
+    window = _windows.get(winname) or _open(winname)
     from belvedere.ros1.cv_bridge import CvBridge
 
     array, encoding = _shown(mat)
-    publisher.publish(CvBridge().cv2_to_imgmsg(array, encoding))
+    window.pictures.publish(CvBridge().cv2_to_imgmsg(array, encoding))
 
 
 def named_window(winname: str, flags: int = 0) -> None:
@@ -130,7 +167,7 @@ def wait_key(delay: float = 0) -> int:
     from belvedere.ros1.rospy import _state
 
     deadline = time.monotonic() + delay / 1000.0 if delay > 0 else None
-    if deadline is None and not _key_subscribers and _keys.empty():
+    if deadline is None and not _windows and _keys.empty():
         return -1  # no window: no key can ever come, and a script must not hang here
     stopping = _state.shutdown_event()
     while True:
@@ -144,16 +181,13 @@ def wait_key(delay: float = 0) -> int:
 
 
 def destroy_window(winname: str) -> None:
-    publisher = _publishers.pop(winname, None)
-    if publisher is not None:
-        publisher.unregister()
-    subscriber = _key_subscribers.pop(winname, None)
-    if subscriber is not None:
-        subscriber.unregister()
+    window = _windows.pop(winname, None)
+    if window is not None:
+        window.close()
 
 
 def destroy_all_windows() -> None:
-    for name in list(_publishers):
+    for name in list(_windows):
         destroy_window(name)
 
 

@@ -1,9 +1,10 @@
 """OpenCV's windows of the graph's scripts, each a panel of the viewer.
 
-A script's ``cv2.imshow(name, image)`` publishes ``/image_window/<name>``
-(:mod:`belvedere.ros1.highgui`); the viewer shows every such topic it finds on the graph,
-without being asked, in a panel titled with the window's name, and takes the panel away when
-the topic has no publisher left (``cv2.destroyWindow``, or the script ended). Keys go back
+A script's ``cv2.imshow(name, image)`` publishes ``/image_window/<name>`` and the window's
+name on ``/image_window/<name>/name`` (:mod:`belvedere.ros1.highgui`); the viewer shows
+every such topic it finds on the graph, without being asked, in a panel titled with the
+window's name, and takes the panel away when the topic has no publisher left
+(``cv2.destroyWindow``, or the script ended). Keys go back
 to the script's ``cv2.waitKey`` on ``/image_window/<name>/key`` (std_msgs/Int32, OpenCV's
 key codes).
 
@@ -20,19 +21,21 @@ page's (viser moves the 3D camera with some).
 from __future__ import annotations
 
 import threading
+import time
 from dataclasses import dataclass, field
 from typing import Any, Final
 
 from belvedere.graph import GraphTopics, Node, Publisher, Subscription
 from belvedere.msgs import ImageError, image_rgb
+from belvedere.ros1.highgui import KEY_SUFFIX, KEY_TYPE, NAME_SUFFIX, NAME_TYPE, TOPIC_PREFIX
 
 __all__ = ["KEY_BUTTONS", "WINDOW_PREFIX", "ImageWindows", "typed_keys"]
 
-WINDOW_PREFIX: Final = "/image_window/"
-"""Where highgui publishes a window's pictures (``highgui.TOPIC_PREFIX`` and a slash)."""
-KEY_SUFFIX: Final = "/key"
+WINDOW_PREFIX: Final = TOPIC_PREFIX + "/"
 IMAGE_TYPE: Final = "sensor_msgs/Image"
-KEY_TYPE: Final = "std_msgs/Int32"
+NAME_WAIT_S: Final = 1.0
+"""Seconds a window's panel waits for its name (latched, it comes with the first pictures);
+without it, the panel is titled as the topic spells the name."""
 ENTER, BACKSPACE, ESCAPE, TAB = 13, 8, 27, 9
 KEY_BUTTONS: Final = {"Esc": ESCAPE, "Enter": ENTER, "Space": 32, "Tab": TAB}
 """The buttons under a window's key field and the OpenCV key codes they send."""
@@ -128,7 +131,11 @@ class _Window:
 
     topic: str
     subscription: Subscription | None = None
+    names: Subscription | None = None
     keys: Publisher | None = None
+    opened_s: float = field(default_factory=time.monotonic)
+    name: str | None = None
+    """The window's name as the script spelled it (when it has come)."""
     panel: Any = None
     picture: Any = None
     key_field: Any = None
@@ -142,6 +149,10 @@ class _Window:
         """A picture came (on the graph's executor thread): the next frame shows it."""
         with self.lock:
             self.latest = msg
+
+    def named(self, msg: Any) -> None:
+        with self.lock:
+            self.name = str(msg.data)
 
 
 class ImageWindows:
@@ -171,7 +182,10 @@ class ImageWindows:
     def render(self) -> None:
         for window in list(self.windows.values()):
             with window.lock:
-                msg = window.latest
+                msg, name = window.latest, window.name
+            waited = time.monotonic() - window.opened_s
+            if window.panel is None and name is None and waited < NAME_WAIT_S:
+                continue  # its name is on its way
             if msg is None or msg is window.drawn:
                 continue
             window.drawn = msg
@@ -190,6 +204,7 @@ class ImageWindows:
     def _open(self, topic: str) -> None:
         window = _Window(topic)
         window.subscription = self.node.subscribe(topic, IMAGE_TYPE, window.arrived, queue_size=1)
+        window.names = self.node.subscribe(topic + NAME_SUFFIX, NAME_TYPE, window.named)
         window.keys = self.node.publisher(topic + KEY_SUFFIX, KEY_TYPE)
         self.windows[topic] = window
 
@@ -199,7 +214,7 @@ class ImageWindows:
             return
         gui = self.gui
         panel = gui.add_panel()
-        with panel.add_tab(window_name(window.topic)):
+        with panel.add_tab(window.name or window_name(window.topic)):
             window.picture = gui.add_image(image, label=None)
             window.key_field = gui.add_text(
                 "Keys",
@@ -237,10 +252,11 @@ class ImageWindows:
 
     @staticmethod
     def _close(window: _Window) -> None:
-        subscription, publisher = window.subscription, window.keys
-        window.subscription = window.keys = None
-        if subscription is not None:
-            subscription.unregister()
+        subscriptions, publisher = (window.subscription, window.names), window.keys
+        window.subscription = window.names = window.keys = None
+        for subscription in subscriptions:
+            if subscription is not None:
+                subscription.unregister()
         if publisher is not None:
             publisher.unregister()
         if window.panel is not None:
