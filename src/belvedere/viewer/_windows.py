@@ -143,12 +143,15 @@ class _Window:
     """The key field's text as last read (what is typed next is told apart from it)."""
     latest: Any = None
     drawn: Any = None
+    received: int = 0
+    """Pictures that came (the benchmark's count)."""
     lock: threading.Lock = field(default_factory=threading.Lock)
 
     def arrived(self, msg: Any) -> None:
         """A picture came (on the graph's executor thread): the next frame shows it."""
         with self.lock:
             self.latest = msg
+            self.received += 1
 
     def named(self, msg: Any) -> None:
         with self.lock:
