@@ -33,6 +33,8 @@ __all__ = ["KEY_BUTTONS", "WINDOW_PREFIX", "ImageWindows", "typed_keys"]
 
 WINDOW_PREFIX: Final = TOPIC_PREFIX + "/"
 IMAGE_TYPE: Final = "sensor_msgs/Image"
+NAME_LIMIT: Final = 200
+"""Characters of a window's name its panel's title shows (a tab, not a page of text)."""
 NAME_WAIT_S: Final = 1.0
 """Seconds a window's panel waits for its name (latched, it comes with the first pictures);
 without it, the panel is titled as the topic spells the name."""
@@ -155,7 +157,7 @@ class _Window:
 
     def named(self, msg: Any) -> None:
         with self.lock:
-            self.name = str(msg.data)
+            self.name = str(msg.data)[:NAME_LIMIT]
 
 
 class ImageWindows:
