@@ -13,7 +13,7 @@ import pytest
 
 from belvedere.graph import Graph, ZenohTransport
 from belvedere.ros1 import highgui
-from belvedere.viewer._windows import typed_keys
+from belvedere.viewer._windows import is_window_topic, typed_keys
 from tests.vision.window_script import WINDOW, WindowScript
 from tests.waiting import wait_until
 
@@ -53,6 +53,13 @@ def test_typed_keys_are_opencvs_codes() -> None:
     assert typed_keys("abc", "ac") == [8]  # one character deleted: Backspace
     assert typed_keys("ab", "aXb") == [ord("X")]
     assert typed_keys("ab", "ab") == []
+
+
+def test_the_viewer_takes_window_topics_only() -> None:
+    assert is_window_topic(highgui.topic_of("Image window"))
+    assert not is_window_topic(highgui.key_topic_of("Image window"))  # its keys: not a window
+    assert not is_window_topic("/camera/image_raw")
+    assert not is_window_topic("/image_window")
 
 
 def test_a_key_on_the_window_topic_is_what_wait_key_returns(endpoint: str, tmp_path: Path) -> None:
