@@ -4,9 +4,8 @@ A script's ``cv2.imshow(name, image)`` publishes ``/image_window/<name>`` and th
 name on ``/image_window/<name>/name`` (:mod:`belvedere.ros1.highgui`); the viewer shows
 every such topic it finds on the graph, without being asked, in a panel titled with the
 window's name, and takes the panel away when the topic has no publisher left
-(``cv2.destroyWindow``, or the script ended). Keys go back
-to the script's ``cv2.waitKey`` on ``/image_window/<name>/key`` (std_msgs/Int32, OpenCV's
-key codes).
+(``cv2.destroyWindow``, or the script ended). Keys go back to the script's ``cv2.waitKey``
+on ``/image_window/<name>/key`` (std_msgs/Int32, OpenCV's key codes).
 
 viser tells the Python side of no key presses, so each window's panel has a key field (a
 viser text field: each character typed into it is one key, a line break Enter, a character
@@ -241,11 +240,11 @@ class ImageWindows:
 
     def _typed(self, window: _Window) -> None:
         # viser runs callbacks on a pool of threads: one at a time, each against the text
-        # the last one read, so no key is sent twice or lost
+        # the last one read, so no key is sent twice, lost or out of order
         with window.lock:
             text = str(window.key_field.value)
             keys, window.typed = typed_keys(window.typed, text), text
-        self._send(window, keys)
+            self._send(window, keys)
 
     @staticmethod
     def _send(window: _Window, keys: list[int]) -> None:
