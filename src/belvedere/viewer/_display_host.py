@@ -27,6 +27,7 @@ from belvedere.viewer._panel import DisplayPanel, global_status_markdown, set_ha
 from belvedere.viewer._rviz import RvizConfig, RvizDisplay, RvizView, format_color, write_rviz
 from belvedere.viewer._status import Level, Status
 from belvedere.viewer._views import ViewState
+from belvedere.viewer._windows import ImageWindows
 from belvedere.viewer._world import WorldDrawing
 
 if TYPE_CHECKING:
@@ -54,6 +55,7 @@ class _DisplayHost:
     world: WorldDrawing | None
     world_poses: Callable[[], Mapping[str, Transform]] | None
     canvases: list[CanvasDrawing]
+    windows: ImageWindows
     displays: list[Display]
     panels: dict[int, DisplayPanel]
     global_status: Status
@@ -280,6 +282,7 @@ class _DisplayHost:
             self.world.update(self.world_poses())
         for canvas in self.canvases:
             canvas.update()
+        self.windows.render()
         for client, view in list(self.views.values()):
             view.follow(client.camera, buffer, fixed)
         now = time.monotonic()
@@ -305,6 +308,7 @@ class _DisplayHost:
                 Level.ERROR,
                 f"No tf data.  Actual error: Fixed Frame [{fixed}] does not exist",
             )
+        self.windows.refresh()
         text = global_status_markdown(self.global_status, displays)
         if self.status_text.content != text:
             self.status_text.content = text

@@ -42,6 +42,7 @@ from belvedere.viewer._views import (
     ViewState,
     floor_point,
 )
+from belvedere.viewer._windows import ImageWindows
 from belvedere.viewer._world import WorldDrawing
 from belvedere.world import WorldModel
 
@@ -121,6 +122,7 @@ class Viewer(_DisplayHost):
             model=model,
             packages=packages,
         )
+        self.windows = ImageWindows(self.node, self.gui, self.topics, self.ctx.docked)
         self.world = WorldDrawing(self.scene, world) if world else None
         self.world_poses = world_poses
         self.displays: list[Display] = []
@@ -426,6 +428,7 @@ class Viewer(_DisplayHost):
     def close(self) -> None:
         self._stop.set()
         self._thread.join(timeout=2)
+        self.windows.close()
         self.topics.close()
         with contextlib.redirect_stdout(io.StringIO()):  # viser's "Server stopped"
             self.server.stop()
