@@ -23,7 +23,6 @@ import argparse
 import os
 import shutil
 import signal
-import socket
 import subprocess
 import sys
 import tempfile
@@ -34,6 +33,7 @@ from typing import Any
 from belvedere.graph import Graph, ZenohTransport
 from belvedere.viewer import Viewer
 from belvedere.viewer._chromium import launch_chromium
+from rqt_image_view import COUNT_FRAMES, free_port
 
 RATE = 30.0
 SCRIPT = """\
@@ -59,27 +59,6 @@ while not rospy.is_shutdown():
     except rospy.ROSInterruptException:
         break
 """
-COUNT_FRAMES = """() => {
-  window.__frames = 0;
-  let last = null;
-  const note = (img) => {
-    if (img.src.startsWith('blob:') && img.src !== last) { last = img.src; window.__frames++; }
-  };
-  new MutationObserver((changes) => changes.forEach((c) => {
-    if (c.target.tagName === 'IMG') note(c.target);
-    c.addedNodes.forEach((n) => {
-      if (n.querySelectorAll) n.querySelectorAll('img').forEach(note);
-    });
-  })).observe(document.body, {subtree: true, childList: true, attributes: true,
-                              attributeFilter: ['src']});
-}"""
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port: int = s.getsockname()[1]
-        return port
 
 
 class Published:
