@@ -408,7 +408,10 @@ class Ros1Bridge(ServiceSide):
         if not users:
             write_header(
                 sock,
-                {"error": f"received a connection for a nonexistent topic [{topic}] from {caller}"},
+                {
+                    "error": f"received a connection for a nonexistent topic [{topic}] from "
+                    f"[{_connection_info(sock)}] [{caller}]."
+                },
             )
             return
         ros1_type = next(iter(users.values()))
@@ -529,6 +532,16 @@ class Ros1Bridge(ServiceSide):
             return [0, f"{node}'s process did not answer", 0]
         self._wake.set()
         return [1, "shutdown", 0]
+
+
+def _connection_info(sock: socket.socket) -> str:
+    """How roscpp names a TCPROS connection in its messages."""
+    try:
+        port = sock.getsockname()[1]
+        host, peer_port = sock.getpeername()[:2]
+    except OSError:
+        return "TCPROS connection"
+    return f"TCPROS connection on port {port} to [{host}:{peer_port} on socket {sock.fileno()}]"
 
 
 def _known(ros1_type: str) -> bool:
