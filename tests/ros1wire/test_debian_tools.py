@@ -4,6 +4,7 @@ between ROS 1 programs and graph nodes both ways, value for value."""
 
 from __future__ import annotations
 
+import signal
 import textwrap
 import threading
 import time
@@ -273,7 +274,39 @@ def test_rosbag_play_reaches_a_graph_subscriber_in_order(
     _bag_of_counts(ros, bag, 40)
     play = ros.run("rosbag", "play", "-q", "--wait-for-subscribers", str(bag), timeout=DEADLINE)
     assert play.returncode == 0, play.stderr
-    wait_until(lambda: len(heard) >= 40, what="the bag's 40 messages", timeout=DEADLINE)
+    wait_until(
+        lambda: len(heard) >= 40,
+        what="the bag's 40 messages",
+        timeout=DEADLINE,
+        detail=lambda: heard,
+    )
+    assert heard == list(range(40))
+
+
+def test_what_a_ros1_publisher_sent_before_it_ended_reaches_the_graph(
+    ros_graph: tuple[Graph, MasterHandle], tmp_path: Path
+) -> None:
+    """rosbag ends as soon as it has played: the master may say so before the bridge has
+    published what it read (here the graph's executor is busy throughout the play), and that
+    is still delivered."""
+    graph, handle = ros_graph
+    heard: list[int] = []
+    graph.create_node("listener").subscribe(
+        "/count", "std_msgs/Int32", lambda m: heard.append(m.data), queue_size=100
+    )
+    ros = Ros1(handle.uri)
+    bag = tmp_path / "count.bag"
+    _bag_of_counts(ros, bag, 40)
+    play = ros.start("rosbag", "play", "-q", "-r", "20", "--wait-for-subscribers", str(bag))
+    time.sleep(0.2)
+    graph.executor.post(lambda: time.sleep(3.0))  # busy while rosbag plays and ends
+    assert play.wait(timeout=DEADLINE) == 0
+    wait_until(
+        lambda: len(heard) >= 40,
+        what="the bag's 40 messages",
+        timeout=DEADLINE,
+        detail=lambda: heard,
+    )
     assert heard == list(range(40))
 
 
@@ -402,3 +435,33 @@ def test_rosnode_kill_shuts_a_graph_node_down(ros_graph: tuple[Graph, MasterHand
     assert doomed.shutdown_request is not None
     assert doomed.shutdown_request[1] == "user request"
     assert "/spared" in ros.run("rosnode", "list").stdout.split()
+
+
+def test_a_ros1_service_that_ends_is_withdrawn_from_the_graph(
+    ros_graph: tuple[Graph, MasterHandle], tmp_path: Path
+) -> None:
+    graph, handle = ros_graph
+    script = tmp_path / "flag_server.py"
+    script.write_text(
+        textwrap.dedent(
+            """
+            import rospy
+            from std_srvs.srv import SetBool, SetBoolResponse
+            rospy.init_node("flag_server")
+            rospy.Service("/flag", SetBool, lambda req: SetBoolResponse(True, "ok"))
+            rospy.spin()  # until the test ends it
+            """
+        )
+    )
+    server = Ros1(handle.uri).start(str(ROS_PYTHON), str(script))
+    try:
+        wait_until(lambda: "/flag" in graph.services, what="the ROS 1 service on the graph")
+    finally:
+        server.send_signal(signal.SIGINT)  # Ctrl-C: rospy unregisters, then ends
+        server.communicate(timeout=DEADLINE)
+    wait_until(lambda: "/flag" not in graph.services, what="the ended service withdrawn")
+    # the bridge goes on looking: a graph topic published now still reaches ROS 1
+    pub = graph.create_node("late").publisher("/late", "std_msgs/String", latch=True)
+    graph.executor.post(partial(pub.publish_data, {"data": "still here"}))
+    echo = Ros1(handle.uri).run("rostopic", "echo", "-n", "1", "/late", timeout=DEADLINE)
+    assert echo.stdout == 'data: "still here"\n---\n', echo.stderr

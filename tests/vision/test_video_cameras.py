@@ -185,3 +185,37 @@ def test_video_stream_opencvs_camera_launch(tmp_path: Path) -> None:
     columns = [_column(m) for m in got["/videofile/image_raw"]]
     assert columns == [(64 - 4 * i - 8) // 4 for i in (0, 1, 2, 3, 0, 1, 2, 3, 0, 1)]
     assert got["/videofile/image_raw"][0].header.frame_id == "videofile"
+
+
+def test_start_and_stop_frames_and_the_camera_fps_cap(tmp_path: Path) -> None:
+    """video_stream_opencv's start_frame/stop_frame: frames 2 … 4 of 8, looping; ``fps``
+    above ``set_camera_fps`` publishes at the camera's rate."""
+    video = _video(tmp_path / "clip.avi", 8)
+    launch = tmp_path / "range.launch"
+    launch.write_text(
+        f"""<launch><node pkg="video_stream_opencv" type="video_stream" name="range">
+             <param name="video_stream_provider" value="{video}"/>
+             <param name="fps" value="40.0"/>
+             <param name="set_camera_fps" value="20.0"/>
+             <param name="start_frame" value="2"/>
+             <param name="stop_frame" value="5"/>
+             <param name="loop_videofile" value="true"/>
+           </node></launch>"""
+    )
+    images = _run(launch, 0.4, {"/image_raw": "sensor_msgs/Image"})["/image_raw"]
+    assert [_column(m) for m in images] == [2, 3, 4, 2, 3, 4, 2, 3]
+    assert [m.header.stamp.nanosec for m in images[:2]] == [50_000_000, 100_000_000]
+
+
+def test_a_stop_frame_past_the_end_plays_to_the_end(tmp_path: Path) -> None:
+    video = _video(tmp_path / "clip.avi", 4)
+    launch = tmp_path / "past.launch"
+    launch.write_text(
+        f"""<launch><node pkg="video_stream_opencv" type="video_stream" name="past">
+             <param name="video_stream_provider" value="{video}"/>
+             <param name="start_frame" value="1"/>
+             <param name="stop_frame" value="100"/>
+           </node></launch>"""
+    )
+    images = _run(launch, 1.0, {"/image_raw": "sensor_msgs/Image"})["/image_raw"]
+    assert [_column(m) for m in images] == [1, 2, 3]

@@ -52,6 +52,7 @@ class EndpointGraph(Protocol):
     def clock_stamp(self) -> tuple[int, int]: ...
     def remove_publisher(self, pub: Publisher) -> None: ...
     def remove_subscription(self, sub: Subscription) -> None: ...
+    def remove_service(self, server: ServiceServer) -> None: ...
 
 
 class EndpointNode(Protocol):
@@ -284,3 +285,6 @@ class ServiceServer:
             msg = f"service {self.name} handler returned {response!r}, not a {short(expected)}"
             raise GraphError(msg)
         return response
+
+    def unregister(self) -> None:
+        self.node.graph.remove_service(self)

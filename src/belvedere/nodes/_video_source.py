@@ -42,6 +42,48 @@ class FrameSource:
         self.capture = capture
         self.pictures = pictures or []
         self.index = 0
+        self.start = 0
+        self.stop: int | None = None
+        """Frames ``start`` … ``stop - 1`` are played (None: to the end)."""
+
+    @property
+    def frame_count(self) -> int | None:
+        """How many frames a video file or a set of pictures has (None: a device, or a video
+        that does not say)."""
+        if self.capture is None:
+            return len(self.pictures)
+        count = int(self.capture.get(cv2.CAP_PROP_FRAME_COUNT))
+        return count if count > 0 else None
+
+    def play_range(self, start: int, stop: int) -> list[str]:
+        """Play frames ``start`` … ``stop - 1`` (``stop`` -1: to the end), looping back to
+        ``start``; checked as video_stream_opencv checks them. Its warnings, in its words."""
+        count = self.frame_count
+        warnings: list[str] = []
+        if count is None:
+            return warnings  # a device: no frames to count
+        if stop == -1:
+            stop = count
+        elif stop > count:
+            warnings.append(
+                f"Invalid 'stop_frame' {stop} for video which has {count} frames. "
+                f"Setting 'stop_frame' to {count}"
+            )
+            stop = count
+        if start >= stop:
+            warnings.append(
+                f"Invalid 'start_frame' {start}, which exceeds 'stop_frame' {stop}. "
+                "Setting 'start_frame' to 0."
+            )
+            start = 0
+        self.start, self.stop = start, stop
+        self._seek(start)
+        return warnings
+
+    def _seek(self, index: int) -> None:
+        self.index = index
+        if self.capture is not None:
+            self.capture.set(cv2.CAP_PROP_POS_FRAMES, index)
 
     @property
     def rate(self) -> float | None:
@@ -52,21 +94,23 @@ class FrameSource:
         return fps if 0.0 < fps < 1000.0 else None
 
     def read(self, *, loop: bool) -> Frame | None:
-        """The next frame; None at the end (unless ``loop``: then the first again)."""
+        """The next frame; None at the end (unless ``loop``: then the range's first again)."""
+        end = self.stop if self.stop is not None or self.capture is not None else len(self.pictures)
+        if end is not None and self.index >= end:
+            if not loop:
+                return None
+            self._seek(self.start)
         if self.capture is None:
-            if self.index >= len(self.pictures):
-                if not loop:
-                    return None
-                self.index = 0
             frame = self.pictures[self.index]
             self.index += 1
             return frame
         ok, frame = self.capture.read()
         if not ok and loop:
-            self.capture.set(cv2.CAP_PROP_POS_FRAMES, 0)
+            self._seek(self.start)
             ok, frame = self.capture.read()
         if not ok:
             return None
+        self.index += 1
         picture: Frame = frame if frame.ndim == 3 else cv2.cvtColor(frame, cv2.COLOR_GRAY2BGR)
         return picture
 

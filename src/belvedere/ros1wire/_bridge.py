@@ -49,6 +49,7 @@ logger = logging.getLogger("belvedere.ros1wire")
 BRIDGE_NODE: Final = "belvedere_ros1_bridge"
 LOOK_S: Final = 0.25
 MAX_RETRY_S: Final = 10.0
+RETIRE_S: Final = 5.0
 OUT_QUEUE: Final = 100
 """Messages waiting for one ROS 1 subscriber; past this the oldest are dropped, as a
 roscpp publisher's queue does."""
@@ -85,6 +86,8 @@ class _Inlet:
     that came in meanwhile, not one job each."""
     posted: bool = False
     lock: threading.Lock = field(default_factory=threading.Lock)
+    retiring: bool = False
+    """No ROS 1 program publishes the topic now: its connections are read to their end."""
 
 
 class Ros1Bridge(ServiceSide):
@@ -202,7 +205,7 @@ class Ros1Bridge(ServiceSide):
             for inlet in gone:
                 del self._inlets[inlet.topic]
         for inlet in gone:
-            self._close_inlet(inlet)
+            self._retire_inlet(inlet)
         for topic, users in published.items():
             typ = next(iter(users.values()))
             with self._lock:
@@ -274,6 +277,9 @@ class Ros1Bridge(ServiceSide):
             sock.close()
             with self._lock:
                 inlet.sources.pop(api, None)
+                last = inlet.retiring and not inlet.sources
+            if last:
+                self._close_inlet(inlet)
 
     def _connect(self, inlet: _Inlet, api: str) -> tuple[socket.socket, dict[str, str]]:
         answer: Any = server_proxy(api, timeout=5.0).requestTopic(
@@ -364,16 +370,40 @@ class Ros1Bridge(ServiceSide):
             batch = list(inlet.waiting)
             inlet.waiting.clear()
             inlet.posted = False
-        if inlet.publisher is not None and not inlet.closed:
+        # what was read before the inlet closed still goes out: its publisher is unregistered
+        # by a job posted after these
+        if inlet.publisher is not None:
             for msg in batch:
                 inlet.publisher.publish(msg)
 
+    def _retire_inlet(self, inlet: _Inlet) -> None:
+        """A topic no ROS 1 program publishes any more. What its publishers sent before they
+        went is read to the end of their connections (a bag played, then rosbag ended: the
+        master may say so before the last messages are read), then the inlet closes; a
+        connection still open after RETIRE_S is dropped."""
+        with self._lock:
+            inlet.retiring = True
+            busy = bool(inlet.sources)
+        if not busy:
+            self._close_inlet(inlet)
+            return
+        timer = threading.Timer(RETIRE_S, self._close_inlet, (inlet,))
+        timer.daemon = True
+        timer.start()
+
     def _close_inlet(self, inlet: _Inlet) -> None:
-        inlet.closed = True
+        with self._lock:
+            if inlet.closed:
+                return
+            inlet.closed = True
         self._drop_sources(inlet)
-        publisher = inlet.publisher
-        if publisher is not None:
-            self.graph.executor.post(publisher.unregister)
+
+        def unregister() -> None:
+            publisher, inlet.publisher = inlet.publisher, None
+            if publisher is not None:
+                publisher.unregister()
+
+        self.graph.executor.post(unregister)
 
     # --- TCPROS: ROS 1 subscribers and service clients ------------------------------------
     def _accept(self) -> None:
@@ -408,7 +438,10 @@ class Ros1Bridge(ServiceSide):
         if not users:
             write_header(
                 sock,
-                {"error": f"received a connection for a nonexistent topic [{topic}] from {caller}"},
+                {
+                    "error": f"received a connection for a nonexistent topic [{topic}] from "
+                    f"[{_connection_info(sock)}] [{caller}]."
+                },
             )
             return
         ros1_type = next(iter(users.values()))
@@ -529,6 +562,16 @@ class Ros1Bridge(ServiceSide):
             return [0, f"{node}'s process did not answer", 0]
         self._wake.set()
         return [1, "shutdown", 0]
+
+
+def _connection_info(sock: socket.socket) -> str:
+    """How roscpp names a TCPROS connection in its messages."""
+    try:
+        port = sock.getsockname()[1]
+        host, peer_port = sock.getpeername()[:2]
+    except OSError:
+        return "TCPROS connection"
+    return f"TCPROS connection on port {port} to [{host}:{peer_port} on socket {sock.fileno()}]"
 
 
 def _known(ros1_type: str) -> bool:
