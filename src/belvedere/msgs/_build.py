@@ -68,6 +68,7 @@ def odometry(
     angular: Floats = (0.0, 0.0, 0.0),
     pose_covariance: Floats | None = None,
     twist_covariance: Floats | None = None,
+    seq: int = 0,
 ) -> Any:
     """A ``nav_msgs/Odometry`` (covariances default to zeros)."""
     vector = _cls("geometry_msgs/Vector3")
@@ -77,7 +78,7 @@ def odometry(
     )
     twist = _cls("geometry_msgs/Twist")(vector(*map(float, linear)), vector(*map(float, angular)))
     return _cls("nav_msgs/Odometry")(
-        header(stamp_ns, frame_id),
+        header(stamp_ns, frame_id, seq),
         child_frame_id,
         _cls("geometry_msgs/PoseWithCovariance")(pose, _covariance(pose_covariance)),
         _cls("geometry_msgs/TwistWithCovariance")(twist, _covariance(twist_covariance)),

@@ -186,7 +186,7 @@ class LaserSensor(_Sensor):
     def scan(self, now_ns: int) -> Any:
         ranges = self.ranges().astype(np.float32)
         return self.scan_type(
-            build.header(now_ns, self.frame),
+            build.header(now_ns, self.frame, self.pub.next_seq()),
             self.angle_min,
             self.angle_max,
             self.increment,

@@ -134,6 +134,8 @@ class PhysicsSimulation:
         self.world_roots: dict[str, str] = {}
         self._build_world()  # first: a world MuJoCo refuses leaves nothing on the graph
         self.robots: dict[str, SpawnedRobot] = {}
+        self._stepping: list[Plugin] | None = None
+        """The plugins of every robot, in order (None: to be listed again, robots changed)."""
         self.auto_reset = auto_reset
         self.node = node or graph.create_node("gazebo")
         self.stopped_reason: str | None = None
@@ -165,6 +167,13 @@ class PhysicsSimulation:
     def plugins(self) -> list[Plugin]:
         return [p for r in self.robots.values() for p in r.plugins]
 
+    def _each_step(self) -> list[Plugin]:
+        """:attr:`plugins`, listed once per change of robots rather than twice a step."""
+        stepping = self._stepping
+        if stepping is None:
+            stepping = self._stepping = self.plugins
+        return stepping
+
     # --- robots --------------------------------------------------------------------------------
     def spawn(
         self,
@@ -194,6 +203,7 @@ class PhysicsSimulation:
                     msg = f"plugin {plugin.ctx.name!r}: MuJoCo refused it: {err}"
                     raise ModelError(msg, plugin.ctx.source) from None
             self.robots[name] = robot
+            self._stepping = None
             try:
                 self.engine.compile()
             except ValueError as err:
@@ -202,6 +212,7 @@ class PhysicsSimulation:
         except BaseException:
             # Nothing of a robot that failed to spawn stays in the world.
             self.robots.pop(name, None)
+            self._stepping = None
             for plugin in robot.plugins:
                 plugin.active = False
             self._remove_from_spec(name)
@@ -295,7 +306,7 @@ class PhysicsSimulation:
                 self._diverged(problem)
                 return
         now = self.graph.now_ns()
-        for plugin in self.plugins:
+        for plugin in self._each_step():
             if plugin.active:
                 plugin.update(now)
         for hook in self.after_step:
@@ -304,21 +315,21 @@ class PhysicsSimulation:
     def _batch(self) -> int:
         """How many steps to take now: through the first step at which a plugin acts, no
         further than the executor's horizon; one while anything wants every step."""
-        if any(wants() for wants in self.every_step):
-            return 1
+        for wants in self.every_step:
+            if wants():
+                return 1
         executor = self.graph.executor
         now = executor.now_ns()
         step = self.timer.period_ns
         last = executor.horizon_ns()
-        for plugin in self.plugins:
+        for plugin in self._each_step():
             if not plugin.active:
                 continue
             due = plugin.next_update_ns(now)
-            if due is None:
+            if due is None or due <= now:
                 return 1
-            if due <= now:
-                return 1
-            last = min(last, now + -(-(due - now) // step) * step)
+            if due < last:
+                last = min(last, now + -(-(due - now) // step) * step)
         return 1 + max(0, (last - now) // step)
 
     def _diverged(self, problem: str) -> None:
@@ -475,6 +486,7 @@ class PhysicsSimulation:
     def delete(self, name: str) -> None:
         """Remove a robot or a world model (delete_model)."""
         robot = self.robots.pop(name, None)
+        self._stepping = None
         if robot is None and name not in self.world_roots:
             self.model_pose(name)  # raises the KeyError naming the models
         for plugin in robot.plugins if robot else []:
