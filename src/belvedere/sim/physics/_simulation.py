@@ -278,16 +278,17 @@ class PhysicsSimulation:
 
     # --- stepping ------------------------------------------------------------------------------
     def physics_step(self) -> None:
-        """MuJoCo steps, then every plugin's update (the graph's timer calls this).
+        """MuJoCo steps, then the update of every plugin due (the graph's timer calls this).
 
         Steps run in one batch up to the next step at which a plugin acts, or anything else
         on the graph is due: plugins see every step at which they would have acted, at the
-        same simulated time, and nothing else notices the batch."""
+        same simulated time, and nothing else notices the batch. A plugin whose next update
+        (:meth:`Plugin.next_update_ns`) lies beyond the batch is not called."""
         if self.stopped_reason is not None:
             return
         engine = self.engine
         executor = self.graph.executor
-        steps = self._batch()
+        steps, due = self._batch()
         mujoco.mj_step(engine.m, engine.d, steps)
         if steps > 1:
             executor.advance_to(executor.now_ns() + (steps - 1) * self.timer.period_ns)
@@ -306,31 +307,36 @@ class PhysicsSimulation:
                 self._diverged(problem)
                 return
         now = self.graph.now_ns()
-        for plugin in self._each_step():
+        for plugin in self._each_step() if due is None else due:
             if plugin.active:
                 plugin.update(now)
         for hook in self.after_step:
             hook()
 
-    def _batch(self) -> int:
-        """How many steps to take now: through the first step at which a plugin acts, no
-        further than the executor's horizon; one while anything wants every step."""
+    def _batch(self) -> tuple[int, list[Plugin] | None]:
+        """How many steps to take now — through the first step at which a plugin acts, no
+        further than the executor's horizon; one while anything wants every step — and the
+        plugins due at its last step (None: all of them)."""
         for wants in self.every_step:
             if wants():
-                return 1
+                return 1, None
         executor = self.graph.executor
         now = executor.now_ns()
         step = self.timer.period_ns
         last = executor.horizon_ns()
+        dues: list[tuple[int | None, Plugin]] = []
         for plugin in self._each_step():
             if not plugin.active:
                 continue
             due = plugin.next_update_ns(now)
+            dues.append((due, plugin))
             if due is None or due <= now:
-                return 1
-            if due < last:
+                last = now
+            elif due < last:
                 last = min(last, now + -(-(due - now) // step) * step)
-        return 1 + max(0, (last - now) // step)
+        steps = 1 + max(0, (last - now) // step)
+        end = now + (steps - 1) * step
+        return steps, [plugin for due, plugin in dues if due is None or due <= end]
 
     def _diverged(self, problem: str) -> None:
         cause = self._likely_cause()
