@@ -21,7 +21,7 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
-from belvedere.description.gazebo_materials import gazebo_material_colours
+from belvedere.description.gazebo_materials import MaterialColours, gazebo_material_colours
 from belvedere.description.meshes import resolve_mesh_path
 from belvedere.description.urdf import (
     Geometry,
@@ -32,6 +32,7 @@ from belvedere.description.urdf import (
     Pose,
     RobotModel,
     Sphere,
+    Visual,
     transform,
 )
 from belvedere.errors import SourceLocation
@@ -41,6 +42,7 @@ from belvedere.sim.physics._lighting import apply_material
 from belvedere.sim.physics._spec import (
     Matrix4,
     ModelError,
+    Touching,
     _as_collision,
     _as_visual,
     _check_physical,
@@ -322,41 +324,53 @@ class _RobotBuilder:
         kd = self.fprop(link.name, "kd")
         gazebo = gazebo_material_colours(self.prop(link.name, "material"))
         caster = _is_caster(link, mu1, mu2)
+        touching = Touching()
         for i, collision in enumerate(link.collisions):
+            frame = offset @ transform(collision.origin)
             geom = self._geom(
                 body,
                 f"{self.name}/{link.name}/collision_{i}",
                 collision.geometry,
-                offset @ transform(collision.origin),
+                frame,
                 collision.source.best,
             )
             if geom is None:
                 continue
+            touching.add(collision.geometry, frame, geom)
             if caster:
                 _as_collision(geom, mu=0.0, kp=kp, kd=kd, priority=2, rolling=False)
             else:
                 given = [m for m in (mu1, mu2) if m is not None]
                 _as_collision(geom, mu=min(given, default=1.0), kp=kp, kd=kd, priority=1)
         for i, visual in enumerate(link.visuals):
+            looks = self._looks(visual, gazebo)
+            frame = offset @ transform(visual.origin)
+            drawn = touching.take(visual.geometry, frame, float(looks.diffuse[3]))
+            if drawn is not None:
+                apply_material(self.spec, drawn, looks, scene=self.scene)
+                continue
             geom = self._geom(
                 body,
                 f"{self.name}/{link.name}/visual_{i}",
                 visual.geometry,
-                offset @ transform(visual.origin),
+                frame,
                 visual.source.best,
             )
             if geom is None:
                 continue
-            material = visual.material
-            if material is None or material.rgba is None:
-                material = self.materials.get(visual.material_name or "")
-            if gazebo is not None:  # <gazebo reference><material> wins, as in Gazebo
-                looks = Material(gazebo.ambient, gazebo.diffuse, gazebo.specular, shininess=1.0)
-            else:  # a URDF colour is ambient and diffuse (sdformat's URDF conversion)
-                rgba = material.rgba if material and material.rgba else (0.7, 0.7, 0.7, 1.0)
-                looks = Material(rgba, rgba)
             _as_visual(geom)
             apply_material(self.spec, geom, looks, scene=self.scene)
+
+    def _looks(self, visual: Visual, gazebo: MaterialColours | None) -> Material:
+        """How a visual is drawn: its ``<gazebo reference><material>`` (which wins, as in
+        Gazebo), else its URDF colour as ambient and diffuse (sdformat's conversion)."""
+        if gazebo is not None:
+            return Material(gazebo.ambient, gazebo.diffuse, gazebo.specular, shininess=1.0)
+        material = visual.material
+        if material is None or material.rgba is None:
+            material = self.materials.get(visual.material_name or "")
+        rgba = material.rgba if material and material.rgba else (0.7, 0.7, 0.7, 1.0)
+        return Material(rgba, rgba)
 
     def _geom(
         self,
