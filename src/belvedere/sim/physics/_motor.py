@@ -82,10 +82,17 @@ class VelocityMotor:
             actuator.forcerange = [-cap, cap]
 
     def bind(self, engine: Engine) -> None:
-        m = engine.m
+        m, d = engine.m, engine.d
         self.id = engine.actuator_id(self.actuator)
         self.dof = engine.joint(self.joint).dof
         self.kv_max = STIFFNESS * float(m.dof_M0[self.dof]) / float(m.opt.timestep)
+        self.timestep = float(m.opt.timestep)
+        # Views into MjModel/MjData, valid until the next compile (bind runs after each):
+        # each attribute read otherwise makes a new view, at 100 Hz per motor.
+        self._gain = m.actuator_gainprm[self.id]
+        self._bias = m.actuator_biasprm[self.id]
+        self._ctrl = d.ctrl
+        self._qvel = d.qvel
 
     def command(self, velocity: float) -> None:
         if velocity != self.target:
@@ -95,19 +102,18 @@ class VelocityMotor:
     def apply(self, engine: Engine, elapsed: float | None = None) -> None:
         """Set the gain and the target for the next step; ``elapsed``: seconds since the last
         apply (one step if not given)."""
-        m, d = engine.m, engine.d
-        signed = self.target - float(d.qvel[self.dof])
+        signed = self.target - float(self._qvel[self.dof])
         error = abs(signed)
         kv = self.kv_max
         self.capped = error * kv > self.max_force
         if self.capped:
             kv = self.max_force / error
         else:  # within the cap: integrate what a steady load leaves (none while capped)
-            dt = float(m.opt.timestep) if elapsed is None else elapsed
+            dt = self.timestep if elapsed is None else elapsed
             self.offset += signed * dt / INTEGRAL_TIME
-        m.actuator_gainprm[self.id, 0] = kv
-        m.actuator_biasprm[self.id, 2] = -kv
-        d.ctrl[self.id] = self.target + self.offset
+        self._gain[0] = kv
+        self._bias[2] = -kv
+        self._ctrl[self.id] = self.target + self.offset
 
 
 def wheel_load(model: RobotModel, wheels: int, radius: float) -> float:
