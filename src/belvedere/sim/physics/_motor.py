@@ -139,6 +139,8 @@ class MotorDrive(Plugin):
         self.commands = CommandGate(ctx.name, ctx.graph, logger)
         self.x = self.rot = 0.0
         self.applied_ns = ctx.graph.now_ns()
+        self.capped = False
+        """Whether a motor met its cap at its last apply (read twice a batch)."""
 
     def _on_cmd(self, msg: Any) -> None:
         x, rot = float(msg.linear.x), float(msg.angular.z)
@@ -155,6 +157,7 @@ class MotorDrive(Plugin):
         for motor in self.motors:
             motor.bind(self.engine)
             motor.apply(self.engine)
+        self.capped = any(m.capped for m in self.motors)
 
     def stop_motors(self) -> None:
         """After a world reset: no command, the gate and the motors started over."""
@@ -166,14 +169,15 @@ class MotorDrive(Plugin):
         self.apply_motors(now, due=True)
 
     def next_update_ns(self, now_ns: int) -> int | None:
-        return None if any(m.capped for m in self.motors) else self.gate.next_ns()
+        return None if self.capped else self.gate.next_ns()
 
     def apply_motors(self, now_ns: int, *, due: bool) -> None:
         """The motors after a step: applied when the plugin acted (``due``) or while one is
         capped, with the time since they were last applied."""
-        if not due and not any(m.capped for m in self.motors):
+        if not due and not self.capped:
             return
         elapsed = max(now_ns - self.applied_ns, 0) / 1e9 or None
         for motor in self.motors:
             motor.apply(self.engine, elapsed)
         self.applied_ns = now_ns
+        self.capped = any(m.capped for m in self.motors)
