@@ -101,3 +101,29 @@ def test_a_gate_fires_on_the_first_step_past_its_period_and_carries_the_rest() -
     assert [t for t in range(ms, 40 * ms, ms) if plugin.due(t)] == [11 * ms, 21 * ms, 31 * ms]
     behind = RateGate(1000.0, 0, strict=False)  # faster than the steps: once per step
     assert [behind.due(t * 10 * ms) for t in range(1, 4)] == [True, True, True]
+
+
+def test_a_plugin_is_called_only_at_the_steps_it_is_due() -> None:
+    """The laser (5.5 Hz) on a robot whose IMU publishes at 70 Hz: the physics stops for
+    every IMU reading, and calls the laser only at its own."""
+    graph = Graph()
+    sim = PhysicsSimulation(graph, empty_world())
+    robot = sim.spawn(RobotModel.from_string(SENSORS), name="rates")
+    laser = next(p for p in robot.plugins if p.ctx.name == "laser")
+    calls: list[int] = []
+    update = laser.update
+
+    def counted(now_ns: int) -> None:
+        calls.append(now_ns)
+        update(now_ns)
+
+    setattr(laser, "update", counted)  # noqa: B010 (an instance's method, counted)
+    probe = graph.create_node("probe")
+    scans: list[Any] = []
+    imu: list[Any] = []
+    probe.subscribe("/scan", "sensor_msgs/LaserScan", scans.append, queue_size=0)
+    probe.subscribe("/imu", "sensor_msgs/Imu", imu.append, queue_size=0)
+    graph.run(duration=2.0)
+    assert len(scans) == 11
+    assert len(imu) >= 140
+    assert calls == [m.header.stamp.sec * 10**9 + m.header.stamp.nanosec for m in scans]

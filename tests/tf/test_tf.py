@@ -256,3 +256,27 @@ def test_publishers_number_header_seq_as_ros1() -> None:
     a.publisher("/js", "sensor_msgs/JointState").publish(build.joint_state(0, [], []))
     g.spin_once()
     assert got[-1] == ("msg", 3)
+
+
+def test_a_message_built_with_next_seq_is_sent_as_it_is() -> None:
+    """What the simulation's 100 Hz publishers do to spare the numbering copy."""
+    g = Graph(clock_hz=None)
+    node = g.create_node("a")
+    got: list[object] = []
+    node.subscribe("/odom", "nav_msgs/Odometry", got.append, queue_size=0)
+    for rule in ("roscpp", "rospy"):
+        pub = node.publisher("/odom", "nav_msgs/Odometry", seq_rule=rule)
+        for _ in range(3):
+            seq = pub.next_seq()
+            msg = build.odometry(
+                stamp_ns=0,
+                frame_id="odom",
+                child_frame_id="base",
+                position=(0, 0, 0),
+                quat_xyzw=(0, 0, 0, 1),
+                seq=seq,
+            )
+            pub.publish(msg)
+            g.spin_once()
+            assert got[-1] is msg
+    assert [m.header.seq for m in got] == [0, 1, 2, 4, 5, 6]  # type: ignore[attr-defined]

@@ -172,6 +172,12 @@ class Publisher:
         if transport is not None and topic.remote:
             transport.send(topic, msg, self)
 
+    def next_seq(self) -> int:
+        """The ``header.seq`` the next message published here gets: a publisher that builds
+        its message with it spares the copy :meth:`publish` otherwise makes to number it."""
+        seq = self.node.seqs.get(self.topic.name, 0)
+        return (seq + 1 if self.seq_rule == "rospy" else seq) & 0xFFFFFFFF
+
     def _numbered(self, msg: Any) -> Any:
         """``msg`` with the next ``header.seq`` of this node's publications on the topic (a
         copy: the caller's message and what other subscribers hold stay as they are)."""

@@ -40,5 +40,6 @@ def publish_odometry(
             angular=angular,
             pose_covariance=pose_covariance,
             twist_covariance=twist_covariance,
+            seq=pub.next_seq(),
         )
     )

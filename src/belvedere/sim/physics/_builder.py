@@ -8,6 +8,7 @@ inertias combined), so a massless ``base_footprint`` rides on ``base_link``; eve
 keeps its offset in its body, so TF still has every frame. Robot geoms win contacts
 (``priority``), so the robot's own friction applies as in Gazebo (ODE takes the smaller mu of
 the two surfaces; a ground plane's mu of 100 never decides), and caster spheres slide freely.
+A caster ball whose joint changes nothing is welded to its carrier (:mod:`._casters`).
 """
 
 from __future__ import annotations
@@ -18,8 +19,9 @@ from pathlib import Path
 
 import mujoco
 import numpy as np
+import numpy.typing as npt
 
-from belvedere.description.gazebo_materials import gazebo_material_colours
+from belvedere.description.gazebo_materials import MaterialColours, gazebo_material_colours
 from belvedere.description.meshes import resolve_mesh_path
 from belvedere.description.urdf import (
     Geometry,
@@ -30,14 +32,17 @@ from belvedere.description.urdf import (
     Pose,
     RobotModel,
     Sphere,
+    Visual,
     transform,
 )
 from belvedere.errors import SourceLocation
 from belvedere.packages import PackageIndex
+from belvedere.sim.physics._casters import spinning_joints, without_spin
 from belvedere.sim.physics._lighting import apply_material
 from belvedere.sim.physics._spec import (
     Matrix4,
     ModelError,
+    Touching,
     _as_collision,
     _as_visual,
     _check_physical,
@@ -68,6 +73,8 @@ class RobotBuild:
     joints: dict[str, str] = field(default_factory=dict)
     """URDF joint → MuJoCo joint name."""
     bodies: list[str] = field(default_factory=list)
+    welded: tuple[str, ...] = ()
+    """URDF joints welded (caster balls whose joints change nothing, :mod:`._casters`)."""
 
     def body_of(self, link: str) -> str:
         return self.link_body[link][0]
@@ -81,6 +88,8 @@ class _RobotBuilder:
         name: str,
         packages: PackageIndex | None,
         scene: Scene | None = None,
+        *,
+        weld_casters: bool = True,
     ) -> None:
         self.spec = spec
         self.scene = scene
@@ -89,6 +98,11 @@ class _RobotBuilder:
         self.packages = packages or PackageIndex.from_environment(near=model.path)
         self.materials = {m.name: m for m in model.materials}
         self.meshes: dict[tuple[str, tuple[float, float, float]], str] = {}
+        self.spin_axes: dict[str, npt.NDArray[np.float64]] = {}
+        """Welded caster links → their joint's axis in the link's frame."""
+        if weld_casters:
+            for joint, axis in spinning_joints(model, self._is_caster).items():
+                self.spin_axes[model.joint(joint).child] = axis
 
     def prop(self, link: str, key: str) -> str | None:
         return self.model.gazebo_property(link, key)
@@ -104,6 +118,9 @@ class _RobotBuilder:
             msg = f"<gazebo reference={link!r}>: <{key}> expects a number, got {value!r}"
             raise ModelError(msg, at) from None
 
+    def _is_caster(self, link: Link) -> bool:
+        return _is_caster(link, self.fprop(link.name, "mu1"), self.fprop(link.name, "mu2"))
+
     def bprop(self, link: str, key: str) -> bool | None:
         value = self.prop(link, key)
         return None if value is None else value.lower() in ("1", "true")
@@ -114,6 +131,9 @@ class _RobotBuilder:
         fixed_to_world = root.name == "world"
         groups = self._groups(root.name)
         build = RobotBuild(self.name, model, "", None)
+        build.welded = tuple(
+            j.name for j in model.joints if j.type != "fixed" and j.child in self.spin_axes
+        )
         parent_body = self.spec.worldbody
         body = parent_body.add_body(name=f"{self.name}/{root.name}")
         _place(body, transform(pose))
@@ -157,7 +177,7 @@ class _RobotBuilder:
     ) -> None:
         body = parent.add_body(name=f"{self.name}/{joint.child}")
         _place(body, parent_offset @ transform(joint.origin))
-        if joint.type != "fixed":
+        if joint.type != "fixed" and joint.child not in self.spin_axes:
             self._joint(body, joint, build)
         self._fill(body, joint.child, groups, build, moving=True)
 
@@ -224,12 +244,12 @@ class _RobotBuilder:
     ) -> None:
         build.bodies.append(body.name)
         members = groups[start]
-        inertials: list[tuple[Inertial, Matrix4]] = []
+        inertials: list[tuple[Inertial, Matrix4, npt.NDArray[np.float64] | None]] = []
         for link_name, offset in members:
             build.link_body[link_name] = (body.name, offset)
             link = self.model.link(link_name)
             if link.inertial is not None:
-                inertials.append((link.inertial, offset))
+                inertials.append((link.inertial, offset, self.spin_axes.get(link_name)))
             self._geoms(body, link, offset)
             if self.bprop(link_name, "turnGravityOff") or self.bprop(link_name, "gravity") is False:
                 body.gravcomp = 1.0
@@ -244,18 +264,18 @@ class _RobotBuilder:
         self,
         body: mujoco.MjsBody,
         start: str,
-        inertials: list[tuple[Inertial, Matrix4]],
+        inertials: list[tuple[Inertial, Matrix4, npt.NDArray[np.float64] | None]],
         *,
         moving: bool,
     ) -> None:
         body.explicitinertial = True
         own = self.model.link(start).inertial
         source = (own.source.best if own else None) or self.model.link(start).source.best
-        for inertial, _ in inertials:
+        for inertial, _, _ in inertials:
             if inertial.mass < 0:
                 msg = f"the mass of link {start!r} is {inertial.mass:g} kg: no body has less than 0"
                 raise ModelError(msg, inertial.source.best or source)
-        total = sum(i.mass for i, _ in inertials)
+        total = sum(i.mass for i, _, _ in inertials)
         if total <= 0:
             if moving:
                 logger.warning(
@@ -270,14 +290,17 @@ class _RobotBuilder:
             body.fullinertia = [1e-6, 1e-6, 1e-6, 0.0, 0.0, 0.0]
             return
         com = np.zeros(3)
-        for inertial, offset in inertials:
+        for inertial, offset, _ in inertials:
             com += inertial.mass * (offset @ transform(inertial.origin))[:3, 3]
         com /= total
         tensor = np.zeros((3, 3))
-        for inertial, offset in inertials:
+        for inertial, offset, spin_axis in inertials:
             frame = offset @ transform(inertial.origin)
             d = frame[:3, 3] - com
-            tensor += _tensor_in(inertial, frame[:3, :3])
+            part = _tensor_in(inertial, frame[:3, :3])
+            if spin_axis is not None:  # a welded caster ball: its spin stays its own
+                part = without_spin(part, offset[:3, :3] @ spin_axis)
+            tensor += part
             tensor += inertial.mass * (float(d @ d) * np.eye(3) - np.outer(d, d))
         if not np.all(np.isfinite(com)):
             tensor[:] = np.inf  # a centre of mass beyond the doubles: reported as below
@@ -301,41 +324,53 @@ class _RobotBuilder:
         kd = self.fprop(link.name, "kd")
         gazebo = gazebo_material_colours(self.prop(link.name, "material"))
         caster = _is_caster(link, mu1, mu2)
+        touching = Touching()
         for i, collision in enumerate(link.collisions):
+            frame = offset @ transform(collision.origin)
             geom = self._geom(
                 body,
                 f"{self.name}/{link.name}/collision_{i}",
                 collision.geometry,
-                offset @ transform(collision.origin),
+                frame,
                 collision.source.best,
             )
             if geom is None:
                 continue
+            touching.add(collision.geometry, frame, geom)
             if caster:
                 _as_collision(geom, mu=0.0, kp=kp, kd=kd, priority=2, rolling=False)
             else:
                 given = [m for m in (mu1, mu2) if m is not None]
                 _as_collision(geom, mu=min(given, default=1.0), kp=kp, kd=kd, priority=1)
         for i, visual in enumerate(link.visuals):
+            looks = self._looks(visual, gazebo)
+            frame = offset @ transform(visual.origin)
+            drawn = touching.take(visual.geometry, frame, float(looks.diffuse[3]))
+            if drawn is not None:
+                apply_material(self.spec, drawn, looks, scene=self.scene)
+                continue
             geom = self._geom(
                 body,
                 f"{self.name}/{link.name}/visual_{i}",
                 visual.geometry,
-                offset @ transform(visual.origin),
+                frame,
                 visual.source.best,
             )
             if geom is None:
                 continue
-            material = visual.material
-            if material is None or material.rgba is None:
-                material = self.materials.get(visual.material_name or "")
-            if gazebo is not None:  # <gazebo reference><material> wins, as in Gazebo
-                looks = Material(gazebo.ambient, gazebo.diffuse, gazebo.specular, shininess=1.0)
-            else:  # a URDF colour is ambient and diffuse (sdformat's URDF conversion)
-                rgba = material.rgba if material and material.rgba else (0.7, 0.7, 0.7, 1.0)
-                looks = Material(rgba, rgba)
             _as_visual(geom)
             apply_material(self.spec, geom, looks, scene=self.scene)
+
+    def _looks(self, visual: Visual, gazebo: MaterialColours | None) -> Material:
+        """How a visual is drawn: its ``<gazebo reference><material>`` (which wins, as in
+        Gazebo), else its URDF colour as ambient and diffuse (sdformat's conversion)."""
+        if gazebo is not None:
+            return Material(gazebo.ambient, gazebo.diffuse, gazebo.specular, shininess=1.0)
+        material = visual.material
+        if material is None or material.rgba is None:
+            material = self.materials.get(visual.material_name or "")
+        rgba = material.rgba if material and material.rgba else (0.7, 0.7, 0.7, 1.0)
+        return Material(rgba, rgba)
 
     def _geom(
         self,
@@ -371,10 +406,12 @@ def add_robot(
     pose: Pose = Pose(),
     packages: PackageIndex | None = None,
     scene: Scene | None = None,
+    weld_casters: bool = True,
 ) -> RobotBuild:
     """Add ``model`` as ``name`` at ``pose`` (its root link's pose in the world), its visuals
-    lit as in ``scene`` (default: Gazebo's)."""
-    builder = _RobotBuilder(spec, model, name, packages, scene)
+    lit as in ``scene`` (default: Gazebo's); ``weld_casters``: weld caster balls whose joints
+    change nothing (:mod:`._casters`)."""
+    builder = _RobotBuilder(spec, model, name, packages, scene, weld_casters=weld_casters)
     build = builder.build(pose)
     # Gazebo does not collide a model with itself unless <selfCollide> says so.
     self_collide = any(builder.bprop(link.name, "selfCollide") for link in model.links)

@@ -20,7 +20,7 @@ from belvedere.description.urdf import XmlData, transform
 from belvedere.msgs import build, types
 from belvedere.sim.physics._plugin import PluginContext
 from belvedere.sim.physics._sensors import _num, _Sensor
-from belvedere.sim.physics._spec import VISUAL_GROUP, ModelError
+from belvedere.sim.physics._spec import CAMERA_GROUPS, ModelError
 
 __all__ = ["IMAGE_FORMATS", "CameraSensor", "DepthCamera", "encode_pixels"]
 
@@ -127,7 +127,8 @@ class _Renderer:
         self._camera.type = mujoco.mjtCamera.mjCAMERA_FIXED
         self._option = mujoco.MjvOption()
         self._option.geomgroup[:] = 0
-        self._option.geomgroup[VISUAL_GROUP] = 1
+        for group in CAMERA_GROUPS:
+            self._option.geomgroup[group] = 1
         self._rect = mujoco.MjrRect(0, 0, width, height)
         self._rgb = np.empty((height, width, 3), dtype=np.uint8)
         self._depth = np.empty((height, width), dtype=np.float32)

@@ -160,6 +160,11 @@ class DiffDrive(MotorDrive):
         d = self.engine.d
         radius = self.diameter / 2.0
         targets = self._wheel_speeds()
+        if self.accel == 0:  # no ramp: the wheels' speeds do not matter
+            for i, motor in enumerate(self.motors):
+                self.instructions[i] = targets[i]
+                motor.command(targets[i] / radius)
+            return
         current = [float(d.qvel[j.dof]) * radius for j in self.joints]
         dt = self.gate.period_ns / 1e9 if self.gate.period_ns else self.engine.m.opt.timestep
         near = any(abs(t - c) < 0.01 for t, c in zip(targets, current, strict=True))
@@ -192,6 +197,12 @@ class DiffDrive(MotorDrive):
         self.encoder_twist = (math.hypot(dx, dy) / dt, sdiff / self.separation / dt)
 
     def _publish_odometry(self, now_ns: int) -> None:
+        """The odom TF and odometry, from one read of the base's state — none when nobody
+        listens to either."""
+        send_tf = self.publish_tf and self.publish_odom_tf and self.tf.pub.wanted
+        odom_pub = self.odom_pub if self.odom_pub is not None and self.odom_pub.wanted else None
+        if not send_tf and odom_pub is None:
+            return
         if self.source == "encoder":
             x, y, th = self.pose_encoder
             position = (x, y, 0.0)
@@ -204,12 +215,12 @@ class DiffDrive(MotorDrive):
             qx, qy, qz, qw = quat
             yaw = math.atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
             linear, angular = planar_twist(self.engine.body_velocity(self.root_body), yaw)
-        if self.publish_tf and self.publish_odom_tf:
+        if send_tf:
             self.tf.send(self.odom_frame, self.base_frame, position, quat, now_ns)
-        if self.odom_pub is not None:
+        if odom_pub is not None:
             frames = (self.odom_frame, self.base_frame)
             publish_odometry(
-                self.odom_pub,
+                odom_pub,
                 now_ns,
                 frames,
                 position,

@@ -82,10 +82,17 @@ class VelocityMotor:
             actuator.forcerange = [-cap, cap]
 
     def bind(self, engine: Engine) -> None:
-        m = engine.m
+        m, d = engine.m, engine.d
         self.id = engine.actuator_id(self.actuator)
         self.dof = engine.joint(self.joint).dof
         self.kv_max = STIFFNESS * float(m.dof_M0[self.dof]) / float(m.opt.timestep)
+        self.timestep = float(m.opt.timestep)
+        # Views into MjModel/MjData, valid until the next compile (bind runs after each):
+        # each attribute read otherwise makes a new view, at 100 Hz per motor.
+        self._gain = m.actuator_gainprm[self.id]
+        self._bias = m.actuator_biasprm[self.id]
+        self._ctrl = d.ctrl
+        self._qvel = d.qvel
 
     def command(self, velocity: float) -> None:
         if velocity != self.target:
@@ -95,19 +102,18 @@ class VelocityMotor:
     def apply(self, engine: Engine, elapsed: float | None = None) -> None:
         """Set the gain and the target for the next step; ``elapsed``: seconds since the last
         apply (one step if not given)."""
-        m, d = engine.m, engine.d
-        signed = self.target - float(d.qvel[self.dof])
+        signed = self.target - float(self._qvel[self.dof])
         error = abs(signed)
         kv = self.kv_max
         self.capped = error * kv > self.max_force
         if self.capped:
             kv = self.max_force / error
         else:  # within the cap: integrate what a steady load leaves (none while capped)
-            dt = float(m.opt.timestep) if elapsed is None else elapsed
+            dt = self.timestep if elapsed is None else elapsed
             self.offset += signed * dt / INTEGRAL_TIME
-        m.actuator_gainprm[self.id, 0] = kv
-        m.actuator_biasprm[self.id, 2] = -kv
-        d.ctrl[self.id] = self.target + self.offset
+        self._gain[0] = kv
+        self._bias[2] = -kv
+        self._ctrl[self.id] = self.target + self.offset
 
 
 def wheel_load(model: RobotModel, wheels: int, radius: float) -> float:
@@ -133,6 +139,8 @@ class MotorDrive(Plugin):
         self.commands = CommandGate(ctx.name, ctx.graph, logger)
         self.x = self.rot = 0.0
         self.applied_ns = ctx.graph.now_ns()
+        self.capped = False
+        """Whether a motor met its cap at its last apply (read twice a batch)."""
 
     def _on_cmd(self, msg: Any) -> None:
         x, rot = float(msg.linear.x), float(msg.angular.z)
@@ -149,6 +157,7 @@ class MotorDrive(Plugin):
         for motor in self.motors:
             motor.bind(self.engine)
             motor.apply(self.engine)
+        self.capped = any(m.capped for m in self.motors)
 
     def stop_motors(self) -> None:
         """After a world reset: no command, the gate and the motors started over."""
@@ -160,14 +169,15 @@ class MotorDrive(Plugin):
         self.apply_motors(now, due=True)
 
     def next_update_ns(self, now_ns: int) -> int | None:
-        return None if any(m.capped for m in self.motors) else self.gate.next_ns()
+        return None if self.capped else self.gate.next_ns()
 
     def apply_motors(self, now_ns: int, *, due: bool) -> None:
         """The motors after a step: applied when the plugin acted (``due``) or while one is
         capped, with the time since they were last applied."""
-        if not due and not any(m.capped for m in self.motors):
+        if not due and not self.capped:
             return
         elapsed = max(now_ns - self.applied_ns, 0) / 1e9 or None
         for motor in self.motors:
             motor.apply(self.engine, elapsed)
         self.applied_ns = now_ns
+        self.capped = any(m.capped for m in self.motors)

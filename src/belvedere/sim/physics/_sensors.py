@@ -18,7 +18,7 @@ from belvedere.description.urdf import Pose, XmlData, transform
 from belvedere.msgs import build, types
 from belvedere.sim.physics._engine import quat_xyzw
 from belvedere.sim.physics._plugin import IDLE, Plugin, PluginContext, RateGate
-from belvedere.sim.physics._spec import COLLISION_GROUP, ModelError
+from belvedere.sim.physics._spec import RAY_GROUPS, ModelError
 
 __all__ = ["ImuSensor", "LaserSensor", "sensor_pose"]
 
@@ -140,7 +140,7 @@ class LaserSensor(_Sensor):
         self.node = self.make_node()
         self.pub = self.node.publisher(topic, "sensor_msgs/LaserScan", queue_size=1)
         self.group = np.zeros(6, dtype=np.uint8)
-        self.group[COLLISION_GROUP] = 1
+        self.group[list(RAY_GROUPS)] = 1
         self.geomid = np.zeros(self.count, dtype=np.int32)
         self.dist = np.zeros(self.count, dtype=np.float64)
         self.scan_type = types().cls("sensor_msgs/LaserScan")
@@ -186,7 +186,7 @@ class LaserSensor(_Sensor):
     def scan(self, now_ns: int) -> Any:
         ranges = self.ranges().astype(np.float32)
         return self.scan_type(
-            build.header(now_ns, self.frame),
+            build.header(now_ns, self.frame, self.pub.next_seq()),
             self.angle_min,
             self.angle_max,
             self.increment,

@@ -134,6 +134,8 @@ class PhysicsSimulation:
         self.world_roots: dict[str, str] = {}
         self._build_world()  # first: a world MuJoCo refuses leaves nothing on the graph
         self.robots: dict[str, SpawnedRobot] = {}
+        self._stepping: list[Plugin] | None = None
+        """The plugins of every robot, in order (None: to be listed again, robots changed)."""
         self.auto_reset = auto_reset
         self.node = node or graph.create_node("gazebo")
         self.stopped_reason: str | None = None
@@ -165,6 +167,13 @@ class PhysicsSimulation:
     def plugins(self) -> list[Plugin]:
         return [p for r in self.robots.values() for p in r.plugins]
 
+    def _each_step(self) -> list[Plugin]:
+        """:attr:`plugins`, listed once per change of robots rather than twice a step."""
+        stepping = self._stepping
+        if stepping is None:
+            stepping = self._stepping = self.plugins
+        return stepping
+
     # --- robots --------------------------------------------------------------------------------
     def spawn(
         self,
@@ -194,6 +203,7 @@ class PhysicsSimulation:
                     msg = f"plugin {plugin.ctx.name!r}: MuJoCo refused it: {err}"
                     raise ModelError(msg, plugin.ctx.source) from None
             self.robots[name] = robot
+            self._stepping = None
             try:
                 self.engine.compile()
             except ValueError as err:
@@ -202,6 +212,7 @@ class PhysicsSimulation:
         except BaseException:
             # Nothing of a robot that failed to spawn stays in the world.
             self.robots.pop(name, None)
+            self._stepping = None
             for plugin in robot.plugins:
                 plugin.active = False
             self._remove_from_spec(name)
@@ -267,16 +278,17 @@ class PhysicsSimulation:
 
     # --- stepping ------------------------------------------------------------------------------
     def physics_step(self) -> None:
-        """MuJoCo steps, then every plugin's update (the graph's timer calls this).
+        """MuJoCo steps, then the update of every plugin due (the graph's timer calls this).
 
         Steps run in one batch up to the next step at which a plugin acts, or anything else
         on the graph is due: plugins see every step at which they would have acted, at the
-        same simulated time, and nothing else notices the batch."""
+        same simulated time, and nothing else notices the batch. A plugin whose next update
+        (:meth:`Plugin.next_update_ns`) lies beyond the batch is not called."""
         if self.stopped_reason is not None:
             return
         engine = self.engine
         executor = self.graph.executor
-        steps = self._batch()
+        steps, due = self._batch()
         mujoco.mj_step(engine.m, engine.d, steps)
         if steps > 1:
             executor.advance_to(executor.now_ns() + (steps - 1) * self.timer.period_ns)
@@ -295,31 +307,36 @@ class PhysicsSimulation:
                 self._diverged(problem)
                 return
         now = self.graph.now_ns()
-        for plugin in self.plugins:
+        for plugin in self._each_step() if due is None else due:
             if plugin.active:
                 plugin.update(now)
         for hook in self.after_step:
             hook()
 
-    def _batch(self) -> int:
-        """How many steps to take now: through the first step at which a plugin acts, no
-        further than the executor's horizon; one while anything wants every step."""
-        if any(wants() for wants in self.every_step):
-            return 1
+    def _batch(self) -> tuple[int, list[Plugin] | None]:
+        """How many steps to take now — through the first step at which a plugin acts, no
+        further than the executor's horizon; one while anything wants every step — and the
+        plugins due at its last step (None: all of them)."""
+        for wants in self.every_step:
+            if wants():
+                return 1, None
         executor = self.graph.executor
         now = executor.now_ns()
         step = self.timer.period_ns
         last = executor.horizon_ns()
-        for plugin in self.plugins:
+        dues: list[tuple[int | None, Plugin]] = []
+        for plugin in self._each_step():
             if not plugin.active:
                 continue
             due = plugin.next_update_ns(now)
-            if due is None:
-                return 1
-            if due <= now:
-                return 1
-            last = min(last, now + -(-(due - now) // step) * step)
-        return 1 + max(0, (last - now) // step)
+            dues.append((due, plugin))
+            if due is None or due <= now:
+                last = now
+            elif due < last:
+                last = min(last, now + -(-(due - now) // step) * step)
+        steps = 1 + max(0, (last - now) // step)
+        end = now + (steps - 1) * step
+        return steps, [plugin for due, plugin in dues if due is None or due <= end]
 
     def _diverged(self, problem: str) -> None:
         cause = self._likely_cause()
@@ -475,6 +492,7 @@ class PhysicsSimulation:
     def delete(self, name: str) -> None:
         """Remove a robot or a world model (delete_model)."""
         robot = self.robots.pop(name, None)
+        self._stepping = None
         if robot is None and name not in self.world_roots:
             self.model_pose(name)  # raises the KeyError naming the models
         for plugin in robot.plugins if robot else []:

@@ -16,17 +16,59 @@ from belvedere.description.urdf import Box, Cylinder, Geometry, Inertial, Mesh, 
 from belvedere.errors import ParseError, SourceLocation
 from belvedere.world import Physics, Plane, Polyline, WorldGeometry
 
-__all__ = ["COLLISION_GROUP", "VISUAL_GROUP", "Matrix4", "ModelError", "add_geom", "new_spec"]
+__all__ = [
+    "COLLISION_GROUP",
+    "DRAWN_GROUP",
+    "VISUAL_GROUP",
+    "Matrix4",
+    "ModelError",
+    "Touching",
+    "add_geom",
+    "new_spec",
+]
 
 Matrix4 = npt.NDArray[np.float64]
 
 VISUAL_GROUP = 1
+"""Geoms only cameras see (no contacts, no rays)."""
+DRAWN_GROUP = 2
+"""Collision geoms that are their visual too (the same shape at the same place): they touch,
+rays hit them and cameras draw them. A visual that needs no geom of its own costs the
+physics nothing at every step (MuJoCo places every geom, and weighs every pair of geoms of
+two bodies that come near, contacts or not)."""
 COLLISION_GROUP = 3
-"""Collision geoms: hit by rays, hidden from cameras (which show VISUAL_GROUP only)."""
+"""Collision geoms: hit by rays, hidden from cameras (which show VISUAL_GROUP and
+DRAWN_GROUP)."""
+CAMERA_GROUPS = (VISUAL_GROUP, DRAWN_GROUP)
+RAY_GROUPS = (DRAWN_GROUP, COLLISION_GROUP)
 
 
 class ModelError(ParseError):
     """A robot or world the physics engine cannot simulate."""
+
+
+class Touching:
+    """A link's collision geoms as they are added, for its visuals to find the one that can
+    be drawn in their place: the same geometry at exactly the same frame, drawn with an
+    opaque enough colour (MuJoCo's rays skip a geom whose alpha is 0)."""
+
+    def __init__(self) -> None:
+        self._geoms: list[tuple[object, Matrix4, mujoco.MjsGeom]] = []
+
+    def add(self, geometry: object, frame: Matrix4, geom: mujoco.MjsGeom) -> None:
+        self._geoms.append((geometry, frame, geom))
+
+    def take(self, geometry: object, frame: Matrix4, alpha: float) -> mujoco.MjsGeom | None:
+        """The collision geom to draw for a visual of ``geometry`` at ``frame`` (then no longer
+        offered to another visual), or None: the visual needs a geom of its own."""
+        if alpha <= 0.0:
+            return None
+        for i, (shape, at, geom) in enumerate(self._geoms):
+            if shape == geometry and np.array_equal(at, frame):
+                del self._geoms[i]
+                geom.group = DRAWN_GROUP
+                return geom
+        return None
 
 
 def _quat_wxyz(m: Matrix4) -> list[float]:

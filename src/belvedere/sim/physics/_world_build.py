@@ -14,6 +14,7 @@ from belvedere.errors import SourceLocation
 from belvedere.sim.physics._lighting import apply_material
 from belvedere.sim.physics._spec import (
     Matrix4,
+    Touching,
     _as_collision,
     _as_visual,
     _check_physical,
@@ -69,11 +70,19 @@ def add_world(
             roots.setdefault(
                 model.name, "world" if model.static else str(root.name if root else "")
             )
+            touching = Touching()
             for kind, shapes in (("collision", link.collisions), ("visual", link.visuals)):
                 for i, shape in enumerate(shapes):
                     name = f"{model.name}/{link.name}/{kind}_{i}"
                     _world_shape(
-                        spec, body, name, shape, frame, visual=kind == "visual", scene=scene
+                        spec,
+                        body,
+                        name,
+                        shape,
+                        frame,
+                        touching,
+                        visual=kind == "visual",
+                        scene=scene,
                     )
     return roots
 
@@ -100,6 +109,7 @@ def _world_shape(
     name: str,
     shape: Shape,
     frame: Matrix4,
+    touching: Touching,
     *,
     visual: bool,
     scene: Scene,
@@ -107,20 +117,23 @@ def _world_shape(
     def mesh_file(mesh: Mesh, at: SourceLocation | None) -> Path:
         return Path(mesh.filename)
 
-    geom = add_geom(
-        spec, body, name, shape.geometry, frame @ transform(shape.pose), shape.source, mesh_file
-    )
+    at = frame @ transform(shape.pose)
+    rgba = shape.rgba or (0.75, 0.75, 0.75, 1.0)
+    looks = shape.material or Material(rgba, rgba)
+    if visual:
+        drawn = touching.take(shape.geometry, at, float(looks.diffuse[3]))
+        if drawn is not None:
+            apply_material(spec, drawn, looks, scene=scene)
+            return
+    geom = add_geom(spec, body, name, shape.geometry, at, shape.source, mesh_file)
     if geom is None:
         return
     geom.typeinertia = mujoco.mjtGeomInertia.mjINERTIA_VOLUME
     if visual:
         _as_visual(geom)
-        material = shape.material
-        if material is None:
-            rgba = shape.rgba or (0.75, 0.75, 0.75, 1.0)
-            material = Material(rgba, rgba)
-        apply_material(spec, geom, material, scene=scene)
+        apply_material(spec, geom, looks, scene=scene)
         return
+    touching.add(shape.geometry, at, geom)
     # A moving model's own friction decides against the static world (the ground's mu 100
     # would otherwise win: MuJoCo takes the larger of two equal-priority geoms', ODE the smaller)
     priority = 0 if body.name == "world" else 1
