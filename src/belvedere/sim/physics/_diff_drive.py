@@ -21,7 +21,7 @@ from belvedere.sim.physics._engine import planar_twist, quat_xyzw
 from belvedere.sim.physics._motor import MotorDrive, VelocityMotor
 from belvedere.sim.physics._plugin import PluginContext, RateGate
 from belvedere.sim.physics._spec import ModelError
-from belvedere.tf import TransformBroadcaster
+from belvedere.tf import TransformBroadcaster, resolve_tf
 
 __all__ = ["DiffDrive"]
 
@@ -43,8 +43,9 @@ class DiffDrive(MotorDrive):
             )
         self.command_topic = self.text("commandTopic", "cmd_vel") or "cmd_vel"
         self.odom_topic = self.text("odometryTopic", "odom") or "odom"
-        self.odom_frame = (self.text("odometryFrame", "odom") or "odom").lstrip("/")
-        self.base_frame = (self.text("robotBaseFrame", "base_footprint") or "").lstrip("/")
+        odom_frame = self.text("odometryFrame", "odom") or "odom"
+        base_frame = self.text("robotBaseFrame", "base_footprint") or ""
+        self.base_link_name = base_frame.lstrip("/")
         self.publish_wheel_tf = self.flag("publishWheelTF", False)
         self.publish_odom_tf = self.flag("publishOdomTF", True)
         self.publish_tf = self.flag("publishTf", True)
@@ -81,6 +82,10 @@ class DiffDrive(MotorDrive):
                 ctx.name,
             )
         self.node = self.make_node()
+        # As gazebo_ros_diff_drive: both frames through tf::resolve with the tf_prefix
+        # searched from the plugin's namespace (robot_1/odom -> robot_1/base_footprint).
+        self.odom_frame = resolve_tf(self.node, odom_frame)
+        self.base_frame = resolve_tf(self.node, base_frame)
         self.node.subscribe(self.command_topic, "geometry_msgs/Twist", self._on_cmd, queue_size=1)
         self.odom_pub = (
             self.node.publisher(self.odom_topic, "nav_msgs/Odometry", queue_size=1)
@@ -119,7 +124,8 @@ class DiffDrive(MotorDrive):
             engine.joint(self.robot.joints[self.left_joint]),
             engine.joint(self.robot.joints[self.right_joint]),
         ]
-        self.base_link = self.base_frame if self.base_frame in self.robot.link_body else None
+        link = self.base_link_name
+        self.base_link = link if link in self.robot.link_body else None
         self.root_body = engine.body_id(self.robot.root_body)
         self.odom_body = (
             engine.frame_of(self.robot, self.base_link)
@@ -229,7 +235,9 @@ class DiffDrive(MotorDrive):
             parent = self.engine.link_pose(self.robot, joint.parent)
             child = self.engine.link_pose(self.robot, joint.child)
             rel = np.linalg.inv(parent) @ child
-            transforms.append((joint.parent, joint.child, rel[:3, 3], quat_xyzw(rel)))
+            parent_frame = resolve_tf(self.node, joint.parent)
+            child_frame = resolve_tf(self.node, joint.child)
+            transforms.append((parent_frame, child_frame, rel[:3, 3], quat_xyzw(rel)))
         self.tf.send_all(transforms, now_ns)
 
     def _publish_joint_states(self, now_ns: int) -> None:

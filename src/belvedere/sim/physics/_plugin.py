@@ -43,6 +43,9 @@ class PluginContext:
     reference: str | None = None
     """The link the plugin's ``<gazebo reference>`` or sensor belongs to."""
     sensor: XmlData | None = None
+    robot_namespace: str = ""
+    """The spawner's ``-robot_namespace`` (spawn_model's default: its own namespace): Gazebo
+    gives it to each plugin with no ``<robotNamespace>`` of its own."""
 
     @classmethod
     def of(
@@ -54,6 +57,7 @@ class PluginContext:
         *,
         reference: str | None = None,
         sensor: XmlData | None = None,
+        robot_namespace: str = "",
     ) -> PluginContext:
         return cls(
             engine,
@@ -65,6 +69,7 @@ class PluginContext:
             plugin.source.best,
             reference,
             sensor,
+            robot_namespace,
         )
 
 
@@ -126,6 +131,8 @@ class Plugin:
 
     def namespace(self) -> str:
         ns = self.text("robotNamespace")
+        if ns is None and self.ctx.robot_namespace:
+            ns = self.ctx.robot_namespace
         if ns is None:
             ns = self.robot.name if self.NAMESPACE_DEFAULTS_TO_MODEL else "/"
         return "/" + "/".join(part for part in ns.split("/") if part)

@@ -80,6 +80,8 @@ class SpawnedRobot:
     plugins: list[Plugin] = field(default_factory=list)
     packages: PackageIndex | None = None
     """Where its ``package://`` meshes were found (for a saved world to name the files)."""
+    robot_namespace: str = ""
+    """The namespace its plugins without a ``<robotNamespace>`` take (spawn_model's)."""
 
     def published_joints(self) -> set[str]:
         """Joints some plugin reports on joint_states."""
@@ -173,9 +175,11 @@ class PhysicsSimulation:
         name: str | None = None,
         pose: Pose = Pose(),
         packages: PackageIndex | None = None,
+        robot_namespace: str = "",
     ) -> SpawnedRobot:
         """Add a robot with its plugins (spawn_model). Its ``<gazebo>`` plugins and sensors
-        start now; an unknown plugin is one warning and the rest runs."""
+        start now; an unknown plugin is one warning and the rest runs. ``robot_namespace``:
+        the namespace of its plugins that name none (spawn_model's ``-robot_namespace``)."""
         name = name or model.name
         if name in self.robots or name in self.world_roots:
             msg = f"a model named {name!r} already exists in the simulation"
@@ -184,7 +188,9 @@ class PhysicsSimulation:
         build = add_robot(
             spec, model, name=name, pose=pose, packages=packages, scene=self.world.scene
         )
-        robot = SpawnedRobot(name, model, build, packages=packages)
+        robot = SpawnedRobot(
+            name, model, build, packages=packages, robot_namespace=robot_namespace
+        )
         try:
             robot.plugins = self._make_plugins(robot)
             for plugin in robot.plugins:
@@ -239,7 +245,13 @@ class PhysicsSimulation:
             )
             return None
         ctx = PluginContext.of(
-            self.engine, self.graph, robot.build, plugin, reference=reference, sensor=sensor
+            self.engine,
+            self.graph,
+            robot.build,
+            plugin,
+            reference=reference,
+            sensor=sensor,
+            robot_namespace=robot.robot_namespace,
         )
         return factory(ctx)
 
