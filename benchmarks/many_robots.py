@@ -26,6 +26,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -69,11 +70,12 @@ def measure(n: int, short: float, long: float) -> dict[str, float]:
     runtime = LaunchRuntime(config, graph, packages, headless=True)
     runtime.start()
     if runtime.missing:
-        raise SystemExit(f"missing nodes: {runtime.missing}")
+        msg = f"missing nodes: {runtime.missing}"
+        raise SystemExit(msg)
     probe = graph.create_node("probe")
     got = {"scan": 0, "odom": 0, "tf": 0}
 
-    def counter(key: str) -> object:
+    def counter(key: str) -> Callable[[object], None]:
         def count(_: object) -> None:
             got[key] += 1
 
@@ -96,7 +98,8 @@ def measure(n: int, short: float, long: float) -> dict[str, float]:
     cpu = (marks[1][1] - marks[0][1]) / sim_seconds
     scans_expected = 5.5 * n * (short + long)
     if got["scan"] < 0.8 * scans_expected:
-        raise SystemExit(f"{n} robots: {got['scan']} scans, expected ~{scans_expected:.0f}")
+        msg = f"{n} robots: {got['scan']} scans, expected ~{scans_expected:.0f}"
+        raise SystemExit(msg)
     runtime.close()
     graph.shutdown()
     return {
@@ -122,8 +125,14 @@ def main() -> None:
     rows = []
     for n in args.robots:
         out = subprocess.run(
-            [sys.executable, __file__, "--one", str(n), "--short", str(args.short)]
-            + ["--long", str(args.long)],
+            [
+                sys.executable,
+                __file__,
+                "--one",
+                str(n),
+                *("--short", str(args.short)),
+                *("--long", str(args.long)),
+            ],
             check=True,
             capture_output=True,
             text=True,

@@ -14,6 +14,7 @@ import logging
 import math
 
 import numpy as np
+import numpy.typing as npt
 
 from belvedere.msgs import build
 from belvedere.sim._odometry import publish_odometry
@@ -86,6 +87,17 @@ class DiffDrive(MotorDrive):
         # searched from the plugin's namespace (robot_1/odom -> robot_1/base_footprint).
         self.odom_frame = resolve_tf(self.node, odom_frame)
         self.base_frame = resolve_tf(self.node, base_frame)
+        joints = {j.name: j for j in self.robot.model.joints}
+        # Gazebo reads tf_prefix once, at load: the wheel frames are named once too.
+        self.wheel_frames = [
+            (
+                joints[name].parent,
+                joints[name].child,
+                resolve_tf(self.node, joints[name].parent),
+                resolve_tf(self.node, joints[name].child),
+            )
+            for name in (self.left_joint, self.right_joint)
+        ]
         self.node.subscribe(self.command_topic, "geometry_msgs/Twist", self._on_cmd, queue_size=1)
         self.odom_pub = (
             self.node.publisher(self.odom_topic, "nav_msgs/Odometry", queue_size=1)
@@ -229,14 +241,9 @@ class DiffDrive(MotorDrive):
         if not self.tf.pub.wanted:
             return
         transforms = []
-        model = self.robot.model
-        for name in (self.left_joint, self.right_joint):
-            joint = next(j for j in model.joints if j.name == name)
-            parent = self.engine.link_pose(self.robot, joint.parent)
-            child = self.engine.link_pose(self.robot, joint.child)
-            rel = np.linalg.inv(parent) @ child
-            parent_frame = resolve_tf(self.node, joint.parent)
-            child_frame = resolve_tf(self.node, joint.child)
+        for parent, child, parent_frame, child_frame in self.wheel_frames:
+            world_parent = self.engine.link_pose(self.robot, parent)
+            rel = _rigid_inverse(world_parent) @ self.engine.link_pose(self.robot, child)
             transforms.append((parent_frame, child_frame, rel[:3, 3], quat_xyzw(rel)))
         self.tf.send_all(transforms, now_ns)
 
@@ -249,3 +256,12 @@ class DiffDrive(MotorDrive):
         self.joint_pub.publish(
             build.joint_state(now_ns, [self.left_joint, self.right_joint], positions)
         )
+
+
+def _rigid_inverse(t: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+    """The inverse of a rotation-and-translation matrix (the transpose of its rotation)."""
+    out = np.eye(4)
+    rotation = t[:3, :3].T
+    out[:3, :3] = rotation
+    out[:3, 3] = -rotation @ t[:3, 3]
+    return out

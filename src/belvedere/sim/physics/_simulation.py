@@ -188,9 +188,7 @@ class PhysicsSimulation:
         build = add_robot(
             spec, model, name=name, pose=pose, packages=packages, scene=self.world.scene
         )
-        robot = SpawnedRobot(
-            name, model, build, packages=packages, robot_namespace=robot_namespace
-        )
+        robot = SpawnedRobot(name, model, build, packages=packages, robot_namespace=robot_namespace)
         try:
             robot.plugins = self._make_plugins(robot)
             for plugin in robot.plugins:
