@@ -117,3 +117,30 @@ def test_spawn_model_defaults_the_robot_namespace_to_its_own() -> None:
     assert parse_spawn_args(["-model", "a"]).robot_namespace is None
     given = parse_spawn_args(["-model", "a", "-robot_namespace", "/x"])
     assert given.robot_namespace == "/x"
+
+
+def test_a_plugin_naming_its_namespace_keeps_it_in_a_spawner_namespace() -> None:
+    """Gazebo's spawn service gives the spawner's namespace only to plugins without a
+    ``<robotNamespace>``: the unchanged course robot (its diff drive says ``/``) spawned for
+    /robot_9 keeps /cmd_vel and /odom, while its laser goes to /robot_9/scan; every frame
+    takes the tf_prefix searched from the plugin's namespace."""
+    from belvedere.description.urdf import RobotModel
+    from belvedere.sim.physics import PhysicsSimulation
+
+    xacro = EXAMPLES / "mbot_description/urdf/xacro/gazebo/mbot_with_laser_gazebo.xacro"
+    graph = Graph()
+    graph.params.set("/robot_9/tf_prefix", "robot_9")
+    sim = PhysicsSimulation(graph)
+    sim.spawn(RobotModel.from_path(xacro), name="robot_9", robot_namespace="/robot_9/")
+    probe = graph.create_node("probe")
+    odom: list[Any] = []
+    scans: list[Any] = []
+    probe.subscribe("/odom", "nav_msgs/Odometry", odom.append)
+    probe.subscribe("/robot_9/scan", "sensor_msgs/LaserScan", scans.append)
+    graph.run(duration=0.5)
+    assert "/cmd_vel" in graph.topics
+    assert "/robot_9/cmd_vel" not in graph.topics
+    # the diff drive's namespace is / (no tf_prefix there), the laser's /robot_9
+    assert (odom[-1].header.frame_id, odom[-1].child_frame_id) == ("odom", "base_footprint")
+    assert scans[-1].header.frame_id == "robot_9/laser_link"
+    graph.shutdown()
