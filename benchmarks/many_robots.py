@@ -1,6 +1,6 @@
 """How the physics simulation's cost grows with the number of robots.
 
-N copies of the course's mbot with its laser (examples/mbot_gazebo/launch/one_mbot.launch,
+N copies of the course's mbot with its laser (examples/mbot_gazebo/launch/namespaced_mbot.launch,
 included once per robot as multi_mbot.launch does: ``<group ns="robot_i">``, its own
 robot_description, tf_prefix, joint/robot state publishers and spawn_model) in the empty
 world, on a grid 2 m apart, each driven in a circle by its own ``/robot_i/cmd_vel``, with a
@@ -42,7 +42,7 @@ def launch_text(n: int) -> str:
     for i in range(n):
         x, y = SPACING * (i % columns), SPACING * (i // columns)
         robots.append(
-            '  <include file="$(find mbot_gazebo)/launch/one_mbot.launch">\n'
+            '  <include file="$(find mbot_gazebo)/launch/namespaced_mbot.launch">\n'
             f'    <arg name="robot_name" value="robot_{i + 1}"/>\n'
             f'    <arg name="x" value="{x}"/>\n    <arg name="y" value="{y}"/>\n'
             "  </include>\n"
