@@ -5,10 +5,12 @@ connected TF tree (joined to the others at ``world``), and moves on its own comm
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from typing import Any
 
 import pytest
 
+from belvedere.description.urdf import Pose
 from belvedere.graph import Graph
 from belvedere.launch import load_launch
 from belvedere.launch._runtime import LaunchRuntime
@@ -144,3 +146,33 @@ def test_a_plugin_naming_its_namespace_keeps_it_in_a_spawner_namespace() -> None
     assert (odom[-1].header.frame_id, odom[-1].child_frame_id) == ("odom", "base_footprint")
     assert scans[-1].header.frame_id == "robot_9/laser_link"
     graph.shutdown()
+
+
+def test_a_saved_world_keeps_each_robots_namespace(tmp_path: Path) -> None:
+    """As Gazebo's rewritten SDF does: the namespace the spawner gave the laser is written
+    into the saved world, so the robots come back on their own topics."""
+    from belvedere.description.urdf import RobotModel
+    from belvedere.sim.physics import PhysicsSimulation, save_world
+    from belvedere.world import read_world
+
+    xacro = EXAMPLES / "mbot_description/urdf/xacro/gazebo/mbot_with_laser_gazebo.xacro"
+    packages = PackageIndex([EXAMPLES])
+    graph = Graph()
+    sim = PhysicsSimulation(graph)
+    for i, y in ((1, 0.0), (2, 1.5)):
+        model = RobotModel.from_path(xacro)
+        sim.spawn(
+            model,
+            name=f"robot_{i}",
+            pose=Pose((0.0, y, 0.0)),
+            packages=packages,
+            robot_namespace=f"/robot_{i}/",
+        )
+    written = save_world(sim, tmp_path / "two.world")
+    graph.shutdown()
+    again = Graph()
+    PhysicsSimulation(again, read_world(written, packages=packages))
+    for i in (1, 2):
+        assert f"/robot_{i}/scan" in again.topics
+    assert "/scan" not in again.topics
+    again.shutdown()

@@ -43,9 +43,6 @@ class PluginContext:
     reference: str | None = None
     """The link the plugin's ``<gazebo reference>`` or sensor belongs to."""
     sensor: XmlData | None = None
-    robot_namespace: str = ""
-    """The spawner's ``-robot_namespace`` (spawn_model's default: its own namespace): Gazebo
-    gives it to each plugin with no ``<robotNamespace>`` of its own."""
 
     @classmethod
     def of(
@@ -57,7 +54,6 @@ class PluginContext:
         *,
         reference: str | None = None,
         sensor: XmlData | None = None,
-        robot_namespace: str = "",
     ) -> PluginContext:
         return cls(
             engine,
@@ -69,7 +65,6 @@ class PluginContext:
             plugin.source.best,
             reference,
             sensor,
-            robot_namespace,
         )
 
 
@@ -131,8 +126,6 @@ class Plugin:
 
     def namespace(self) -> str:
         ns = self.text("robotNamespace")
-        if ns is None and self.ctx.robot_namespace:
-            ns = self.ctx.robot_namespace
         if ns is None:
             ns = self.robot.name if self.NAMESPACE_DEFAULTS_TO_MODEL else "/"
         return "/" + "/".join(part for part in ns.split("/") if part)

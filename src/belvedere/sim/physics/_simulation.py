@@ -30,6 +30,7 @@ from belvedere.sim.physics._engine import Engine
 from belvedere.sim.physics._lighting import add_scene
 from belvedere.sim.physics._model_plugins import GroundTruth, JointStates, PlanarMove
 from belvedere.sim.physics._plugin import Plugin, PluginContext
+from belvedere.sim.physics._robot_namespace import with_robot_namespace
 from belvedere.sim.physics._ros_control import RosControl
 from belvedere.sim.physics._sensors import ImuSensor, LaserSensor
 from belvedere.sim.physics._skid_steer import SkidSteer
@@ -80,8 +81,6 @@ class SpawnedRobot:
     plugins: list[Plugin] = field(default_factory=list)
     packages: PackageIndex | None = None
     """Where its ``package://`` meshes were found (for a saved world to name the files)."""
-    robot_namespace: str = ""
-    """The namespace its plugins without a ``<robotNamespace>`` take (spawn_model's)."""
 
     def published_joints(self) -> set[str]:
         """Joints some plugin reports on joint_states."""
@@ -181,6 +180,7 @@ class PhysicsSimulation:
         start now; an unknown plugin is one warning and the rest runs. ``robot_namespace``:
         the namespace of its plugins that name none (spawn_model's ``-robot_namespace``)."""
         name = name or model.name
+        model = with_robot_namespace(model, robot_namespace)
         if name in self.robots or name in self.world_roots:
             msg = f"a model named {name!r} already exists in the simulation"
             raise ModelError(msg)
@@ -188,7 +188,7 @@ class PhysicsSimulation:
         build = add_robot(
             spec, model, name=name, pose=pose, packages=packages, scene=self.world.scene
         )
-        robot = SpawnedRobot(name, model, build, packages=packages, robot_namespace=robot_namespace)
+        robot = SpawnedRobot(name, model, build, packages=packages)
         try:
             robot.plugins = self._make_plugins(robot)
             for plugin in robot.plugins:
@@ -249,7 +249,6 @@ class PhysicsSimulation:
             plugin,
             reference=reference,
             sensor=sensor,
-            robot_namespace=robot.robot_namespace,
         )
         return factory(ctx)
 
