@@ -144,6 +144,10 @@ class DiffDrive(MotorDrive):
             if self.base_link is not None
             else (self.root_body, None)
         )
+        self.wheel_bodies = [
+            (engine.frame_of(self.robot, parent), engine.frame_of(self.robot, child))
+            for parent, child, _, _ in self.wheel_frames
+        ]
 
     def reset(self) -> None:
         self.instructions = [0.0, 0.0]
@@ -240,11 +244,25 @@ class DiffDrive(MotorDrive):
     def _publish_wheel_tf(self, now_ns: int) -> None:
         if not self.tf.pub.wanted:
             return
+        d = self.engine.d
         transforms = []
-        for parent, child, parent_frame, child_frame in self.wheel_frames:
-            world_parent = self.engine.link_pose(self.robot, parent)
-            rel = _rigid_inverse(world_parent) @ self.engine.link_pose(self.robot, child)
-            transforms.append((parent_frame, child_frame, rel[:3, 3], quat_xyzw(rel)))
+        # Straight from the bodies' world poses: a hundred times a second per robot, where
+        # 4x4 products and general inverses were a fifth of a many-robot world's time.
+        for ((pb, p_off), (cb, c_off)), (_, _, pf, cf) in zip(
+            self.wheel_bodies, self.wheel_frames, strict=True
+        ):
+            world_rp = d.xmat[pb].reshape(3, 3)
+            rotation = world_rp.T @ d.xmat[cb].reshape(3, 3)
+            translation = world_rp.T @ (d.xpos[cb] - d.xpos[pb])
+            if p_off is not None or c_off is not None:
+                rel = np.eye(4)
+                rel[:3, :3], rel[:3, 3] = rotation, translation
+                if p_off is not None:
+                    rel = _rigid_inverse(p_off) @ rel
+                if c_off is not None:
+                    rel = rel @ c_off
+                rotation, translation = rel[:3, :3], rel[:3, 3]
+            transforms.append((pf, cf, translation, quat_xyzw(rotation)))
         self.tf.send_all(transforms, now_ns)
 
     def _publish_joint_states(self, now_ns: int) -> None:
