@@ -15,7 +15,7 @@ as other work on a shared machine stretches the wall clock), CPU milliseconds pe
 simulated second, peak RSS, and the ratio of cost per robot at N against N = 1 measured in
 the same run (goal: <= 1.2 up to 20; 10 robots >= 5x real time).
 
-    python benchmarks/many_robots.py [--robots 1 2 5 10 20] [--short 2] [--long 12]
+    python benchmarks/many_robots.py [--robots 1 2 5 10 20] [--short 2] [--long 12] [--rounds 3]
 """
 
 from __future__ import annotations
@@ -113,34 +113,43 @@ def measure(n: int, short: float, long: float) -> dict[str, float]:
     }
 
 
+def _run_one(n: int, short: float, long: float) -> dict[str, float]:
+    """:func:`measure` in a process of its own."""
+    out = subprocess.run(
+        [sys.executable, __file__, "--one", str(n), "--short", str(short), "--long", str(long)],
+        check=True,
+        capture_output=True,
+        text=True,
+    )
+    row: dict[str, float] = json.loads(out.stdout.strip().splitlines()[-1])
+    return row
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--robots", type=int, nargs="+", default=[1, 2, 5, 10, 20])
     p.add_argument("--short", type=float, default=2.0, help="simulated seconds")
     p.add_argument("--long", type=float, default=12.0, help="simulated seconds")
+    p.add_argument("--rounds", type=int, default=3, help="interleaved rounds (median)")
     p.add_argument("--one", type=int, help=argparse.SUPPRESS)
     args = p.parse_args()
     if args.one is not None:
         print(json.dumps(measure(args.one, args.short, args.long)))
         return
-    rows = []
-    for n in args.robots:
-        out = subprocess.run(
-            [
-                sys.executable,
-                __file__,
-                "--one",
-                str(n),
-                *("--short", str(args.short)),
-                *("--long", str(args.long)),
-            ],
-            check=True,
-            capture_output=True,
-            text=True,
-        )
-        rows.append(json.loads(out.stdout.strip().splitlines()[-1]))
+    # Rounds interleave the sizes, so a busy moment on a shared machine falls on all of
+    # them; each size's row is its median round (by CPU time).
+    runs: dict[int, list[dict[str, float]]] = {n: [] for n in args.robots}
+    for _ in range(args.rounds):
+        for n in args.robots:
+            runs[n].append(_run_one(n, args.short, args.long))
+    rows = [
+        sorted(runs[n], key=lambda r: r["cpu_per_sim_s"])[len(runs[n]) // 2] for n in args.robots
+    ]
     base = rows[0]["cpu_per_sim_s"] / rows[0]["robots"]
-    print(f"steady state over {args.long - args.short:g} simulated s (long - short run)")
+    print(
+        f"steady state over {args.long - args.short:g} simulated s (long - short run),"
+        f" median of {args.rounds} interleaved rounds"
+    )
     print(
         f"{'robots':>6} {'RTF':>7} {'RTF(CPU)':>8} {'CPU ms/robot/sim s':>19}"
         f" {'per robot vs 1':>15}"
