@@ -76,6 +76,7 @@ def test_launch_of_a_misspelt_file(tmp_path: Path, capsys: pytest.CaptureFixture
     assert main([*path, "launch", "mbot_gazebo", "nothing_like_it.launch"]) == 1
     assert capsys.readouterr().err.endswith(
         "  hint: the package's launch files: mbot_laser_nav_gazebo.launch, "
+        "multi_mbot.launch, namespaced_mbot.launch, "
         "view_mbot_gazebo_empty_world.launch, view_mbot_gazebo_play_ground.launch, "
         "view_mbot_gazebo_room.launch, "
         "view_mbot_with_camera_gazebo.launch, view_mbot_with_kinect_gazebo.launch, "

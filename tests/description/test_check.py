@@ -210,7 +210,8 @@ def test_sensor_variants_carry_their_sensors() -> None:
     assert horizontal.child("horizontal") is not None
     plugin = laser.child("plugin")
     assert plugin is not None
-    assert plugin.child_text("topicName") == "/scan"
+    # relative: /scan under the root namespace, /robot_i/scan spawned in <group ns="robot_i">
+    assert plugin.child_text("topicName") == "scan"
 
 
 @pytest.mark.parametrize(

@@ -24,6 +24,7 @@ from belvedere.tf._nodes import (
     TransformBroadcaster,
     TransformListener,
     parse_static_transform_args,
+    resolve_tf,
     static_transform_publisher,
 )
 
@@ -43,6 +44,7 @@ __all__ = [
     "parse_static_transform_args",
     "quat_xyzw_from_rpy",
     "quat_xyzw_to_matrix",
+    "resolve_tf",
     "rpy_from_quat_xyzw",
     "static_transform_publisher",
     "wxyz_from_xyzw",

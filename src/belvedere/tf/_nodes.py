@@ -20,6 +20,7 @@ __all__ = [
     "TransformBroadcaster",
     "TransformListener",
     "parse_static_transform_args",
+    "resolve_tf",
     "static_transform_publisher",
 ]
 
@@ -220,6 +221,12 @@ def _search_param(node: Node, key: str, default: Any) -> Any:
         if not parts:
             return default
         parts.pop()
+
+
+def resolve_tf(node: Node, frame: str) -> str:
+    """tf::resolve(tf::getPrefixParam(node), frame): a Gazebo plugin's frame names, with the
+    ``tf_prefix`` searched up from the node (a multi-robot launch's ``<group ns>``)."""
+    return _resolve_frame(str(_search_param(node, "tf_prefix", "")), frame)
 
 
 def _resolve_frame(prefix: str, frame: str) -> str:

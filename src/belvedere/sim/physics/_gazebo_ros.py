@@ -135,6 +135,7 @@ class GazeboRos:
                 name=req.model_name or model.name,
                 pose=_pose_from_msg(req.initial_pose),
                 packages=self.packages,
+                robot_namespace=req.robot_namespace,
             )
         except BelvedereError as err:
             return {"success": False, "status_message": _spawn_failure(err)}
@@ -251,7 +252,7 @@ def parse_spawn_args(argv: Sequence[str]) -> argparse.Namespace:
         p.add_argument(f"-{axis}", type=float, default=0.0)
     p.add_argument("-reference_frame", default="")
     p.add_argument("-gazebo_namespace", default="/gazebo")
-    p.add_argument("-robot_namespace", default="")
+    p.add_argument("-robot_namespace", default=None)
     p.add_argument("-unpause", action="store_true")
     p.add_argument("-wait")
     p.add_argument("-J", nargs=2, action="append", default=[])
@@ -292,6 +293,11 @@ def spawn_model(node: Node, argv: Sequence[str]) -> Any:
         msg = "spawn_model: give -param NAME or -file PATH"
         raise BelvedereError(msg)
     kind = "sdf" if args.sdf else "urdf"
+    # spawn_model's default is rospy.get_namespace(): the spawner's own namespace, so a
+    # spawner in <group ns="robot_1"> puts the robot's plugins under /robot_1.
+    robot_namespace = args.robot_namespace
+    if robot_namespace is None:
+        robot_namespace = node.namespace.rstrip("/") + "/"
     qx, qy, qz, qw = quat_xyzw_from_rpy(args.R, args.P, args.Y)
     response = node.call_service(
         f"{args.gazebo_namespace.rstrip('/')}/spawn_{kind}_model",
@@ -299,7 +305,7 @@ def spawn_model(node: Node, argv: Sequence[str]) -> Any:
         {
             "model_name": args.model,
             "model_xml": str(xml),
-            "robot_namespace": args.robot_namespace,
+            "robot_namespace": robot_namespace,
             "initial_pose": {
                 "position": {"x": args.x, "y": args.y, "z": args.z},
                 "orientation": {"x": qx, "y": qy, "z": qz, "w": qw},

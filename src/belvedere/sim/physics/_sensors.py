@@ -15,10 +15,12 @@ import numpy as np
 import numpy.typing as npt
 
 from belvedere.description.urdf import Pose, XmlData, transform
+from belvedere.graph import Node
 from belvedere.msgs import build, types
 from belvedere.sim.physics._engine import quat_xyzw
 from belvedere.sim.physics._plugin import IDLE, Plugin, PluginContext, RateGate
 from belvedere.sim.physics._spec import RAY_GROUPS, ModelError
+from belvedere.tf import resolve_tf
 
 __all__ = ["ImuSensor", "LaserSensor", "sensor_pose"]
 
@@ -82,7 +84,15 @@ class _Sensor(Plugin):
             plugin_rate = self.number(tag, 0.0)
             rate = plugin_rate if plugin_rate > 0 else rate
         self.gate = RateGate(rate, ctx.graph.now_ns(), strict=False, immediate=True)
-        self.frame = (self.text("frameName") or self.link).lstrip("/")
+        self.frame_name = self.text("frameName") or self.link
+        self.frame = self.frame_name.lstrip("/")
+
+    def make_node(self, suffix: str = "") -> Node:
+        """Its node, and its frame resolved as the ROS plugins resolve ``frameName``: with
+        the ``tf_prefix`` found from the node's namespace (robot_1/laser_link)."""
+        node = super().make_node(suffix)
+        self.frame = resolve_tf(node, self.frame_name)
+        return node
 
     def bind(self) -> None:
         body, offset = self.robot.link_body[self.link]

@@ -30,6 +30,7 @@ from belvedere.sim.physics._engine import Engine
 from belvedere.sim.physics._lighting import add_scene
 from belvedere.sim.physics._model_plugins import GroundTruth, JointStates, PlanarMove
 from belvedere.sim.physics._plugin import Plugin, PluginContext
+from belvedere.sim.physics._robot_namespace import with_robot_namespace
 from belvedere.sim.physics._ros_control import RosControl
 from belvedere.sim.physics._sensors import ImuSensor, LaserSensor
 from belvedere.sim.physics._skid_steer import SkidSteer
@@ -182,10 +183,13 @@ class PhysicsSimulation:
         name: str | None = None,
         pose: Pose = Pose(),
         packages: PackageIndex | None = None,
+        robot_namespace: str = "",
     ) -> SpawnedRobot:
         """Add a robot with its plugins (spawn_model). Its ``<gazebo>`` plugins and sensors
-        start now; an unknown plugin is one warning and the rest runs."""
+        start now; an unknown plugin is one warning and the rest runs. ``robot_namespace``:
+        the namespace of its plugins that name none (spawn_model's ``-robot_namespace``)."""
         name = name or model.name
+        model = with_robot_namespace(model, robot_namespace)
         if name in self.robots or name in self.world_roots:
             msg = f"a model named {name!r} already exists in the simulation"
             raise ModelError(msg)
@@ -250,7 +254,12 @@ class PhysicsSimulation:
             )
             return None
         ctx = PluginContext.of(
-            self.engine, self.graph, robot.build, plugin, reference=reference, sensor=sensor
+            self.engine,
+            self.graph,
+            robot.build,
+            plugin,
+            reference=reference,
+            sensor=sensor,
         )
         return factory(ctx)
 
