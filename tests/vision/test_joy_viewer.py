@@ -1,0 +1,90 @@
+"""joy_node fed by a gamepad in the VIEWER's page: Chromium on the viewer with a synthetic
+gamepad (navigator.getGamepads overridden) drives the turtle through teleop_twist_joy, joy_node
+(in a launch of its own, the viewer beside it as ``belvedere sim`` beside ``belvedere run``)
+applying its ``~deadzone`` and ``~autorepeat_rate``; the panel names the pad, and says so when
+it goes."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from belvedere.graph import Graph
+from belvedere.launch import load_launch
+from belvedere.launch._runtime import LaunchRuntime
+from belvedere.msgs import GAMEPAD_TOPIC
+from belvedere.packages import PackageIndex
+from belvedere.viewer import Viewer
+from tests.conftest import free_port
+from tests.viewer.test_browser import VIEWPORT, chromium_page
+from tests.vision.test_joy_browser import GAMEPAD
+from tests.waiting import wait_until
+
+pytestmark = pytest.mark.browser
+
+UNPLUGGED = "() => { navigator.getGamepads = () => [null, null, null, null]; }"
+
+
+def test_a_gamepad_in_the_viewer_drives_the_turtle(tmp_path: Path) -> None:
+    launch = tmp_path / "joy.launch"
+    launch.write_text(
+        f"""<launch>
+          <node pkg="turtlesim" type="turtlesim_node" name="sim"/>
+          <node pkg="joy" type="joy_node" name="joy_node">
+            <param name="port" value="{free_port()}"/>
+            <param name="deadzone" value="0.1"/>
+            <param name="autorepeat_rate" value="5"/>
+          </node>
+          <node pkg="teleop_twist_joy" type="teleop_node" name="teleop">
+            <param name="scale_linear" value="1.0"/>
+            <remap from="cmd_vel" to="/turtle1/cmd_vel"/>
+          </node>
+        </launch>"""
+    )
+    packages = PackageIndex([])
+    graph = Graph()
+    runtime = LaunchRuntime(load_launch(launch, packages=packages), graph, packages, headless=True)
+    runtime.start()
+    viewer = Viewer(graph, port=free_port())
+    joys: list[Any] = []
+    poses: list[Any] = []
+    probe = graph.create_node("probe")
+    probe.subscribe("/joy", "sensor_msgs/Joy", joys.append, queue_size=100)
+    probe.subscribe("/turtle1/pose", "turtlesim/Pose", poses.append, queue_size=1000)
+
+    def running(check: Any) -> Any:
+        def step() -> bool:
+            graph.run(duration=0.05)
+            return bool(check())
+
+        return step
+
+    try:
+        with chromium_page(viewer.url, VIEWPORT) as page:
+            page.evaluate(GAMEPAD, {"axes": [0.0, -0.55, 0.0, 0.0], "buttons": [1, 0, 0, 0]})
+            # the folder shows once joy_node is seen listening; the page then sends the pad
+            wait_until(running(lambda: joys), what="a Joy message from the viewer's page")
+            assert graph.topics[GAMEPAD_TOPIC].publishers[0].node is viewer.node
+            page.wait_for_function("document.body.innerText.includes('Gamepad: synthetic pad')")
+            start_x = poses[-1].x
+            sent = len(joys)
+            graph.run(duration=2.0)
+            # the pad did not change: joy_node repeated its state at 5 Hz, and the turtle,
+            # which stops a second after its last command, ran the whole two seconds
+            assert 9 <= len(joys) - sent <= 11
+            assert poses[-1].linear_velocity == pytest.approx(0.5)
+            assert poses[-1].x > start_x + 0.9
+            page.evaluate(UNPLUGGED)
+            page.wait_for_function("document.body.innerText.includes('No gamepad')")
+            graph.run(duration=0.05)
+            sent = len(joys)
+            graph.run(duration=1.0)
+            assert len(joys) == sent  # the pad went: no more repeats
+    finally:
+        viewer.close()
+        runtime.close()
+    assert list(joys[0].axes) == pytest.approx([0.0, 0.5, 0.0, 0.0])
+    assert list(joys[0].buttons) == [1, 0, 0, 0]
+    assert viewer.gamepad.rejected == 0
