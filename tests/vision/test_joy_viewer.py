@@ -1,17 +1,18 @@
 """joy_node fed by a gamepad in the VIEWER's page: Chromium on the viewer with a synthetic
 gamepad (navigator.getGamepads overridden) drives the turtle through teleop_twist_joy, joy_node
-(in a launch of its own, the viewer beside it as ``belvedere sim`` beside ``belvedere run``)
 applying its ``~deadzone`` and ``~autorepeat_rate``; the panel names the pad, and says so when
-it goes."""
+it goes. joy_node in another process (``belvedere run``) takes the pad as well."""
 
 from __future__ import annotations
 
+import subprocess
+import sys
 from pathlib import Path
 from typing import Any
 
 import pytest
 
-from belvedere.graph import Graph
+from belvedere.graph import Graph, ZenohTransport
 from belvedere.launch import load_launch
 from belvedere.launch._runtime import LaunchRuntime
 from belvedere.msgs import GAMEPAD_TOPIC
@@ -20,7 +21,7 @@ from belvedere.viewer import Viewer
 from tests.conftest import free_port
 from tests.viewer.test_browser import VIEWPORT, chromium_page
 from tests.vision.test_joy_browser import GAMEPAD
-from tests.waiting import wait_until
+from tests.waiting import DEADLINE, wait_until
 
 pytestmark = pytest.mark.browser
 
@@ -88,3 +89,33 @@ def test_a_gamepad_in_the_viewer_drives_the_turtle(tmp_path: Path) -> None:
     assert list(joys[0].axes) == pytest.approx([0.0, 0.5, 0.0, 0.0])
     assert list(joys[0].buttons) == [1, 0, 0, 0]
     assert viewer.gamepad.rejected == 0
+
+
+def test_a_joy_node_in_another_process_takes_the_viewers_gamepad(endpoint: str) -> None:
+    """``belvedere run joy joy_node`` beside a process with the viewer (as beside
+    ``belvedere sim``): the pad goes over the graph on /viewer/gamepad and comes back as
+    /joy from the other process."""
+    graph = Graph(sim_time=False, transport=ZenohTransport(endpoint=endpoint, serve_params=False))
+    viewer = Viewer(graph, port=free_port())
+    joys: list[Any] = []
+    graph.create_node("probe").subscribe("/joy", "sensor_msgs/Joy", joys.append)
+    graph.start(rtf=None)
+    run = [sys.executable, "-m", "belvedere", "run", "joy", "joy_node", f"_port:={free_port()}"]
+    joy_node = subprocess.Popen(run, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    try:
+        wait_until(
+            lambda: viewer.gamepad.pub.wanted or joy_node.poll() is not None,
+            what="joy_node subscribing to the viewer's gamepad",
+        )
+        assert joy_node.poll() is None, joy_node.communicate()[1]
+        with chromium_page(viewer.url, VIEWPORT) as page:
+            page.evaluate(GAMEPAD, {"axes": [0.3, 0.0], "buttons": [0, 1]})
+            wait_until(lambda: joys, what="/joy from the other process")
+            page.wait_for_function("document.body.innerText.includes('Gamepad: synthetic pad')")
+    finally:
+        joy_node.terminate()
+        joy_node.communicate(timeout=DEADLINE)
+        viewer.close()
+        graph.shutdown()
+    assert list(joys[0].axes) == pytest.approx([-0.2632, 0.0], abs=1e-3)  # (0.3-0.05)/0.95
+    assert list(joys[0].buttons) == [0, 1]
