@@ -6,11 +6,14 @@ joy_node's publishing of states: signs and dead zone, ``~coalesce_interval`` and
 from __future__ import annotations
 
 import json
+from pathlib import Path
 from typing import Any
 
 import pytest
 
 from belvedere.graph import Graph
+from belvedere.launch import load_launch
+from belvedere.launch._runtime import LaunchRuntime
 from belvedere.msgs import (
     GAMEPAD_TOPIC,
     GAMEPAD_TYPE,
@@ -20,7 +23,9 @@ from belvedere.msgs import (
     gamepad_state,
 )
 from belvedere.nodes.joy import JoyPublisher
+from belvedere.packages import PackageIndex
 from belvedere.viewer._gamepad import NO_PAD, pad_markdown, parse_field
+from tests.conftest import free_port
 
 PAD = GamepadState("pad", (0.0, -0.55), (1, 0))
 
@@ -146,4 +151,40 @@ def test_the_viewer_topic_is_read_and_bad_states_refused() -> None:
     pub.publish_data({"axes": [0.0], "buttons": [3]})
     pub.publish_data({})
     graph.run(duration=0.1)
-    assert states == [GamepadState("pad", (0.5,), (1,)), None, None, None]
+    assert states == [
+        (True, GamepadState("pad", (0.5,), (1,))),
+        (False, None),
+        (False, None),
+        (True, None),  # no pad
+    ]
+
+
+def test_joy_node_takes_the_viewers_topic_and_keeps_repeating_past_a_bad_message(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    launch = tmp_path / "joy.launch"
+    launch.write_text(
+        f"""<launch>
+          <node pkg="joy" type="joy_node" name="joy_node">
+            <param name="port" value="{free_port()}"/>
+            <param name="autorepeat_rate" value="10"/>
+          </node>
+        </launch>"""
+    )
+    packages = PackageIndex([])
+    graph = Graph()
+    runtime = LaunchRuntime(load_launch(launch, packages=packages), graph, packages, headless=True)
+    runtime.start()
+    received: list[Any] = []
+    graph.create_node("probe").subscribe("/joy", "sensor_msgs/Joy", received.append)
+    pub = graph.create_node("viewer").publisher(GAMEPAD_TOPIC, GAMEPAD_TYPE)
+    try:
+        graph.run(duration=0.1)
+        pub.publish_data({"header": {"frame_id": "pad"}, "axes": [-1.0], "buttons": [1]})
+        graph.run(duration=0.05)
+        pub.publish_data({"axes": [0.0], "buttons": [7]})
+        graph.run(duration=0.9)  # 0.95 s after the state: repeats at 0.1, 0.2, … 0.9 s
+    finally:
+        runtime.close()
+    assert [list(m.axes) for m in received] == [[1.0]] * 10  # the first, then 9 repeats
+    assert "/viewer/gamepad: a message that is not a gamepad's state" in caplog.text

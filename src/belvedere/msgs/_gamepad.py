@@ -82,11 +82,13 @@ def gamepad_from_json(text: str | bytes) -> GamepadState | None:
     return gamepad_state(data.get("id", ""), data.get("axes"), data.get("buttons"))
 
 
-def gamepad_from_msg(msg: Any) -> GamepadState | None:
-    """The state a sensor_msgs/Joy on :data:`GAMEPAD_TOPIC` carries; None when it says no pad
-    is connected (empty) or is not one (any graph process may publish there)."""
+def gamepad_from_msg(msg: Any) -> tuple[bool, GamepadState | None]:
+    """(valid, state) of a sensor_msgs/Joy on :data:`GAMEPAD_TOPIC`: an empty one says no pad
+    is connected (True, None); one that is not a state is (False, None) — any graph process
+    may publish there."""
     axes = [float(a) for a in msg.axes]
     buttons = [int(b) for b in msg.buttons]
     if not axes and not buttons:
-        return None
-    return gamepad_state(str(msg.header.frame_id), axes, buttons)
+        return True, None
+    state = gamepad_state(str(msg.header.frame_id), axes, buttons)
+    return state is not None, state

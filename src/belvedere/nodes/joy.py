@@ -12,6 +12,7 @@ port the ``~port`` parameter, 8093), for a user without the viewer."""
 from __future__ import annotations
 
 import sys
+from typing import Any
 
 import numpy as np
 
@@ -130,7 +131,18 @@ def _start(session: Session, spec: NodeSpec, node: Node) -> None:
         autorepeat_rate=_number(node, "autorepeat_rate", 0.0, 0.0, 1000.0),
         coalesce_interval=_number(node, "coalesce_interval", 0.001, 0.0, 60.0),
     )
-    node.subscribe(GAMEPAD_TOPIC, GAMEPAD_TYPE, lambda msg: joy.offer(gamepad_from_msg(msg)))
+    refused = [0]
+
+    def from_viewer(msg: Any) -> None:
+        valid, state = gamepad_from_msg(msg)
+        if valid:
+            joy.offer(state)
+            return
+        refused[0] += 1
+        if refused[0] == 1:  # a publisher that keeps sending them would fill the log
+            node.logger.warning("%s: a message that is not a gamepad's state", GAMEPAD_TOPIC)
+
+    node.subscribe(GAMEPAD_TOPIC, GAMEPAD_TYPE, from_viewer)
     executor = node.graph.executor
 
     def from_page(state: GamepadState) -> None:
