@@ -5,6 +5,7 @@ it goes. joy_node in another process (``belvedere run``) takes the pad as well."
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -19,7 +20,8 @@ from belvedere.msgs import GAMEPAD_TOPIC
 from belvedere.packages import PackageIndex
 from belvedere.viewer import Viewer
 from tests.conftest import free_port
-from tests.viewer.test_browser import VIEWPORT, chromium_page
+from tests.viewer.docs_screenshots import DOCS_SCREENSHOTS, docs_screenshot
+from tests.viewer.test_browser import SOFTWARE_WEBGL_NOTICE, VIEWPORT, chromium_page
 from tests.vision.test_joy_browser import GAMEPAD
 from tests.waiting import DEADLINE, wait_until
 
@@ -46,9 +48,15 @@ def test_a_gamepad_in_the_viewer_drives_the_turtle(tmp_path: Path) -> None:
     )
     packages = PackageIndex([])
     graph = Graph()
-    runtime = LaunchRuntime(load_launch(launch, packages=packages), graph, packages, headless=True)
-    runtime.start()
-    viewer = Viewer(graph, port=free_port())
+    runtime = LaunchRuntime(
+        load_launch(launch, packages=packages),
+        graph,
+        packages,
+        viewer_options={"port": free_port()},
+    )
+    runtime.start()  # turtlesim asks for the viewer, as with `belvedere launch`
+    viewer = runtime.viewer
+    assert viewer is not None
     joys: list[Any] = []
     poses: list[Any] = []
     probe = graph.create_node("probe")
@@ -77,6 +85,11 @@ def test_a_gamepad_in_the_viewer_drives_the_turtle(tmp_path: Path) -> None:
             assert 9 <= len(joys) - sent <= 11
             assert poses[-1].linear_velocity == pytest.approx(0.5)
             assert poses[-1].x > start_x + 0.9
+            if os.environ.get(DOCS_SCREENSHOTS):
+                page.add_style_tag(content=f"#{SOFTWARE_WEBGL_NOTICE} {{ display: none; }}")
+                page.wait_for_selector("canvas")
+                page.get_by_text("Gamepad: synthetic pad").scroll_into_view_if_needed()
+                docs_screenshot(page, "gamepad")
             page.evaluate(UNPLUGGED)
             page.wait_for_function("document.body.innerText.includes('No gamepad')")
             graph.run(duration=0.05)
@@ -84,7 +97,6 @@ def test_a_gamepad_in_the_viewer_drives_the_turtle(tmp_path: Path) -> None:
             graph.run(duration=1.0)
             assert len(joys) == sent  # the pad went: no more repeats
     finally:
-        viewer.close()
         runtime.close()
     assert list(joys[0].axes) == pytest.approx([0.0, 0.5, 0.0, 0.0])
     assert list(joys[0].buttons) == [1, 0, 0, 0]
