@@ -27,6 +27,12 @@ from tests.waiting import DEADLINE, wait_until
 
 pytestmark = pytest.mark.browser
 
+TAMPER = """(text) => {
+  const field = [...document.querySelectorAll("input")].find((i) => i.value.startsWith("gamepad:"));
+  const setter = Object.getOwnPropertyDescriptor(HTMLInputElement.prototype, "value").set;
+  setter.call(field, "gamepad:" + text);
+  field.dispatchEvent(new Event("input", {bubbles: true}));
+}"""
 UNPLUGGED = "() => { navigator.getGamepads = () => [null, null, null, null]; }"
 
 
@@ -124,6 +130,11 @@ def test_a_joy_node_in_another_process_takes_the_viewers_gamepad(endpoint: str) 
             page.evaluate(GAMEPAD, {"axes": [0.3, 0.0], "buttons": [0, 1]})
             wait_until(lambda: joys, what="/joy from the other process")
             page.wait_for_function("document.body.innerText.includes('Gamepad: synthetic pad')")
+            # a page changed by hand: what it writes into the State field is checked, not run
+            page.evaluate(TAMPER, '{"id": "x", "axes": ["alert(1)"], "buttons": [1]}')
+            wait_until(lambda: viewer.gamepad.rejected == 1, what="the bad state refused")
+            assert viewer.gamepad.state is not None
+            assert viewer.gamepad.state.id == "synthetic pad"
     finally:
         joy_node.terminate()
         joy_node.communicate(timeout=DEADLINE)
@@ -131,3 +142,4 @@ def test_a_joy_node_in_another_process_takes_the_viewers_gamepad(endpoint: str) 
         graph.shutdown()
     assert list(joys[0].axes) == pytest.approx([-0.2632, 0.0], abs=1e-3)  # (0.3-0.05)/0.95
     assert list(joys[0].buttons) == [0, 1]
+    assert len(joys) == 1  # the refused state sent nothing
