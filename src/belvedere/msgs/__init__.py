@@ -26,6 +26,14 @@ from belvedere.msgs._fulltext import (
     learn_service_text,
     read_full_text,
 )
+from belvedere.msgs._gamepad import (
+    GAMEPAD_TOPIC,
+    GAMEPAD_TYPE,
+    GamepadState,
+    gamepad_from_json,
+    gamepad_from_msg,
+    gamepad_state,
+)
 from belvedere.msgs._genmsg import InterfaceError
 from belvedere.msgs._images import (
     IMAGE_ENCODINGS,
@@ -45,12 +53,15 @@ from belvedere.msgs._types import (
 )
 
 __all__ = [
+    "GAMEPAD_TOPIC",
+    "GAMEPAD_TYPE",
     "IMAGE_ENCODINGS",
     "NUMPY_DTYPES",
     "PLACEHOLDER",
     "DefinitionError",
     "FieldPathError",
     "FullText",
+    "GamepadState",
     "ImageError",
     "InterfaceError",
     "MessageTypeError",
@@ -64,6 +75,9 @@ __all__ = [
     "default_message",
     "depth_rgb",
     "field_value",
+    "gamepad_from_json",
+    "gamepad_from_msg",
+    "gamepad_state",
     "image_rgb",
     "learn_full_text",
     "learn_service_text",

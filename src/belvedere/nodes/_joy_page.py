@@ -1,15 +1,17 @@
 """A browser page that reads a gamepad through the Gamepad API and sends its axes and
 buttons to joy_node: served on 127.0.0.1 by default, each state accepted only with the
-page's secret and from the page's own origin."""
+page's secret and from the page's own origin. The page sends each change; repeats are
+joy_node's (``~autorepeat_rate``)."""
 
 from __future__ import annotations
 
-import json
 import secrets
 import threading
 from collections.abc import Callable
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from typing import Any, Final
+
+from belvedere.msgs import GamepadState, gamepad_from_json
 
 __all__ = ["JoyPage"]
 
@@ -22,20 +24,18 @@ _PAGE: Final = """<!doctype html>
 <script>
 const period = __PERIOD__;
 let last = "";
-let lastSent = 0;
 function poll() {
   const pads = Array.from(navigator.getGamepads ? navigator.getGamepads() : []).filter(p => p);
   if (pads.length) {
     const pad = pads[0];
     document.getElementById("status").textContent = "Gamepad: " + pad.id;
     const state = JSON.stringify({
+      id: String(pad.id),
       axes: Array.from(pad.axes),
       buttons: Array.from(pad.buttons).map(b => (b.pressed ? 1 : 0)),
     });
-    const now = performance.now();
-    if (state !== last || (__REPEAT__ && now - lastSent >= __REPEAT__)) {
+    if (state !== last) {
       last = state;
-      lastSent = now;
       fetch("state?secret=__SECRET__", {method: "POST", body: state,
         headers: {"Content-Type": "application/json"}});
     }
@@ -47,23 +47,21 @@ setInterval(poll, period);
 
 
 class JoyPage:
-    """The page on ``host:port``; ``on_state(axes, buttons)`` for each state it sends."""
+    """The page on ``host:port``; ``on_state(state)`` (on the server's thread) for each state
+    it sends."""
 
     def __init__(
         self,
-        on_state: Callable[[list[float], list[int]], None],
+        on_state: Callable[[GamepadState], None],
         *,
         host: str = "127.0.0.1",
         port: int = 8093,
         poll_hz: float = 50.0,
-        repeat_hz: float = 0.0,
     ) -> None:
         self.secret = secrets.token_urlsafe(16)
         self.received = 0
-        page = (
-            _PAGE.replace("__PERIOD__", str(max(1, round(1000 / poll_hz))))
-            .replace("__REPEAT__", str(round(1000 / repeat_hz)) if repeat_hz > 0 else "0")
-            .replace("__SECRET__", self.secret)
+        page = _PAGE.replace("__PERIOD__", str(max(1, round(1000 / poll_hz)))).replace(
+            "__SECRET__", self.secret
         )
         owner = self
 
@@ -88,16 +86,17 @@ class JoyPage:
                 if self.path != f"/state?secret={owner.secret}" or origin not in (None, own):
                     self.send_error(403)
                     return
-                length = int(self.headers.get("Content-Length") or 0)
+                told = self.headers.get("Content-Length") or "0"
+                length = int(told) if told.isdigit() else 0
                 if not 0 < length <= _MAX_BODY:
                     self.send_error(413)
                     return
-                state = _state(self.rfile.read(length))
+                state = gamepad_from_json(self.rfile.read(length))
                 if state is None:
                     self.send_error(400)
                     return
                 owner.received += 1
-                on_state(*state)
+                on_state(state)
                 self.send_response(204)
                 self.end_headers()
 
@@ -112,23 +111,3 @@ class JoyPage:
     def close(self) -> None:
         self.server.shutdown()
         self.server.server_close()
-
-
-def _state(body: bytes) -> tuple[list[float], list[int]] | None:
-    """(axes, buttons) of a state the page sent, or None when it is not one."""
-    try:
-        data = json.loads(body)
-    except ValueError:
-        return None
-    if not isinstance(data, dict):
-        return None
-    axes, buttons = data.get("axes"), data.get("buttons")
-    if not isinstance(axes, list) or not isinstance(buttons, list):
-        return None
-    if len(axes) > 64 or len(buttons) > 128:
-        return None
-    if not all(isinstance(a, int | float) and not isinstance(a, bool) for a in axes):
-        return None
-    if not all(b in (0, 1) for b in buttons):
-        return None
-    return [max(-1.0, min(1.0, float(a))) for a in axes], [int(b) for b in buttons]

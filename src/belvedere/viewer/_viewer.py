@@ -30,6 +30,7 @@ from belvedere.viewer._canvas import Canvas, CanvasDrawing
 from belvedere.viewer._catalog import DISPLAYS
 from belvedere.viewer._display import Display, DisplayContext
 from belvedere.viewer._display_host import _DisplayHost
+from belvedere.viewer._gamepad import ViewerGamepad
 from belvedere.viewer._insert import world_editing
 from belvedere.viewer._panel import DisplayPanel, set_handle
 from belvedere.viewer._rviz import RvizConfig
@@ -281,6 +282,7 @@ class Viewer(_DisplayHost):
                 ("Stop", (0.0, 0.0)),
             ):
                 gui.add_button(label).on_click(self._teleop_setter(cmd))
+        self.gamepad = ViewerGamepad(self.node, gui)
 
     def _client_connected(self, client: Any) -> None:
         """Each tab gets its own Views panel and camera."""
