@@ -184,7 +184,8 @@ class ParticleFilter:
             n_random = int(injected.sum())
             if n_random:
                 candidates[injected] = self.random_poses(n_random, self.rng)
-        codes, dims, _ = _encode(bin_keys(candidates))
+        keys = bin_keys(candidates)
+        codes, dims, _ = _encode(keys)
         order = np.arange(m)
         if dims[0] * dims[1] * dims[2] <= _DENSE_BINS:
             first_at = np.full(dims[0] * dims[1] * dims[2], m)
@@ -203,19 +204,35 @@ class ParticleFilter:
         self.weights = np.full(count, 1.0 / count)
         if w_diff > 0.0:
             self.w_slow = self.w_fast = 0.0
-        self.update_clusters()
+        # the kept candidates' bins, already encoded when they are all kept (else in the
+        # smaller box of those kept, as a larger one would cost more to label)
+        self.update_clusters(keys[:, :count], (codes, dims) if count == m else None)
         self._update_converged()
 
     def _update_converged(self) -> None:
-        mean = self.poses[:, :2].mean(axis=0)
-        self.converged = bool((np.abs(self.poses[:, :2] - mean) <= DIST_THRESHOLD).all())
+        xy = self.poses[:, :2]
+        mean = xy.mean(axis=0)
+        # rounding is monotonic, so the extremes decide exactly as every particle would
+        self.converged = bool(
+            (xy.max(axis=0) - mean <= DIST_THRESHOLD).all()
+            and (mean - xy.min(axis=0) <= DIST_THRESHOLD).all()
+        )
 
     # --- statistics --------------------------------------------------------------------------
-    def update_clusters(self) -> None:
+    def update_clusters(
+        self,
+        keys: Ints | None = None,
+        encoded: tuple[Ints, tuple[int, int, int]] | None = None,
+    ) -> None:
         """Clusters of the particles' bins (bins touching in x, y and yaw, diagonals too),
-        each with its weight, mean and covariance, and the whole set's mean and covariance."""
+        each with its weight, mean and covariance, and the whole set's mean and covariance.
+        ``keys``/``encoded``: the particles' ``bin_keys`` and their ``_encode``, when the
+        caller has them."""
         poses, weights = self.poses, self.weights
-        codes, dims, _ = _encode(bin_keys(poses))
+        if encoded is not None:
+            codes, dims = encoded
+        else:
+            codes, dims, _ = _encode(bin_keys(poses) if keys is None else keys)
         if dims[0] * dims[1] * dims[2] <= _DENSE_BINS:
             filled = np.zeros(dims[0] * dims[1] * dims[2], dtype=bool)
             filled[codes] = True

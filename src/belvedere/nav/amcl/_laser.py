@@ -36,6 +36,9 @@ LASER_MODELS: Final = ("likelihood_field", "beam", "likelihood_field_prob")
 _CHUNK = 1024
 """Particles whose beams are placed together (their float32 arrays stay in the cache)."""
 
+_MAX_TABLE = 1 << 24
+"""Cells a bordered table may hold (64 MB of float32) before the border shrinks to one cell."""
+
 Floats = npt.NDArray[np.float64]
 Float32s = npt.NDArray[np.float32]
 
@@ -118,8 +121,29 @@ class LaserModel:
         return ranges[keep], bearings[keep]
 
     # --- the likelihood field ----------------------------------------------------------------
+    def _pad(self, range_max: float) -> int:
+        """Cells of off-map border around the map in the tables: enough that a particle moved
+        in to ``range_max + 1`` cells inside the border's outer edge still has every beam end
+        off the map (see ``_end_cells``), or a single cell where that table would be huge (a
+        fine map with a long range), and the beam ends are clipped instead."""
+        reach = math.ceil(range_max / self.map.resolution)
+        pad = 2 * reach + 2
+        if (self.map.height + 2 * pad) * (self.map.width + 2 * pad) > _MAX_TABLE:
+            return 1
+        return pad
+
+    def _bordered(self, inner: npt.ArrayLike, off_map: float, range_max: float) -> Float32s:
+        """``inner`` (one value per map cell) in the middle of a ``_pad`` border of
+        ``off_map``, flattened."""
+        pad = self._pad(range_max)
+        out = np.full(
+            (self.map.height + 2 * pad, self.map.width + 2 * pad), off_map, dtype=np.float32
+        )
+        out[pad:-pad, pad:-pad] = inner
+        return out.ravel()
+
     def _pz_table(self, range_max: float, power: int) -> Float32s:
-        """pz**power (power 0: log pz) per cell, over the map with a one-cell border holding the
+        """pz**power (power 0: log pz) per cell, over the map within its ``_pad`` border of the
         off-map value, flattened."""
         key = (range_max, power)
         cached = self._tables.get(key)
@@ -127,12 +151,19 @@ class LaserModel:
             return cached
         p = self.params
         denom = 2.0 * p.sigma_hit * p.sigma_hit
-        dist = self.map.occ_dist(p.likelihood_max_dist).astype(np.float64)
         rand = p.z_rand / range_max
-        padded = np.full((self.map.height + 2, self.map.width + 2), p.likelihood_max_dist)
-        padded[1:-1, 1:-1] = dist
-        pz = p.z_hit * np.exp(-(padded * padded) / denom) + rand
-        table: Float32s = (np.log(pz) if power == 0 else pz**power).astype(np.float32).ravel()
+
+        def pz_of(dist: Floats) -> Floats:
+            pz = p.z_hit * np.exp(-(dist * dist) / denom) + rand
+            out: Floats = np.log(pz) if power == 0 else pz**power
+            return out
+
+        dist = self.map.occ_dist(p.likelihood_max_dist).astype(np.float64)
+        # the same float64 arithmetic as the map's cells, then float32
+        off_map = pz_of(np.array([p.likelihood_max_dist]))[0]
+        table = self._bordered(
+            pz_of(dist).astype(np.float32), float(np.float32(off_map)), range_max
+        )
         if len(self._tables) > 8:
             self._tables.clear()  # a laser whose range keeps changing
         self._tables[key] = table
@@ -144,18 +175,35 @@ class LaserModel:
         laser_pose: tuple[float, float, float],
         ranges: Floats,
         bearings: Floats,
+        range_max: float,
     ) -> Iterator[tuple[slice, npt.NDArray[np.int32]]]:
-        """Flat indices into the bordered map of each beam's end cell, for ``_CHUNK``
+        """Flat indices into the bordered tables of each beam's end cell, for ``_CHUNK``
         particles at a time (rows of the particles in ``slice``); the array is reused for the
-        next chunk. Chunks keep the float32 work in the cache."""
+        next chunk. Chunks keep the float32 work in the cache.
+
+        Positions are in the cells of the map with a one-cell border (the map's first cell
+        is 1), in float32 as they have always been computed, so that every end lands in the
+        cell it always did; the wide border's offset is added to the truncated cells. With
+        it, only the particles' positions are clipped, not every end: a particle clipped was
+        farther than ``range_max`` from the map, so all its beams end off the map, and still
+        do from where it was moved to. A negative end truncates towards zero, one cell nearer
+        the map, but never onto it. (A complex64 multiply would take fewer passes, but numpy
+        fuses its multiply-add, which moves a few ends in a million to the next cell.)"""
         m = self.map
         inv = 1.0 / m.resolution
+        pad = self._pad(range_max)
         lx, ly, lth = laser_pose
         c = np.cos(poses[:, 2]).astype(np.float32)
         s = np.sin(poses[:, 2]).astype(np.float32)
-        # the laser's position in the bordered map's cell units
+        # the laser's position in the one-cell-bordered map's cell units
         px = ((poses[:, 0] + c * lx - s * ly - m.origin_x) * inv + 1.0).astype(np.float32)
         py = ((poses[:, 1] + s * lx + c * ly - m.origin_y) * inv + 1.0).astype(np.float32)
+        clip_ends = pad == 1
+        if not clip_ends:
+            # a cell to spare on both sides of the map and of the table
+            reach = pad // 2 - 1  # ceil(range_max / resolution)
+            np.clip(px, -reach, m.width + reach + 2, out=px)
+            np.clip(py, -reach, m.height + reach + 2, out=py)
         rc = (ranges * np.cos(bearings + lth) * inv).astype(np.float32)[None, :]
         rs = (ranges * np.sin(bearings + lth) * inv).astype(np.float32)[None, :]
         n, b = len(poses), len(ranges)
@@ -165,7 +213,8 @@ class LaserModel:
         tmp_buf = np.empty((size, b), dtype=np.float32)
         ix_buf = np.empty((size, b), dtype=np.int32)
         iy_buf = np.empty((size, b), dtype=np.int32)
-        xmax, ymax, stride = m.width + 1, m.height + 1, m.width + 2
+        stride = m.width + 2 * pad
+        shift = (pad - 1) * (stride + 1)  # the one-cell border's cell (0, 0) in the table
         for lo in range(0, n, size):
             hi = min(lo + size, n)
             k = hi - lo
@@ -179,13 +228,16 @@ class LaserModel:
             np.multiply(ck, rs, out=tmp)
             fy += tmp
             fy += py[lo:hi, None]
-            # beyond the map: the border cell (truncation is floor once clipped to >= 0)
-            np.clip(fx, 0.0, xmax, out=fx)
-            np.clip(fy, 0.0, ymax, out=fy)
+            if clip_ends:
+                # beyond the map: the border cell (truncation is floor once clipped to >= 0)
+                np.clip(fx, 0.0, m.width + 1, out=fx)
+                np.clip(fy, 0.0, m.height + 1, out=fy)
             ix[...] = fx
             iy[...] = fy
             iy *= stride
             iy += ix
+            if shift:
+                iy += shift
             yield slice(lo, hi), iy
 
     def weigh(
@@ -203,7 +255,7 @@ class LaserModel:
             return self._beam(poses, laser_pose, ranges, bearings, data.range_max)
         if len(ranges) == 0:
             return np.ones(len(poses))
-        chunks = self._end_cells(poses, laser_pose, ranges, bearings)
+        chunks = self._end_cells(poses, laser_pose, ranges, bearings, data.range_max)
         if model == "likelihood_field":
             table = self._pz_table(data.range_max, 3)
             sums = np.empty(len(poses), dtype=np.float32)
@@ -221,9 +273,8 @@ class LaserModel:
         logs = self._pz_table(range_max, 0).take(cells)
         self.skipped_beams = 0
         if p.do_beamskip and converged:
-            dist = np.full((self.map.height + 2, self.map.width + 2), np.inf, dtype=np.float32)
-            dist[1:-1, 1:-1] = self.map.occ_dist(p.likelihood_max_dist)
-            near = (dist.ravel().take(cells) < p.beam_skip_distance).sum(axis=0)
+            dist = self._bordered(self.map.occ_dist(p.likelihood_max_dist), np.inf, range_max)
+            near = (dist.take(cells) < p.beam_skip_distance).sum(axis=0)
             use = near / len(poses) > p.beam_skip_threshold
             skipped = int((~use).sum())
             if skipped < cells.shape[1] * p.beam_skip_error_threshold:
