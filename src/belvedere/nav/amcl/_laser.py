@@ -36,6 +36,9 @@ LASER_MODELS: Final = ("likelihood_field", "beam", "likelihood_field_prob")
 _CHUNK = 1024
 """Particles whose beams are placed together (their float32 arrays stay in the cache)."""
 
+_COMPACT_EVERY = 4
+"""Steps the beam model's rays take between compactions of those still marching."""
+
 _MAX_TABLE = 1 << 24
 """Cells a bordered table may hold (64 MB of float32) before the border shrinks to one cell."""
 
@@ -308,19 +311,35 @@ class LaserModel:
         height, width = field.shape
         flat = field.ravel()
         t = np.zeros(len(dx))
-        active = np.arange(len(dx))
+        # the rays not yet known to have stopped; a ray stops where it hits or once past the
+        # range, and then steps by 0, so the set is only compacted every few steps (gathering
+        # from the full arrays on every step would cost more than the step)
+        rays = np.arange(len(dx))
+        at = np.zeros(len(dx))
+        root2 = math.sqrt(2.0)
         # march: a free cell d cells from the nearest stop lets the ray skip d - sqrt(2)
         # cells (both ends may sit anywhere in their cells) and never less than half a cell
-        while len(active):
-            at = t[active]
-            x = np.clip(ox[active] + dx[active] * at, 0, width - 1).astype(np.intp)
-            y = np.clip(oy[active] + dy[active] * at, 0, height - 1).astype(np.intp)
-            d = flat.take(y * width + x)
-            hit = d <= 0.0
-            step = np.maximum(d - math.sqrt(2.0), 0.5)
-            t[active] = np.where(hit, at, at + step)
-            going = ~hit & (t[active] < limit)
-            active = active[going]
+        while len(rays):
+            for _ in range(_COMPACT_EVERY):
+                x = dx * at
+                x += ox
+                np.clip(x, 0, width - 1, out=x)
+                y = dy * at
+                y += oy
+                np.clip(y, 0, height - 1, out=y)
+                cell = y.astype(np.intp)
+                cell *= width
+                cell += x.astype(np.intp)
+                d = flat.take(cell)
+                going = d > 0.0
+                going &= at < limit
+                step = np.maximum(d - root2, 0.5)
+                step *= going
+                at += step
+            stopped = ~going
+            t[rays[stopped]] = at[stopped]
+            rays, at = rays[going], at[going]
+            ox, oy, dx, dy = ox[going], oy[going], dx[going], dy[going]
         out = np.minimum(t * m.resolution, range_max)
         return out.reshape(len(poses), len(bearings))
 
@@ -336,11 +355,17 @@ class LaserModel:
         if len(ranges) == 0:
             return np.ones(len(poses))
         expected = self.expected_ranges(poses, laser_pose, bearings, range_max)
-        obs = ranges[None, :]
-        z = obs - expected
-        pz = p.z_hit * np.exp(-(z * z) / (2.0 * p.sigma_hit * p.sigma_hit))
-        pz += np.where(z < 0, p.z_short * p.lambda_short * np.exp(-p.lambda_short * obs), 0.0)
-        pz += np.where(obs == range_max, p.z_max, 0.0)
-        pz += np.where(obs < range_max, p.z_rand / range_max, 0.0)
+        # the terms that depend on the reading alone, once per beam (at most one of z_max's
+        # and z_rand's is not 0, so adding them first rounds as adding them in turn)
+        short = p.z_short * p.lambda_short * np.exp(-p.lambda_short * ranges)
+        flat = np.where(ranges == range_max, p.z_max, 0.0)
+        flat += np.where(ranges < range_max, p.z_rand / range_max, 0.0)
+        z = np.subtract(ranges[None, :], expected, out=expected)
+        pz = z * z
+        pz /= -(2.0 * p.sigma_hit * p.sigma_hit)
+        np.exp(pz, out=pz)
+        pz *= p.z_hit
+        pz += np.where(z < 0, short[None, :], 0.0)
+        pz += flat[None, :]
         factors: Floats = 1.0 + (pz**3).sum(axis=1)
         return factors
