@@ -210,13 +210,14 @@ class ParticleFilter:
         self._update_converged()
 
     def _update_converged(self) -> None:
-        xy = self.poses[:, :2]
-        mean = xy.mean(axis=0)
+        x, y = np.ascontiguousarray(self.poses[:, :2].T)
+        n = len(x)
+        # the mean as poses[:, :2].mean(axis=0) has it (that reduction adds row after row,
+        # as a running sum does) without its slow strided pass
+        mean_x, mean_y = float(np.cumsum(x)[-1]) / n, float(np.cumsum(y)[-1]) / n
         # rounding is monotonic, so the extremes decide exactly as every particle would
-        self.converged = bool(
-            (xy.max(axis=0) - mean <= DIST_THRESHOLD).all()
-            and (mean - xy.min(axis=0) <= DIST_THRESHOLD).all()
-        )
+        spread = (x.max() - mean_x, mean_x - x.min(), y.max() - mean_y, mean_y - y.min())
+        self.converged = bool(np.max(spread) <= DIST_THRESHOLD)  # np.max: a NaN is not
 
     # --- statistics --------------------------------------------------------------------------
     def update_clusters(
