@@ -178,7 +178,7 @@ class ParticleFilter:
         picks = np.empty(m, dtype=np.int64)
         picks[order] = np.searchsorted(cumulative, draws[order], side="right")
         np.minimum(picks, self.count - 1, out=picks)
-        candidates = self.poses[picks]
+        candidates = self.poses.take(picks, axis=0)
         if w_diff > 0.0:
             injected = self.rng.random(m) < w_diff
             n_random = int(injected.sum())
@@ -196,7 +196,11 @@ class ParticleFilter:
             new_bin = np.zeros(m, dtype=bool)
             new_bin[first] = True
         bins = np.cumsum(new_bin)
-        limits = resample_limit(bins, self.pop_err, self.pop_z, self.min_samples, m)
+        # the bound for each count of bins, once, rather than once per candidate
+        bound = resample_limit(
+            np.arange(bins[-1] + 1), self.pop_err, self.pop_z, self.min_samples, m
+        )
+        limits = bound[bins]
         # amcl stops right after the draw that takes the count past the limit
         over = np.nonzero(np.arange(1, m + 1) > limits)[0]
         count = int(over[0]) + 1 if len(over) else m
