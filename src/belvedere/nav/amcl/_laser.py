@@ -106,6 +106,7 @@ class LaserModel:
         self.params = params
         self.map = amcl_map
         self._tables: dict[tuple[float, int], Float32s] = {}
+        self._steps: Float32s | None = None
         self.skipped_beams = 0
         """Beams beam skipping left out of the last update."""
 
@@ -307,18 +308,15 @@ class LaserModel:
         ox = np.repeat(px, len(bearings))
         oy = np.repeat(py, len(bearings))
         limit = range_max * inv
-        field = self.map.free_dist()
-        height, width = field.shape
-        flat = field.ravel()
+        steps = self._march_steps()
+        height, width = steps.shape
+        flat = steps.ravel()
         t = np.zeros(len(dx))
         # the rays not yet known to have stopped; a ray stops where it hits or once past the
         # range, and then steps by 0, so the set is only compacted every few steps (gathering
         # from the full arrays on every step would cost more than the step)
         rays = np.arange(len(dx))
         at = np.zeros(len(dx))
-        root2 = math.sqrt(2.0)
-        # march: a free cell d cells from the nearest stop lets the ray skip d - sqrt(2)
-        # cells (both ends may sit anywhere in their cells) and never less than half a cell
         while len(rays):
             for _ in range(_COMPACT_EVERY):
                 x = dx * at
@@ -330,10 +328,9 @@ class LaserModel:
                 cell = y.astype(np.intp)
                 cell *= width
                 cell += x.astype(np.intp)
-                d = flat.take(cell)
-                going = d > 0.0
+                step = flat.take(cell)
+                going = step > 0.0
                 going &= at < limit
-                step = np.maximum(d - root2, 0.5)
                 step *= going
                 at += step
             stopped = ~going
@@ -342,6 +339,16 @@ class LaserModel:
             ox, oy, dx, dy = ox[going], oy[going], dx[going], dy[going]
         out = np.minimum(t * m.resolution, range_max)
         return out.reshape(len(poses), len(bearings))
+
+    def _march_steps(self) -> Float32s:
+        """Per cell of the map with its one-cell border, how far (cells) a ray in it may
+        step: 0 in a cell that stops rays; else a free cell d cells from the nearest stop
+        lets the ray skip d - sqrt(2) cells (both ends may sit anywhere in their cells), and
+        never less than half a cell. Kept per cell, as the steps are float32 either way."""
+        if self._steps is None:
+            field = self.map.free_dist()
+            self._steps = np.where(field > 0.0, np.maximum(field - math.sqrt(2.0), 0.5), 0.0)
+        return self._steps
 
     def _beam(
         self,
