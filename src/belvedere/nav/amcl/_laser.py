@@ -176,6 +176,7 @@ class LaserModel:
     def _end_cells(
         self,
         poses: Floats,
+        headings: tuple[Floats, Floats],
         laser_pose: tuple[float, float, float],
         ranges: Floats,
         bearings: Floats,
@@ -197,8 +198,8 @@ class LaserModel:
         inv = 1.0 / m.resolution
         pad = self._pad(range_max)
         lx, ly, lth = laser_pose
-        c = np.cos(poses[:, 2]).astype(np.float32)
-        s = np.sin(poses[:, 2]).astype(np.float32)
+        c = headings[0].astype(np.float32)
+        s = headings[1].astype(np.float32)
         # the laser's position in the one-cell-bordered map's cell units
         px = ((poses[:, 0] + c * lx - s * ly - m.origin_x) * inv + 1.0).astype(np.float32)
         py = ((poses[:, 1] + s * lx + c * ly - m.origin_y) * inv + 1.0).astype(np.float32)
@@ -251,15 +252,19 @@ class LaserModel:
         data: LaserData,
         *,
         converged: bool = False,
+        headings: tuple[Floats, Floats] | None = None,
     ) -> Floats:
-        """The factor each particle's weight is multiplied by for this scan."""
+        """The factor each particle's weight is multiplied by for this scan (``headings``:
+        the cosines and sines of the particles' yaws, if the caller has them)."""
         ranges, bearings = self.beams(data)
         model = self.params.model
         if model == "beam":
             return self._beam(poses, laser_pose, ranges, bearings, data.range_max)
         if len(ranges) == 0:
             return np.ones(len(poses))
-        chunks = self._end_cells(poses, laser_pose, ranges, bearings, data.range_max)
+        if headings is None:
+            headings = np.cos(poses[:, 2]), np.sin(poses[:, 2])
+        chunks = self._end_cells(poses, headings, laser_pose, ranges, bearings, data.range_max)
         if model == "likelihood_field":
             table = self._pz_table(data.range_max, 3)
             sums = np.empty(len(poses), dtype=np.float32)
