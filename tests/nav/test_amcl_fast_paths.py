@@ -87,12 +87,14 @@ def test_the_beam_march_stops_in_the_first_cell_a_fine_walk_stops_in() -> None:
     rng = np.random.default_rng(8)
     amcl_map = _hall()
     free = amcl_map.free_cells()
-    cells = free[rng.integers(0, len(free), 40)]
+    # anywhere, and next to the outer walls (rays from there must stop at them, not leave)
+    edge = free[(free.min(axis=1) <= 3) | (free[:, 0] >= amcl_map.width - 4)]
+    cells = np.vstack([free[rng.integers(0, len(free), 40)], edge[rng.integers(0, len(edge), 40)]])
     poses = np.column_stack(
         [
-            amcl_map.origin_x + (cells[:, 0] + rng.random(40)) * 0.05,
-            amcl_map.origin_y + (cells[:, 1] + rng.random(40)) * 0.05,
-            rng.uniform(-math.pi, math.pi, 40),
+            amcl_map.origin_x + (cells[:, 0] + rng.random(80)) * 0.05,
+            amcl_map.origin_y + (cells[:, 1] + rng.random(80)) * 0.05,
+            rng.uniform(-math.pi, math.pi, 80),
         ]
     )
     bearings = np.linspace(-math.pi, math.pi, 24, endpoint=False)

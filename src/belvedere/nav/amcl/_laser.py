@@ -310,11 +310,15 @@ class LaserModel:
         py = (poses[:, 1] + s * lx + c * ly - m.origin_y) * inv + 1.0
         heading = poses[:, 2][:, None] + (bearings + lth)[None, :]
         dx, dy = np.cos(heading).ravel(), np.sin(heading).ravel()
-        ox = np.repeat(px, len(bearings))
-        oy = np.repeat(py, len(bearings))
-        limit = range_max * inv
         steps = self._march_steps()
         height, width = steps.shape
+        # only the origins are clipped: one off the map starts (and stops) in the border's
+        # stop cells; a ray from inside never leaves the border, as no step crosses a stop
+        # cell (a step of d - sqrt(2) ends at least sqrt(2)/2 from every stop cell's centre,
+        # a half-cell step from a cell next to one ends in it)
+        ox = np.repeat(np.clip(px, 0, width - 1), len(bearings))
+        oy = np.repeat(np.clip(py, 0, height - 1), len(bearings))
+        limit = range_max * inv
         flat = steps.ravel()
         t = np.zeros(len(dx))
         # the rays not yet known to have stopped; a ray stops where it hits or once past the
@@ -326,10 +330,8 @@ class LaserModel:
             for _ in range(_COMPACT_EVERY):
                 x = dx * at
                 x += ox
-                np.clip(x, 0, width - 1, out=x)
                 y = dy * at
                 y += oy
-                np.clip(y, 0, height - 1, out=y)
                 cell = y.astype(np.intp)
                 cell *= width
                 cell += x.astype(np.intp)
