@@ -14,11 +14,12 @@ it, a 360-beam laser of 10 m; each filter uses 60 beams of it, a fixed particle 
 max) of 500, 2000 and 5000, and updates (motion, laser, resampling) on every scan. Prints the
 mean wall-clock milliseconds per update for each and the ratios.
 
-Measured on the 2-core development machine, busy with other work (2026-11-28): beam 4.7 /
-19 / 55 ms against Nav2's 5.3 / 20 / 58 ms (1.1x / 1.0x / 1.05x); the likelihood field 0.34 /
-0.83 / 1.67 ms (2.9x / 5.9x / 10.4x ROS 1's figures). The commit before the 2026-11-28
-changes, interleaved with it in the same process, took 1.06x / 1.15x / 1.22x as long with the
-likelihood field and 1.3x-1.4x as long with the beam model, for the same particles.
+Measured on the 2-core development machine at load ~2 (2026-11-28): beam 4.2 / 19 / 51 ms
+against Nav2's 5.8 / 23 / 60 ms (1.38x / 1.18x / 1.17x); the likelihood field 0.36 / 0.77 /
+1.70 ms (2.8x / 6.3x / 10.2x ROS 1's figures). The code before that day's changes,
+interleaved with it in one process on the same particles (bit for bit the same results),
+took 1.09x / 1.17x / 1.21x as long with the likelihood field and 1.55x / 1.43x / 1.37x with
+the beam model (see docs/performance.md).
 
     python benchmarks/amcl.py [--updates 40]
 """
