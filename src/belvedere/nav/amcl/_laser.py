@@ -316,16 +316,21 @@ class LaserModel:
         # stop cells; a ray from inside never leaves the border, as no step crosses a stop
         # cell (a step of d - sqrt(2) ends at least sqrt(2)/2 from every stop cell's centre,
         # a half-cell step from a cell next to one ends in it)
-        ox = np.repeat(np.clip(px, 0, width - 1), len(bearings))
-        oy = np.repeat(np.clip(py, 0, height - 1), len(bearings))
+        px = np.clip(px, 0, width - 1)
+        py = np.clip(py, 0, height - 1)
+        ox = np.repeat(px, len(bearings))
+        oy = np.repeat(py, len(bearings))
         limit = range_max * inv
         flat = steps.ravel()
         t = np.zeros(len(dx))
+        # the first step is the same for every ray of a particle: they start in one cell
+        first = flat.take(py.astype(np.intp) * width + px.astype(np.intp))
+        at = np.repeat(first if limit > 0.0 else np.zeros_like(first), len(bearings))
+        at = at.astype(np.float64)
         # the rays not yet known to have stopped; a ray stops where it hits or once past the
         # range, and then steps by 0, so the set is only compacted every few steps (gathering
         # from the full arrays on every step would cost more than the step)
         rays = np.arange(len(dx))
-        at = np.zeros(len(dx))
         while len(rays):
             for _ in range(_COMPACT_EVERY):
                 x = dx * at
