@@ -14,12 +14,13 @@ it, a 360-beam laser of 10 m; each filter uses 60 beams of it, a fixed particle 
 max) of 500, 2000 and 5000, and updates (motion, laser, resampling) on every scan. Prints the
 mean wall-clock milliseconds per update for each and the ratios.
 
-Measured on the 2-core development machine at load ~2 (2026-11-28): beam 4.2 / 19 / 51 ms
-against Nav2's 5.8 / 23 / 60 ms (1.38x / 1.18x / 1.17x); the likelihood field 0.36 / 0.77 /
-1.70 ms (2.8x / 6.3x / 10.2x ROS 1's figures). The code before that day's changes,
-interleaved with it in one process on the same particles (bit for bit the same results),
-took 1.09x / 1.17x / 1.21x as long with the likelihood field and 1.55x / 1.43x / 1.37x with
-the beam model (see docs/performance.md).
+Measured on the 2-core development machine at load ~2 (2026-11-28, two runs): beam 4.1-4.3 /
+19-22 / 47-48 ms against Nav2's 5.8-6.0 / 23-24 / 62 ms (1.35-1.47x / 1.08-1.23x / 1.30x);
+the likelihood field 0.34-0.36 / 0.79-0.85 / 1.66-1.70 ms (2.8-2.9x / 5.8-6.2x / 10.2-10.4x
+ROS 1's figures). The code before that day's changes, interleaved with it in one process on
+the same particles (bit for bit the same results), took 1.01-1.09x / 1.17x / 1.19-1.21x as
+long with the likelihood field and 1.62x / 1.49x / 1.35x with the beam model (see
+docs/performance.md).
 
     python benchmarks/amcl.py [--updates 40]
 """
