@@ -58,7 +58,7 @@ def test_the_wide_border_weighs_as_clipping_every_beam_end(
         assert wide._pad(range_max) > 1
         wide_factors = wide.weigh(poses, (0.1, -0.05, 0.3), data, converged=True)
         with monkeypatch.context() as patch:
-            patch.setattr(_laser, "_MAX_TABLE", 1)  # every table too large: one-cell border
+            patch.setattr(_laser, "_WIDE_TABLE", 1)  # every wide table too large
             narrow = LaserModel(params, amcl_map)
             assert narrow._pad(range_max) == 1
             narrow_factors = narrow.weigh(poses, (0.1, -0.05, 0.3), data, converged=True)

@@ -39,8 +39,10 @@ _CHUNK = 1024
 _COMPACT_EVERY = 4
 """Steps the beam model's rays take between compactions of those still marching."""
 
-_MAX_TABLE = 1 << 24
-"""Cells a bordered table may hold (64 MB of float32) before the border shrinks to one cell."""
+_WIDE_TABLE = 1 << 21
+"""Cells a table with the wide border may hold (8 MB of float32), or four times the map's if
+that is more: beyond, the border is one cell and the beam ends are clipped (the wide border
+saves ~5% of the likelihood field's time, not worth a table many times the map's size)."""
 
 Floats = npt.NDArray[np.float64]
 Float32s = npt.NDArray[np.float32]
@@ -128,11 +130,12 @@ class LaserModel:
     def _pad(self, range_max: float) -> int:
         """Cells of off-map border around the map in the tables: enough that a particle moved
         in to ``range_max + 1`` cells inside the border's outer edge still has every beam end
-        off the map (see ``_end_cells``), or a single cell where that table would be huge (a
-        fine map with a long range), and the beam ends are clipped instead."""
+        off the map (see ``_end_cells``), or a single cell where that table would be large (see
+        ``_WIDE_TABLE``), and the beam ends are clipped instead."""
         reach = math.ceil(range_max / self.map.resolution)
         pad = 2 * reach + 2
-        if (self.map.height + 2 * pad) * (self.map.width + 2 * pad) > _MAX_TABLE:
+        cells = (self.map.height + 2 * pad) * (self.map.width + 2 * pad)
+        if cells > max(_WIDE_TABLE, 4 * self.map.height * self.map.width):
             return 1
         return pad
 
