@@ -1,18 +1,26 @@
 """amcl's update, ours against the PyPI package ``amcl`` (Nav2's amcl core), same run —
-the beam model against the beam model.
+the beam model against the beam model — and our likelihood field beside ROS 1's figures.
 
 The reference's compiled module has only the *beam* laser model (no likelihood field, no
 ``map_update_cspace``), so the ratio printed compares our beam model with its beam model, with
 the same parameters. Our likelihood field model (amcl's default, what the course's launch files
-use) is timed beside it for the record, but has no reference here: ROS 1's own amcl core is not
-packaged for Debian. (Measured elsewhere with ROS 1's navigation noetic-devel, unmodified,
-RelWithDebInfo, on this scenario with the likelihood field: 1.0 / 4.9 / 17.3 ms per update at
-500 / 2000 / 5000 particles.)
+use) has no reference in this run: ROS 1's own amcl core is not packaged for Debian. Its
+figures on this scenario with the likelihood field (navigation noetic-devel, unmodified,
+RelWithDebInfo, measured on another machine: 1.0 / 4.9 / 17.3 ms per update at 500 / 2000 /
+5000 particles) are printed beside ours with their ratio, marked as not from this run.
 
 A 20 x 20 m map at 0.05 m (outer walls, inner walls and pillars), a robot driving a circle in
 it, a 360-beam laser of 10 m; each filter uses 60 beams of it, a fixed particle count (min =
 max) of 500, 2000 and 5000, and updates (motion, laser, resampling) on every scan. Prints the
-mean wall-clock milliseconds per update for each and the ratio.
+mean wall-clock milliseconds per update for each and the ratios.
+
+Measured on the 2-core development machine at load ~2 (2026-11-28, two runs): beam 4.1-4.3 /
+19-22 / 47-48 ms against Nav2's 5.8-6.0 / 23-24 / 62 ms (1.35-1.47x / 1.08-1.23x / 1.30x);
+the likelihood field 0.34-0.36 / 0.79-0.85 / 1.66-1.70 ms (2.8-2.9x / 5.8-6.2x / 10.2-10.4x
+ROS 1's figures). The code before that day's changes, interleaved with it in one process on
+the same particles (bit for bit the same results), took 1.01-1.09x / 1.17x / 1.19-1.21x as
+long with the likelihood field and 1.62x / 1.49x / 1.35x with the beam model (see
+docs/performance.md).
 
     python benchmarks/amcl.py [--updates 40]
 """
@@ -38,6 +46,9 @@ SIZE = 400  # cells: 20 m
 BEAMS = 360
 RANGE_MAX = 10.0
 PARTICLES = (500, 2000, 5000)
+ROS1_LIKELIHOOD_FIELD_MS = {500: 1.0, 2000: 4.9, 5000: 17.3}
+"""ROS 1's amcl core with the likelihood field on this scenario, measured on another machine
+(see the module's description): not from this run."""
 
 
 def world() -> npt.NDArray[np.int8]:
@@ -152,13 +163,18 @@ def main() -> int:
     ranges = scans(grid, truth)
     print(
         f"{'particles':>9} {'ours beam':>10} {'nav2 beam':>10} {'ratio':>7}"
-        f"   {'ours likelihood field (no reference)':>38}"
+        f"   {'ours lf':>9} {'ROS 1 lf*':>10} {'ratio*':>7}"
     )
     for n in PARTICLES:
         a = ours(grid, truth, ranges, n, "beam")
         b = nav2(grid, truth, ranges, n)
         c = ours(grid, truth, ranges, n, "likelihood_field")
-        print(f"{n:>9} {a:>8.2f}ms {b:>8.2f}ms {b / a:>6.1f}x   {c:>36.2f}ms")
+        ros1 = ROS1_LIKELIHOOD_FIELD_MS[n]
+        print(
+            f"{n:>9} {a:>8.2f}ms {b:>8.2f}ms {b / a:>6.2f}x"
+            f"   {c:>7.2f}ms {ros1:>8.1f}ms {ros1 / c:>6.1f}x"
+        )
+    print("* ROS 1's amcl core measured on another machine, not in this run")
     return 0
 
 

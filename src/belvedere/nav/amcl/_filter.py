@@ -38,6 +38,9 @@ dense array; beyond it, on the sorted bins."""
 
 _NEIGHBOURS = np.ones((3, 3, 3), dtype=bool)
 
+Headings = tuple[Floats, Floats]
+"""Cosines and sines of the particles' yaws."""
+
 RandomPoses = Callable[[int, np.random.Generator], Floats]
 
 
@@ -162,10 +165,11 @@ class ParticleFilter:
             self.weights = np.full(len(weights), 1.0 / len(weights))
             self.n_effective = float("inf")  # amcl divides by a zero sum here
 
-    def resample(self) -> None:
-        """Draw the next particle set (see the module's description)."""
+    def resample(self, headings: Headings | None = None) -> None:
+        """Draw the next particle set (see the module's description). ``headings``: the
+        cosines and sines of the particles' yaws, if the caller has them."""
         if self.selective_resampling and self.n_effective > 0.5 * self.count:
-            self.update_clusters()
+            self.update_clusters(headings=headings)
             return
         w_diff = 1.0 - self.w_fast / self.w_slow if self.w_slow > 0.0 else 0.0
         w_diff = max(w_diff, 0.0)
@@ -178,13 +182,18 @@ class ParticleFilter:
         picks = np.empty(m, dtype=np.int64)
         picks[order] = np.searchsorted(cumulative, draws[order], side="right")
         np.minimum(picks, self.count - 1, out=picks)
-        candidates = self.poses[picks]
+        candidates = self.poses.take(picks, axis=0)
+        trig = None if headings is None else (headings[0].take(picks), headings[1].take(picks))
         if w_diff > 0.0:
             injected = self.rng.random(m) < w_diff
             n_random = int(injected.sum())
             if n_random:
                 candidates[injected] = self.random_poses(n_random, self.rng)
-        codes, dims, _ = _encode(bin_keys(candidates))
+                if trig is not None:
+                    trig[0][injected] = np.cos(candidates[injected, 2])
+                    trig[1][injected] = np.sin(candidates[injected, 2])
+        keys = bin_keys(candidates)
+        codes, dims, _ = _encode(keys)
         order = np.arange(m)
         if dims[0] * dims[1] * dims[2] <= _DENSE_BINS:
             first_at = np.full(dims[0] * dims[1] * dims[2], m)
@@ -195,7 +204,11 @@ class ParticleFilter:
             new_bin = np.zeros(m, dtype=bool)
             new_bin[first] = True
         bins = np.cumsum(new_bin)
-        limits = resample_limit(bins, self.pop_err, self.pop_z, self.min_samples, m)
+        # the bound for each count of bins, once, rather than once per candidate
+        bound = resample_limit(
+            np.arange(bins[-1] + 1), self.pop_err, self.pop_z, self.min_samples, m
+        )
+        limits = bound[bins]
         # amcl stops right after the draw that takes the count past the limit
         over = np.nonzero(np.arange(1, m + 1) > limits)[0]
         count = int(over[0]) + 1 if len(over) else m
@@ -203,19 +216,41 @@ class ParticleFilter:
         self.weights = np.full(count, 1.0 / count)
         if w_diff > 0.0:
             self.w_slow = self.w_fast = 0.0
-        self.update_clusters()
+        # the kept candidates' bins, already encoded when they are all kept (else in the
+        # smaller box of those kept, as a larger one would cost more to label)
+        self.update_clusters(
+            keys[:, :count],
+            (codes, dims) if count == m else None,
+            None if trig is None else (trig[0][:count], trig[1][:count]),
+        )
         self._update_converged()
 
     def _update_converged(self) -> None:
-        mean = self.poses[:, :2].mean(axis=0)
-        self.converged = bool((np.abs(self.poses[:, :2] - mean) <= DIST_THRESHOLD).all())
+        x, y = np.ascontiguousarray(self.poses[:, :2].T)
+        n = len(x)
+        # the mean as poses[:, :2].mean(axis=0) has it (that reduction adds row after row,
+        # as a running sum does) without its slow strided pass
+        mean_x, mean_y = float(np.cumsum(x)[-1]) / n, float(np.cumsum(y)[-1]) / n
+        # rounding is monotonic, so the extremes decide exactly as every particle would
+        spread = (x.max() - mean_x, mean_x - x.min(), y.max() - mean_y, mean_y - y.min())
+        self.converged = bool(np.max(spread) <= DIST_THRESHOLD)  # np.max: a NaN is not
 
     # --- statistics --------------------------------------------------------------------------
-    def update_clusters(self) -> None:
+    def update_clusters(
+        self,
+        keys: Ints | None = None,
+        encoded: tuple[Ints, tuple[int, int, int]] | None = None,
+        headings: Headings | None = None,
+    ) -> None:
         """Clusters of the particles' bins (bins touching in x, y and yaw, diagonals too),
-        each with its weight, mean and covariance, and the whole set's mean and covariance."""
+        each with its weight, mean and covariance, and the whole set's mean and covariance.
+        ``keys``/``encoded``/``headings``: the particles' ``bin_keys``, their ``_encode`` and
+        the cosines and sines of their yaws, when the caller has them."""
         poses, weights = self.poses, self.weights
-        codes, dims, _ = _encode(bin_keys(poses))
+        if encoded is not None:
+            codes, dims = encoded
+        else:
+            codes, dims, _ = _encode(bin_keys(poses) if keys is None else keys)
         if dims[0] * dims[1] * dims[2] <= _DENSE_BINS:
             filled = np.zeros(dims[0] * dims[1] * dims[2], dtype=bool)
             filled[codes] = True
@@ -223,7 +258,9 @@ class ParticleFilter:
             label = labels.ravel()[codes] - 1
         else:
             label, n_clusters = _sparse_labels(codes, dims)
-        stats = _weighted_stats(poses, weights, label, n_clusters)
+        if headings is None:
+            headings = np.cos(poses[:, 2]), np.sin(poses[:, 2])
+        stats = _weighted_stats(poses, weights, headings, label, n_clusters)
         self.clusters = stats[:-1]
         whole = stats[-1]
         self.mean, self.cov = whole.mean, whole.cov
@@ -261,18 +298,20 @@ def _sparse_labels(codes: Ints, dims: tuple[int, int, int]) -> tuple[Ints, int]:
     return label, int(n_clusters)
 
 
-def _weighted_stats(poses: Floats, weights: Floats, label: Ints, n: int) -> list[Cluster]:
+def _weighted_stats(
+    poses: Floats, weights: Floats, headings: Headings, label: Ints, n: int
+) -> list[Cluster]:
     """Per-cluster statistics, then the whole set's as the last entry (pf's sums: linear
     covariance from the second moments, the angle's from the mean resultant length, which
     pf.c leaves unnormalised by a cluster's weight — over the whole set the weights sum to
     one)."""
-    x, y, th = np.ascontiguousarray(poses.T)
+    x, y = np.ascontiguousarray(poses[:, :2].T)
     rows = np.empty((8, len(x)))
     rows[0] = weights
     np.multiply(weights, x, out=rows[1])
     np.multiply(weights, y, out=rows[2])
-    np.multiply(weights, np.cos(th), out=rows[3])
-    np.multiply(weights, np.sin(th), out=rows[4])
+    np.multiply(weights, headings[0], out=rows[3])
+    np.multiply(weights, headings[1], out=rows[4])
     np.multiply(rows[1], x, out=rows[5])
     np.multiply(rows[1], y, out=rows[6])
     np.multiply(rows[2], y, out=rows[7])

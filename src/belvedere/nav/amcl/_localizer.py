@@ -285,14 +285,17 @@ class Localizer:
             sample_motion(p.odom_model_type, self.alphas, self.filter.poses, pose, delta, self.rng)
         resampled = False
         if update:
+            # once for the laser model and the clusters' mean yaw after resampling
+            poses = self.filter.poses
+            headings = np.cos(poses[:, 2]), np.sin(poses[:, 2])
             factors = self.laser.weigh(
-                self.filter.poses, laser_pose, data, converged=self.filter.converged
+                poses, laser_pose, data, converged=self.filter.converged, headings=headings
             )
             self.filter.update_sensor(factors)
             self.odom_pose = pose
             self.resample_count += 1
             if self.resample_count % p.resample_interval == 0:
-                self.filter.resample()
+                self.filter.resample(headings)
                 resampled = True
         estimate = None
         if resampled or first:

@@ -28,7 +28,15 @@ def angle_diff(a: float, b: float) -> float:
 
 
 def _wrap(angles: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
-    return (angles + np.pi) % (2.0 * np.pi) - np.pi
+    """``(angles + pi) % 2pi - pi``, bit for bit: the remainder of a value already in
+    [0, 2pi) is the value itself (fmod is exact), so only the others pay for it."""
+    shifted = angles + np.pi
+    outside = shifted < 0.0
+    outside |= shifted >= 2.0 * np.pi
+    if outside.any():
+        shifted[outside] %= 2.0 * np.pi
+    shifted -= np.pi
+    return shifted
 
 
 def sample_motion(
