@@ -37,15 +37,17 @@ def test_axes_as_rosjoy_gives_them() -> None:
     assert ros_axis(0.525, 0.05) == pytest.approx(-0.5)
 
 
-def test_a_browser_gamepad_drives_the_turtle(tmp_path: Path) -> None:
-    port = free_port()
-    launch = tmp_path / "joy.launch"
+def joy_turtle_launch(folder: Path, port: int, **joy_params: object) -> Path:
+    """turtlesim driven by teleop_twist_joy from a joy_node (its page on ``port``, a 0.1
+    dead zone, and ``joy_params``)."""
+    extra = "".join(f'<param name="{k}" value="{v}"/>' for k, v in joy_params.items())
+    launch = folder / "joy.launch"
     launch.write_text(
         f"""<launch>
           <node pkg="turtlesim" type="turtlesim_node" name="sim"/>
           <node pkg="joy" type="joy_node" name="joy_node">
             <param name="port" value="{port}"/>
-            <param name="deadzone" value="0.1"/>
+            <param name="deadzone" value="0.1"/>{extra}
           </node>
           <node pkg="teleop_twist_joy" type="teleop_node" name="teleop">
             <param name="scale_linear" value="1.0"/>
@@ -53,6 +55,12 @@ def test_a_browser_gamepad_drives_the_turtle(tmp_path: Path) -> None:
           </node>
         </launch>"""
     )
+    return launch
+
+
+def test_a_browser_gamepad_drives_the_turtle(tmp_path: Path) -> None:
+    port = free_port()
+    launch = joy_turtle_launch(tmp_path, port)
     packages = PackageIndex([])
     graph = Graph()
     runtime = LaunchRuntime(load_launch(launch, packages=packages), graph, packages, headless=True)

@@ -22,7 +22,7 @@ from belvedere.viewer import Viewer
 from tests.conftest import free_port
 from tests.viewer.docs_screenshots import DOCS_SCREENSHOTS, docs_screenshot
 from tests.viewer.test_browser import SOFTWARE_WEBGL_NOTICE, VIEWPORT, chromium_page
-from tests.vision.test_joy_browser import GAMEPAD
+from tests.vision.test_joy_browser import GAMEPAD, joy_turtle_launch
 from tests.waiting import DEADLINE, wait_until
 
 pytestmark = pytest.mark.browser
@@ -37,21 +37,7 @@ UNPLUGGED = "() => { navigator.getGamepads = () => [null, null, null, null]; }"
 
 
 def test_a_gamepad_in_the_viewer_drives_the_turtle(tmp_path: Path) -> None:
-    launch = tmp_path / "joy.launch"
-    launch.write_text(
-        f"""<launch>
-          <node pkg="turtlesim" type="turtlesim_node" name="sim"/>
-          <node pkg="joy" type="joy_node" name="joy_node">
-            <param name="port" value="{free_port()}"/>
-            <param name="deadzone" value="0.1"/>
-            <param name="autorepeat_rate" value="5"/>
-          </node>
-          <node pkg="teleop_twist_joy" type="teleop_node" name="teleop">
-            <param name="scale_linear" value="1.0"/>
-            <remap from="cmd_vel" to="/turtle1/cmd_vel"/>
-          </node>
-        </launch>"""
-    )
+    launch = joy_turtle_launch(tmp_path, free_port(), autorepeat_rate=5)
     packages = PackageIndex([])
     graph = Graph()
     runtime = LaunchRuntime(
