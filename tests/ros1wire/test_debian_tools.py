@@ -297,9 +297,8 @@ def test_what_a_ros1_publisher_sent_before_it_ended_reaches_the_graph(
     ros = Ros1(handle.uri)
     bag = tmp_path / "count.bag"
     _bag_of_counts(ros, bag, 40)
+    graph.executor.post(lambda: time.sleep(4.0))  # busy while rosbag plays and ends
     play = ros.start("rosbag", "play", "-q", "-r", "20", "--wait-for-subscribers", str(bag))
-    time.sleep(0.2)
-    graph.executor.post(lambda: time.sleep(3.0))  # busy while rosbag plays and ends
     assert play.wait(timeout=DEADLINE) == 0
     wait_until(
         lambda: len(heard) >= 40,

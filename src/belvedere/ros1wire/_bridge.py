@@ -87,6 +87,8 @@ class _Inlet:
     posted: bool = False
     lock: threading.Lock = field(default_factory=threading.Lock)
     retiring: bool = False
+    unregistered: bool = False
+    """The graph publisher is gone for good (set on the executor, after the last publish)."""
     """No ROS 1 program publishes the topic now: its connections are read to their end."""
 
 
@@ -362,7 +364,9 @@ class Ros1Bridge(ServiceSide):
             logger.warning("ros1: cannot learn %s's type from %s: %s", probe.topic, api, text)
 
     def _open_publisher(self, inlet: _Inlet, store_type: str, latched: bool) -> None:
-        if inlet.publisher is None and not inlet.closed:
+        # not "closed": messages read before the inlet closed are still to be published by
+        # jobs behind this one; only the unregistering job, after them, ends the publisher
+        if inlet.publisher is None and not inlet.unregistered:
             inlet.publisher = self.node.publisher(inlet.topic, store_type, latch=latched)
 
     def _publish(self, inlet: _Inlet) -> None:
@@ -399,6 +403,7 @@ class Ros1Bridge(ServiceSide):
         self._drop_sources(inlet)
 
         def unregister() -> None:
+            inlet.unregistered = True
             publisher, inlet.publisher = inlet.publisher, None
             if publisher is not None:
                 publisher.unregister()
