@@ -189,11 +189,9 @@ class Executor:
         inbox = self._inbox
         while True:
             self.run_ready()
-            try:
-                fn = inbox.get_nowait()
-            except queue.Empty:
+            if inbox.empty():  # (this thread alone takes from it: not empty stays so)
                 break
-            fn()
+            inbox.get_nowait()()
 
     def _fire_due(self, now_ns: int) -> None:
         timers = self._timers
@@ -245,6 +243,29 @@ class Executor:
             msg = f"cannot advance simulated time to {ns} ns (now {self._sim_ns}, limit {limit})"
             raise ValueError(msg)
         self._sim_ns = ns
+        self._skip_idle(ns)
+
+    def _skip_idle(self, ns: int) -> None:
+        """Timers the batch ran past that are idle still: next due a whole number of periods
+        on (their phase kept), as they would have done nothing (an idle ``/clock`` costs no
+        firing a batch). One that found work meanwhile fires late, once."""
+        timers = self._timers
+        late: list[tuple[int, int, Timer]] = []
+        skipped: list[Timer] = []
+        while timers and timers[0][0] <= ns:
+            entry = heapq.heappop(timers)
+            due, _, timer = entry
+            if timer.cancelled:
+                continue
+            if not timer.oneshot and timer.idle is not None and timer.idle():
+                timer.due_ns = due + (1 + (ns - due) // timer.period_ns) * timer.period_ns
+                skipped.append(timer)
+            else:
+                late.append(entry)
+        for entry in late:
+            heapq.heappush(timers, entry)
+        for timer in skipped:
+            self._push(timer)
 
     def spin_once(self) -> None:
         """Deliver what is pending and fire timers that are due now (no time passes)."""

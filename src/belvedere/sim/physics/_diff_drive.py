@@ -117,6 +117,10 @@ class DiffDrive(MotorDrive):
         self.last_step_ns = ctx.graph.now_ns()
         self.covariance = np.zeros(36)
         self.covariance[[0, 7, 14, 21, 28, 35]] = POSE_COVARIANCE
+        # Every odometry message shares it, read-only (rospy's covariances are tuples):
+        # nobody can change another's, and it is not copied a hundred times a second.
+        self.covariance.flags.writeable = False
+        self.velocity = np.zeros(6)
         self.motors = [
             VelocityMotor(self._actuator(side), self.robot.joints[joint], self.torque)
             for side, joint in (("left", self.left_joint), ("right", self.right_joint))
@@ -136,6 +140,8 @@ class DiffDrive(MotorDrive):
             engine.joint(self.robot.joints[self.left_joint]),
             engine.joint(self.robot.joints[self.right_joint]),
         ]
+        self.wheel_dofs = (self.joints[0].dof, self.joints[1].dof)
+        self.qvel = engine.d.qvel  # a view kept until the next compile (bind runs after it)
         link = self.base_link_name
         self.base_link = link if link in self.robot.link_body else None
         self.root_body = engine.body_id(self.robot.root_body)
@@ -179,26 +185,26 @@ class DiffDrive(MotorDrive):
         return (self.x - half, self.x + half)
 
     def _set_wheels(self) -> None:
-        d = self.engine.d
         radius = self.diameter / 2.0
         targets = self._wheel_speeds()
+        instructions = self.instructions
         if self.accel == 0:  # no ramp: the wheels' speeds do not matter
             for i, motor in enumerate(self.motors):
-                self.instructions[i] = targets[i]
+                instructions[i] = targets[i]
                 motor.command(targets[i] / radius)
             return
-        current = [float(d.qvel[j.dof]) * radius for j in self.joints]
+        qvel, (left, right) = self.qvel, self.wheel_dofs
+        current = (float(qvel[left]) * radius, float(qvel[right]) * radius)
         dt = self.gate.period_ns / 1e9 if self.gate.period_ns else self.engine.m.opt.timestep
-        near = any(abs(t - c) < 0.01 for t, c in zip(targets, current, strict=True))
-        for i in range(2):
-            if self.accel == 0 or near:
-                command = targets[i]
-                self.instructions[i] = command
+        # Gazebo's quirk: either wheel near its target sets both to theirs.
+        near = abs(targets[0] - current[0]) < 0.01 or abs(targets[1] - current[1]) < 0.01
+        limit = self.accel * dt
+        for i, motor in enumerate(self.motors):
+            if near:
+                instructions[i] = targets[i]
             else:
-                step = max(-self.accel * dt, min(self.accel * dt, targets[i] - current[i]))
-                self.instructions[i] += step
-                command = self.instructions[i]
-            self.motors[i].command(command / radius)
+                instructions[i] += max(-limit, min(limit, targets[i] - current[i]))
+            motor.command(instructions[i] / radius)
 
     def _integrate_encoders(self, now_ns: int) -> None:
         dt = (now_ns - self.last_step_ns) / 1e9
@@ -236,7 +242,8 @@ class DiffDrive(MotorDrive):
             position, quat = self.engine.position_quat(*self.odom_body)
             qx, qy, qz, qw = quat
             yaw = math.atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
-            linear, angular = planar_twist(self.engine.body_velocity(self.root_body), yaw)
+            velocity = self.engine.body_velocity(self.root_body, out=self.velocity)
+            linear, angular = planar_twist(velocity, yaw)
         if send_tf:
             self.tf.send(self.odom_frame, self.base_frame, position, quat, now_ns)
         if odom_pub is not None:
@@ -249,7 +256,7 @@ class DiffDrive(MotorDrive):
                 quat,
                 linear,
                 angular,
-                pose_covariance=self.covariance.copy(),
+                pose_covariance=self.covariance,
             )
 
     def _publish_wheel_tf(self, now_ns: int) -> None:

@@ -66,6 +66,7 @@ class MujocoWarning:
 
 
 _LAST_ROW = np.array([0.0, 0.0, 0.0, 1.0])
+_XBODY: Final = mujoco.mjtObj.mjOBJ_XBODY
 
 
 class DivergenceError(Exception):
@@ -172,20 +173,21 @@ class Engine:
         px, py, pz = pose[:3, 3].tolist()
         return (px, py, pz), quat_xyzw(pose)
 
-    def body_velocity(self, body_id: int, *, local: bool = False) -> npt.NDArray[np.float64]:
+    def body_velocity(
+        self, body_id: int, *, local: bool = False, out: npt.NDArray[np.float64] | None = None
+    ) -> npt.NDArray[np.float64]:
         """(angular xyz, linear xyz) at the body's origin, world (or body) axes. (XBODY: the
-        body's own frame; BODY would be its principal-inertia frame.)"""
-        res = np.zeros(6)
-        mujoco.mj_objectVelocity(
-            self.m, self.d, mujoco.mjtObj.mjOBJ_XBODY, body_id, res, 1 if local else 0
-        )
+        body's own frame; BODY would be its principal-inertia frame.) ``out``: six floats to
+        fill, for callers that read it at a plugin's rate and keep nothing."""
+        res = np.zeros(6) if out is None else out
+        mujoco.mj_objectVelocity(self.m, self.d, _XBODY, body_id, res, 1 if local else 0)
         return res
 
     def body_acceleration(self, body_id: int) -> npt.NDArray[np.float64]:
         """(angular, linear) proper acceleration in body axes (what an IMU measures)."""
         mujoco.mj_rnePostConstraint(self.m, self.d)
         res = np.zeros(6)
-        mujoco.mj_objectAcceleration(self.m, self.d, mujoco.mjtObj.mjOBJ_XBODY, body_id, res, 1)
+        mujoco.mj_objectAcceleration(self.m, self.d, _XBODY, body_id, res, 1)
         return res
 
     def healthy(self) -> str | None:
