@@ -136,6 +136,10 @@ class Executor:
         """``item`` has a pending callback (called from the executor thread)."""
         self._ready.append(item)
 
+    def has_ready(self) -> bool:
+        """Whether a delivery is pending (a message published and not yet handed over)."""
+        return bool(self._ready)
+
     def post(self, fn: Callable[[], object]) -> None:
         """Run ``fn`` on the executor thread (safe from any thread)."""
         self._inbox.put(fn)

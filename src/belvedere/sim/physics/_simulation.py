@@ -292,21 +292,61 @@ class PhysicsSimulation:
         Steps run in one batch up to the next step at which a plugin acts, or anything else
         on the graph is due: plugins see every step at which they would have acted, at the
         same simulated time, and nothing else notices the batch. A plugin whose next update
-        (:meth:`Plugin.next_update_ns`) lies beyond the batch is not called."""
+        (:meth:`Plugin.next_update_ns`) lies beyond the batch is not called. Plugins that
+        want every step (a motor at its torque limit) are updated after each step of the
+        batch, until one has something to deliver."""
         if self.stopped_reason is not None:
             return
+        steps, due, each = self._batch()
+        if each:
+            self._step_each(steps, due, each)
+            return
         engine = self.engine
-        executor = self.graph.executor
-        steps, due = self._batch()
         mujoco.mj_step(engine.m, engine.d, steps)
         if steps > 1:
+            executor = self.graph.executor
             executor.advance_to(executor.now_ns() + (steps - 1) * self.timer.period_ns)
+        if self._stepped(steps):
+            now = self.graph.now_ns()
+            for plugin in self._each_step() if due is None else due:
+                if plugin.active:
+                    plugin.update(now)
+            for hook in self.after_step:
+                hook()
+
+    def _step_each(self, steps: int, due: list[Plugin], each: list[Plugin]) -> None:
+        """``steps`` steps one by one, ``each`` updated after every one and ``due`` after the
+        last (in the plugins' order); cut short when an update leaves a message to deliver,
+        so that it is delivered at the step it was sent, as between batches."""
+        engine = self.engine
+        executor = self.graph.executor
+        period = self.timer.period_ns
+        last = [p for p in self._each_step() if p in due or p in each]
+        for i in range(steps):
+            mujoco.mj_step(engine.m, engine.d)
+            if i:
+                executor.advance_to(executor.now_ns() + period)
+            if not self._stepped(1):
+                return
+            now = self.graph.now_ns()
+            for plugin in last if i == steps - 1 else each:
+                if plugin.active:
+                    plugin.update(now)
+            for hook in self.after_step:
+                hook()
+            if executor.has_ready():
+                return
+
+    def _stepped(self, steps: int) -> bool:
+        """Count ``steps`` just taken and look at their health: False when the physics
+        diverged (stopped, or the world reset)."""
+        engine = self.engine
         before = self.steps
         self.steps += steps
         for warning in engine.take_warnings():
             if warning.broken:
                 self._diverged(warning.text)
-                return
+                return False
             if warning.kind not in self.warned:
                 self.warned.add(warning.kind)
                 logger.warning("physics at t=%.3f s: %s", self.graph.now_ns() / 1e9, warning.text)
@@ -314,38 +354,37 @@ class PhysicsSimulation:
             problem = engine.healthy()
             if problem is not None:
                 self._diverged(problem)
-                return
-        now = self.graph.now_ns()
-        for plugin in self._each_step() if due is None else due:
-            if plugin.active:
-                plugin.update(now)
-        for hook in self.after_step:
-            hook()
+                return False
+        return True
 
-    def _batch(self) -> tuple[int, list[Plugin] | None]:
+    def _batch(self) -> tuple[int, list[Plugin] | None, list[Plugin]]:
         """How many steps to take now — through the first step at which a plugin acts, no
-        further than the executor's horizon; one while anything wants every step — and the
-        plugins due at its last step (None: all of them)."""
+        further than the executor's horizon; one while a hook wants every step — the plugins
+        due at its last step (None: all of them), and those that want every step."""
         for wants in self.every_step:
             if wants():
-                return 1, None
+                return 1, None, []
         executor = self.graph.executor
         now = executor.now_ns()
         step = self.timer.period_ns
         last = executor.horizon_ns()
-        dues: list[tuple[int | None, Plugin]] = []
+        dues: list[tuple[int, Plugin]] = []
+        each: list[Plugin] = []
         for plugin in self._each_step():
             if not plugin.active:
                 continue
             due = plugin.next_update_ns(now)
+            if due is None:
+                each.append(plugin)
+                continue
             dues.append((due, plugin))
-            if due is None or due <= now:
+            if due <= now:
                 last = now
             elif due < last:
                 last = min(last, now + -(-(due - now) // step) * step)
         steps = 1 + max(0, (last - now) // step)
         end = now + (steps - 1) * step
-        return steps, [plugin for due, plugin in dues if due is None or due <= end]
+        return steps, [plugin for due, plugin in dues if due <= end], each
 
     def _diverged(self, problem: str) -> None:
         cause = self._likely_cause()
