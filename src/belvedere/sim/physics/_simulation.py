@@ -298,7 +298,7 @@ class PhysicsSimulation:
         if self.stopped_reason is not None:
             return
         steps, due, each = self._batch()
-        if each:
+        if each and due is not None:
             self._step_each(steps, due, each)
             return
         engine = self.engine
