@@ -93,6 +93,8 @@ class Engine:
         self.on_recompile: list[Callable[[], None]] = []
         self._body_ids: dict[str, int] = {}
         self._warning_counts: npt.NDArray[np.int32] = np.zeros(0, np.int32)
+        self._xpos: npt.NDArray[np.float64] = np.zeros((0, 3))
+        self._xquat: npt.NDArray[np.float64] = np.zeros((0, 4))
 
     # --- compiling -------------------------------------------------------------------------------
     def compile(self) -> None:
@@ -104,6 +106,9 @@ class Engine:
             self.model, self.data = self.spec.recompile(self.model, self.data)
         mujoco.mj_forward(self.model, self.data)
         self._warning_counts = self.data.warning.number  # a view into MjData
+        # Views kept for what plugins read at their rates (each attribute read of MjData
+        # makes a new array object).
+        self._xpos, self._xquat = self.data.xpos, self.data.xquat
         for hook in self.on_recompile:
             hook()
 
@@ -164,10 +169,9 @@ class Engine:
     ) -> tuple[tuple[float, float, float], tuple[float, float, float, float]]:
         """A frame's world position and orientation (quaternion xyzw), read straight from
         MuJoCo's body state when the frame is the body's origin."""
-        d = self.d
         if offset is None:
-            x, y, z = d.xpos[body_id].tolist()
-            w, qx, qy, qz = d.xquat[body_id].tolist()
+            x, y, z = self._xpos[body_id].tolist()
+            w, qx, qy, qz = self._xquat[body_id].tolist()
             return (x, y, z), (qx, qy, qz, w)
         pose = self.body_pose(body_id) @ offset
         px, py, pz = pose[:3, 3].tolist()
@@ -193,11 +197,11 @@ class Engine:
     def healthy(self) -> str | None:
         """None, or why the state is broken (NaN, or absurd speeds)."""
         d = self.d
-        # The common case in two reductions: a sum is not finite when a value is not (or
-        # when huge ones overflow it: then the exact tests below decide), and NaN fails <=.
-        if math.isfinite(float(d.qpos.sum())) and (
-            not d.qvel.size or max(float(d.qvel.max()), -float(d.qvel.min())) <= 1e4
-        ):
+        # The common case in two dot products: a sum of squares is not finite when a value
+        # is not (or when huge ones overflow it: then the exact tests below decide), NaN
+        # fails <=, and no speed is above 1e4 when their squares' sum is not above 1e8.
+        qpos, qvel = d.qpos, d.qvel
+        if math.isfinite(float(qpos @ qpos)) and float(qvel @ qvel) <= 1e8:
             return None
         if not (np.all(np.isfinite(d.qpos)) and np.all(np.isfinite(d.qvel))):
             return "the state became NaN"

@@ -177,7 +177,9 @@ class MotorDrive(Plugin):
         if not due and not self.capped:
             return
         elapsed = max(now_ns - self.applied_ns, 0) / 1e9 or None
+        capped = False
         for motor in self.motors:
             motor.apply(self.engine, elapsed)
+            capped = capped or motor.capped
         self.applied_ns = now_ns
-        self.capped = any(m.capped for m in self.motors)
+        self.capped = capped
