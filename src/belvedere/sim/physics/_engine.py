@@ -267,13 +267,9 @@ def planar_twist(
     """(linear, angular) of an odometry twist from :meth:`Engine.body_velocity` in world axes:
     the ground velocity turned into the heading's frame, so roll and pitch do not leak in as
     they would with the body's own axes."""
-    vx, vy = float(velocity[3]), float(velocity[4])
-    linear = (
-        math.cos(yaw) * vx + math.sin(yaw) * vy,
-        math.cos(yaw) * vy - math.sin(yaw) * vx,
-        0.0,
-    )
-    return linear, (0.0, 0.0, float(velocity[2]))
+    _, _, wz, vx, vy, _ = velocity.tolist()
+    c, s = math.cos(yaw), math.sin(yaw)
+    return (c * vx + s * vy, c * vy - s * vx, 0.0), (0.0, 0.0, wz)
 
 
 def quat_xyzw(m: Matrix4) -> tuple[float, float, float, float]:

@@ -181,16 +181,16 @@ class LaserSensor(_Sensor):
             self.count,
             self.range_max * 1.01,
         )
-        d = self.dist.copy()
-        hit = self.geomid >= 0
-        out = np.full(self.count, np.inf)
+        d = self.dist
         if self.noise_std > 0 or self.noise_mean != 0:
-            noisy = d + self.rng.normal(self.noise_mean, self.noise_std, self.count)
+            out = d + self.rng.normal(self.noise_mean, self.noise_std, self.count)
         else:
-            noisy = d
-        inside = hit & (d < self.range_max) & (d > self.range_min)
-        out[inside] = np.clip(noisy[inside], self.range_min, self.range_max)
-        out[hit & (d <= self.range_min)] = -np.inf
+            out = d.copy()
+        np.clip(out, self.range_min, self.range_max, out=out)
+        # A miss (MuJoCo's -1) or a range at or past max reads +inf, a hit at or below min
+        # -inf (REP 117); noise is drawn for every beam, hit or not, so the stream stays put.
+        out[(d >= self.range_max) | (self.geomid < 0)] = np.inf
+        out[(d <= self.range_min) & (self.geomid >= 0)] = -np.inf
         return out
 
     def scan(self, now_ns: int) -> Any:
