@@ -254,22 +254,21 @@ class Executor:
         on (their phase kept), as they would have done nothing (an idle ``/clock`` costs no
         firing a batch). One that found work meanwhile fires late, once."""
         timers = self._timers
+        if not timers or timers[0][0] > ns:
+            return
         late: list[tuple[int, int, Timer]] = []
-        skipped: list[Timer] = []
         while timers and timers[0][0] <= ns:
-            entry = heapq.heappop(timers)
-            due, _, timer = entry
+            due, _, timer = timers[0]
             if timer.cancelled:
-                continue
-            if not timer.oneshot and timer.idle is not None and timer.idle():
+                heapq.heappop(timers)
+            elif not timer.oneshot and timer.idle is not None and timer.idle():
                 timer.due_ns = due + (1 + (ns - due) // timer.period_ns) * timer.period_ns
-                skipped.append(timer)
+                self._seq += 1
+                heapq.heapreplace(timers, (timer.due_ns, self._seq, timer))
             else:
-                late.append(entry)
+                late.append(heapq.heappop(timers))
         for entry in late:
             heapq.heappush(timers, entry)
-        for timer in skipped:
-            self._push(timer)
 
     def spin_once(self) -> None:
         """Deliver what is pending and fire timers that are due now (no time passes)."""
