@@ -318,17 +318,18 @@ class PhysicsSimulation:
         """``steps`` steps one by one, ``each`` updated after every one and ``due`` after the
         last (in the plugins' order); cut short when an update leaves a message to deliver,
         so that it is delivered at the step it was sent, as between batches."""
-        engine = self.engine
+        m, d = self.engine.m, self.engine.d
         executor = self.graph.executor
         period = self.timer.period_ns
         last = [p for p in self._each_step() if p in due or p in each]
+        now = executor.now_ns()
         for i in range(steps):
-            mujoco.mj_step(engine.m, engine.d)
+            mujoco.mj_step(m, d)
             if i:
-                executor.advance_to(executor.now_ns() + period)
+                now += period
+                executor.advance_to(now)
             if not self._stepped(1):
                 return
-            now = self.graph.now_ns()
             for plugin in last if i == steps - 1 else each:
                 if plugin.active:
                     plugin.update(now)
