@@ -34,8 +34,8 @@ from belvedere.msgs import canonical, learn_full_text, ros1_name, ros1_text, typ
 from belvedere.ros1wire._master import MasterSide, Registrations
 from belvedere.ros1wire._services import ServiceSide
 from belvedere.ros1wire._tcpros import (
+    FrameReader,
     TcprosError,
-    read_frames,
     read_header,
     write_frames,
     write_header,
@@ -261,12 +261,13 @@ class Ros1Bridge(ServiceSide):
             latched = header.get("latching", "0") == "1"
             self.graph.executor.post(partial(self._open_publisher, inlet, store_type, latched))
             deserialize = types().store.deserialize_ros1
-            for data in read_frames(sock):  # ends (OSError) when the sources are dropped
-                if inlet.closed:
-                    break
-                msg = deserialize(data, store_type)
+            reader = FrameReader(sock)
+            # each read brings all the publisher wrote meanwhile: its messages go to the
+            # executor together, for one job and one lock, not one each
+            while not inlet.closed:
+                msgs = [deserialize(data, store_type) for data in reader.batch()]
                 with inlet.lock:
-                    inlet.waiting.append(msg)
+                    inlet.waiting.extend(msgs)
                     post, inlet.posted = not inlet.posted, True
                 if post:
                     self.graph.executor.post(partial(self._publish, inlet))

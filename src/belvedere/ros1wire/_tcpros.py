@@ -9,16 +9,16 @@ from __future__ import annotations
 
 import socket
 import struct
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable
 from typing import Final
 
 __all__ = [
     "MAX_HEADER",
+    "FrameReader",
     "TcprosError",
     "decode_header",
     "encode_header",
     "read_frame",
-    "read_frames",
     "read_header",
     "read_service_reply",
     "write_frame",
@@ -99,27 +99,84 @@ def write_header(sock: socket.socket, fields: dict[str, str]) -> None:
     sock.sendall(encode_header(fields))
 
 
-def read_frames(sock: socket.socket) -> Iterator[bytes]:
-    """A connection's messages until it closes (TcprosError), read through a buffer: many
-    small messages cost one system call, not two each."""
-    reader = sock.makefile("rb", buffering=1 << 16)
-    try:
+class FrameReader:
+    """A connection's messages, read in large chunks: one ``recv`` brings every message the
+    sender has written meanwhile (hundreds of small ones), which :meth:`batch` splits. A
+    message larger than the chunk is read into a buffer of its own size, not copied again.
+
+    Each message is handed out as its own bytes, never a view of the reused buffer: what a
+    deserializer keeps of it (a numpy view of an array) stays valid."""
+
+    def __init__(self, sock: socket.socket, chunk: int = 1 << 16) -> None:
+        self._sock = sock
+        self._buffer = bytearray(chunk)
+        self._view = memoryview(self._buffer)
+        self._start = 0
+        """Where the first message not yet handed out begins in the buffer."""
+        self._end = 0
+        """Where the bytes received end."""
+
+    def batch(self) -> list[bytes | memoryview]:
+        """Every complete message received so far, waiting for at least one; TcprosError
+        when the connection closes (or sends a length over :data:`MAX_MESSAGE`)."""
         while True:
-            head = reader.read(4)
-            if len(head) < 4:
-                msg = "the connection closed"
-                raise TcprosError(msg)
-            (size,) = _LENGTH.unpack(head)
+            frames = self._split()
+            if frames:
+                return frames
+            large = self._fill()
+            if large is not None:
+                return [memoryview(large)]
+
+    def _split(self) -> list[bytes | memoryview]:
+        frames: list[bytes | memoryview] = []
+        buffer, view, at, end = self._buffer, self._view, self._start, self._end
+        unpack = _LENGTH.unpack_from
+        while end - at >= 4:
+            (size,) = unpack(buffer, at)
+            if at + 4 + size > end:
+                break
+            frames.append(bytes(view[at + 4 : at + 4 + size]))
+            at += 4 + size
+        self._start = at
+        return frames
+
+    def _fill(self) -> bytearray | None:
+        """Receive more bytes after a message cut short (or none yet); a message too large
+        for the buffer is read whole and returned."""
+        start, end = self._start, self._end
+        have = end - start
+        if have >= 4:
+            (size,) = _LENGTH.unpack_from(self._buffer, start)
             if size > MAX_MESSAGE:
                 msg = f"a message of {size} bytes (more than {MAX_MESSAGE})"
                 raise TcprosError(msg)
-            data = reader.read(size)
-            if len(data) < size:
+            if 4 + size > len(self._buffer):
+                return self._read_large(size)
+        if start > 0:  # the cut message moves to the front, making room behind it
+            self._buffer[:have] = self._view[start:end]
+            self._start, self._end = 0, have
+        got = self._sock.recv_into(self._view[self._end :])
+        if got == 0:
+            msg = "the connection closed"
+            raise TcprosError(msg)
+        self._end += got
+        return None
+
+    def _read_large(self, size: int) -> bytearray:
+        """A message larger than the buffer: its bytes so far, and the rest read straight
+        into a buffer of its size."""
+        message = bytearray(size)
+        have = self._end - self._start - 4
+        message[:have] = self._view[self._start + 4 : self._end]
+        self._start = self._end = 0
+        view = memoryview(message)
+        while have < size:
+            got = self._sock.recv_into(view[have:])
+            if got == 0:
                 msg = "the connection closed"
                 raise TcprosError(msg)
-            yield data
-    finally:
-        reader.close()
+            have += got
+        return message
 
 
 def read_frame(sock: socket.socket) -> bytes:

@@ -1,0 +1,124 @@
+"""TCPROS messages read in chunks: many in one read are split apart, one cut across reads
+is joined, one larger than the buffer is read whole, and a connection that ends inside a
+message or announces an impossible length is an error, not a hang."""
+
+from __future__ import annotations
+
+import socket
+import struct
+import threading
+from collections.abc import Iterator
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from belvedere.ros1wire._tcpros import MAX_MESSAGE, FrameReader, TcprosError
+
+
+def _frames(messages: list[bytes]) -> bytes:
+    return b"".join(struct.pack("<I", len(m)) + m for m in messages)
+
+
+def _send_in_pieces(sock: socket.socket, data: bytes, cuts: list[int]) -> threading.Thread:
+    """Write ``data`` cut at ``cuts`` (each piece its own send), then close."""
+
+    def write() -> None:
+        with sock:
+            at = 0
+            for cut in [*sorted(c % (len(data) + 1) for c in cuts), len(data)]:
+                sock.sendall(data[at : max(at, cut)])
+                at = max(at, cut)
+
+    thread = threading.Thread(target=write, daemon=True)
+    thread.start()
+    return thread
+
+
+def _read_all(reader: FrameReader) -> Iterator[list[bytes | memoryview]]:
+    while True:
+        try:
+            yield reader.batch()
+        except TcprosError:
+            return
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    messages=st.lists(
+        st.one_of(st.binary(max_size=40), st.binary(min_size=60, max_size=300)), max_size=30
+    ),
+    cuts=st.lists(st.integers(min_value=0, max_value=10_000), max_size=12),
+    chunk=st.sampled_from([8, 64, 256, 1 << 16]),
+)
+def test_messages_come_out_as_sent_however_the_bytes_are_cut(
+    messages: list[bytes], cuts: list[int], chunk: int
+) -> None:
+    ours, theirs = socket.socketpair()
+    with ours:
+        writer = _send_in_pieces(theirs, _frames(messages), cuts)
+        got = [bytes(m) for batch in _read_all(FrameReader(ours, chunk)) for m in batch]
+        writer.join()
+    assert got == messages
+
+
+def test_many_messages_in_one_read_are_one_batch() -> None:
+    messages = [bytes([i]) * 1000 for i in range(50)]
+    ours, theirs = socket.socketpair()
+    with ours, theirs:
+        theirs.sendall(_frames(messages))
+        batch = FrameReader(ours, 1 << 16).batch()
+    assert [bytes(m) for m in batch] == messages
+
+
+def test_a_message_cut_across_reads_waits_for_its_end() -> None:
+    ours, theirs = socket.socketpair()
+    data = _frames([b"first", b"second message"])
+    with ours, theirs:
+        reader = FrameReader(ours, 1 << 16)
+        theirs.sendall(data[:15])  # the first whole, the second's length and two bytes
+        assert reader.batch() == [b"first"]
+        theirs.sendall(data[15:])
+        assert reader.batch() == [b"second message"]
+
+
+def test_a_message_larger_than_the_buffer_is_read_whole_between_small_ones() -> None:
+    big = bytes(range(256)) * 4096  # 1 MB
+    messages = [b"before", big, b"after", b""]
+    ours, theirs = socket.socketpair()
+    with ours:
+        writer = _send_in_pieces(theirs, _frames(messages), [3, 17, 5000, 700_000])
+        got = [bytes(m) for batch in _read_all(FrameReader(ours, 1 << 12)) for m in batch]
+        writer.join()
+    assert got == messages
+
+
+def test_the_messages_handed_out_do_not_change_when_the_buffer_is_reused() -> None:
+    ours, theirs = socket.socketpair()
+    with ours, theirs:
+        reader = FrameReader(ours, 64)
+        theirs.sendall(_frames([b"a" * 30]))
+        first = reader.batch()
+        theirs.sendall(_frames([b"b" * 30, b"c" * 30]))
+        rest = reader.batch() + reader.batch()
+    assert first == [b"a" * 30]
+    assert rest == [b"b" * 30, b"c" * 30]
+
+
+def test_a_connection_closed_inside_a_message_is_an_error() -> None:
+    ours, theirs = socket.socketpair()
+    with ours:
+        with theirs:
+            theirs.sendall(_frames([b"whole"]) + struct.pack("<I", 100) + b"cut")
+        reader = FrameReader(ours, 1 << 16)
+        assert reader.batch() == [b"whole"]
+        with pytest.raises(TcprosError, match="the connection closed"):
+            reader.batch()
+
+
+def test_an_impossible_length_is_an_error_not_a_gigabyte_allocation() -> None:
+    ours, theirs = socket.socketpair()
+    with ours, theirs:
+        theirs.sendall(struct.pack("<I", MAX_MESSAGE + 1))
+        with pytest.raises(TcprosError, match=r"a message of \d+ bytes \(more than"):
+            FrameReader(ours, 1 << 16).batch()
