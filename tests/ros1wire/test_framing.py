@@ -1,6 +1,7 @@
 """TCPROS messages read in chunks: many in one read are split apart, one cut across reads
 is joined, one larger than the buffer is read whole, and a connection that ends inside a
-message or announces an impossible length is an error, not a hang."""
+message or announces an impossible length is an error, not a hang. Messages written in
+parts (a large field apart) arrive whole."""
 
 from __future__ import annotations
 
@@ -9,11 +10,12 @@ import struct
 import threading
 from collections.abc import Iterator
 
+import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from belvedere.ros1wire._tcpros import MAX_MESSAGE, FrameReader, TcprosError
+from belvedere.ros1wire._tcpros import MAX_MESSAGE, FrameReader, TcprosError, write_frames
 
 
 def _frames(messages: list[bytes]) -> bytes:
@@ -122,3 +124,30 @@ def test_an_impossible_length_is_an_error_not_a_gigabyte_allocation() -> None:
         theirs.sendall(struct.pack("<I", MAX_MESSAGE + 1))
         with pytest.raises(TcprosError, match=r"a message of \d+ bytes \(more than"):
             FrameReader(ours, 1 << 16).batch()
+
+
+def test_messages_written_in_parts_read_back_whole() -> None:
+    """Small messages joined into one send, large ones' parts (a head and a numpy array's
+    memory) sent by sendmsg, interleaved: read back, each is its parts joined."""
+    pixels = np.arange(3 << 20, dtype=np.uint64).astype(np.uint8)  # 3 MB: partial sends
+    frames: list[tuple[bytes | memoryview, ...]] = [
+        (b"small",),
+        (b"head", pixels.data),
+        (b"a", b"b", b""),
+        (b"",),
+        (memoryview(b"x" * 70_000),),
+        (b"last",),
+    ]
+    ours, theirs = socket.socketpair()
+    theirs.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, 4096)
+    with ours:
+
+        def write() -> None:
+            with theirs:
+                write_frames(theirs, frames)
+
+        writer = threading.Thread(target=write, daemon=True)
+        writer.start()
+        got = [bytes(m) for batch in _read_all(FrameReader(ours, 1 << 16)) for m in batch]
+        writer.join()
+    assert got == [b"".join(bytes(p) for p in parts) for parts in frames]

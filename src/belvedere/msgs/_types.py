@@ -26,6 +26,7 @@ from belvedere.errors import BelvedereError
 from belvedere.msgs import _dynamic_reconfigure_types
 from belvedere.msgs._genmsg import PLACEHOLDER, Definition, typedef
 from belvedere.msgs._packages import PackageInterfaces
+from belvedere.msgs._ros1bytes import Ros1Parts
 from belvedere.msgs._turtlesim_types import TURTLESIM_MESSAGES, TURTLESIM_SERVICES
 
 __all__ = ["PLACEHOLDER", "MessageTypeError", "TypeRegistry", "types"]
@@ -236,6 +237,7 @@ class TypeRegistry:
                 (fielddef,) = get_types_from_msg(text, f"{pkg}/msg/{base}{suffix}").values()
                 extra[f"{name}{suffix}"] = fielddef
         self.store.register(extra)
+        self._ros1 = Ros1Parts(self.store)
         self.services = frozenset(_EXTRA_SERVICES)
         self.own = PackageInterfaces()
         """The packages on the package path: their msg/, srv/ and action/ files."""
@@ -368,6 +370,11 @@ class TypeRegistry:
                 pixels = np.ascontiguousarray(array).reshape(-1)
                 return b"".join((head[:-4], struct.pack("<I", pixels.size), pixels.data))
         return bytes(self.store.serialize_cdr(msg, name))
+
+    def ros1_parts(self, msg: Any, name: str) -> tuple[bytes | memoryview, ...]:
+        """ROS 1 bytes of ``msg`` (type ``name``, a store name) as parts to send in turn: a
+        large string or byte array at its end is not copied into one buffer with the rest."""
+        return self._ros1.parts(msg, name)
 
     def _byte_tail(self, name: str) -> str | None:
         """The last field of a message type when it is a ``uint8[]`` (else None)."""

@@ -481,7 +481,7 @@ class Ros1Bridge(ServiceSide):
         with self._lock:
             self._outlets[outlet.id] = outlet
         self.graph.executor.post(partial(self._subscribe, outlet, store_type))
-        serialize = types().store.serialize_ros1
+        parts = types().ros1_parts
         try:
             while not outlet.closed and not self._stop.is_set():
                 with outlet.ready:
@@ -489,7 +489,7 @@ class Ros1Bridge(ServiceSide):
                         outlet.ready.wait(1.0)
                     batch = list(outlet.queue)
                     outlet.queue.clear()
-                write_frames(sock, (serialize(msg, store_type) for msg in batch))
+                write_frames(sock, (parts(msg, store_type) for msg in batch))
         finally:
             self._close_outlet(outlet)
 

@@ -1,0 +1,82 @@
+"""A message's ROS 1 bytes in parts (its large last string or byte array apart, encoded
+once): joined, exactly rosbags' bytes, which read back to the message; other messages are
+one part, as rosbags writes them."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from belvedere.msgs import build, message_from_data, types
+from belvedere.msgs._ros1bytes import BULK_BYTES
+
+
+def _joined(msg: Any) -> tuple[int, bytes]:
+    parts = types().ros1_parts(msg, msg.__msgtype__)
+    return len(parts), b"".join(bytes(p) for p in parts)
+
+
+def _rosbags(msg: Any) -> bytes:
+    return bytes(types().store.serialize_ros1(msg, msg.__msgtype__))
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    text=st.text(min_size=0, max_size=300),
+    repeat=st.sampled_from([1, 20, 200]),
+)
+def test_a_string_message_is_rosbags_bytes_small_or_large(text: str, repeat: int) -> None:
+    msg = types().cls("std_msgs/String")(data=text * repeat)
+    count, data = _joined(msg)
+    assert data == _rosbags(msg)
+    assert types().store.deserialize_ros1(data, msg.__msgtype__) == msg
+    assert count == (2 if len(msg.data) > BULK_BYTES else 1)
+
+
+def test_a_megabyte_string_is_sent_as_its_head_and_its_text_encoded_once() -> None:
+    text = "1732790000.123456|" + "é" * (1 << 19)
+    msg = types().cls("std_msgs/String")(data=text)
+    head, bulk = types().ros1_parts(msg, msg.__msgtype__)
+    assert bytes(head) == len(text.encode()).to_bytes(4, "little")
+    assert bytes(bulk) == text.encode()
+
+
+def test_an_image_and_a_compressed_image_are_rosbags_bytes_with_their_pixels_apart() -> None:
+    rng = np.random.default_rng(3)
+    pixels = rng.integers(0, 255, 480 * 640 * 3, dtype=np.uint8)
+    image = types().cls("sensor_msgs/Image")(
+        build.header(1_234_567_891, "camera", seq=7), 480, 640, "rgb8", 0, 1920, pixels
+    )
+    compressed = types().cls("sensor_msgs/CompressedImage")(
+        build.header(5, "camera"), "jpeg", pixels[:50_000]
+    )
+    for msg in (image, compressed):
+        count, data = _joined(msg)
+        assert (count, data) == (2, _rosbags(msg))
+        back: Any = types().store.deserialize_ros1(data, msg.__msgtype__)
+        assert np.array_equal(back.data, msg.data)
+        assert back.header == msg.header
+
+
+def test_a_strided_byte_array_is_sent_as_its_values() -> None:
+    pixels = np.arange(20_000, dtype=np.uint8)[::2]  # a view that is not contiguous
+    msg = types().cls("sensor_msgs/CompressedImage")(build.header(5, "c"), "png", pixels)
+    assert _joined(msg) == (2, _rosbags(msg))
+
+
+def test_messages_without_a_large_tail_are_one_part() -> None:
+    cloud = message_from_data("sensor_msgs/PointCloud2", {"height": 1, "width": 2})
+    cloud = replace(cloud, data=np.arange(10_000, dtype=np.uint8))  # data is not its last
+    small_image = types().cls("sensor_msgs/Image")(
+        build.header(1, "c"), 2, 2, "mono8", 0, 2, np.arange(4, dtype=np.uint8)
+    )
+    small_jpeg = types().cls("sensor_msgs/CompressedImage")(
+        build.header(1, "c"), "jpeg", np.arange(BULK_BYTES, dtype=np.uint8)
+    )
+    twist = message_from_data("geometry_msgs/Twist", {"linear": {"x": 0.5}})
+    for msg in (cloud, small_image, small_jpeg, twist):
+        assert _joined(msg) == (1, _rosbags(msg))
