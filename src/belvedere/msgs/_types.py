@@ -19,6 +19,7 @@ from typing import Any, Final
 
 import numpy as np
 from rosbags.interfaces import Nodetype
+from rosbags.serde import SerdeError
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from rosbags.typesys.store import Typestore
 
@@ -375,6 +376,22 @@ class TypeRegistry:
         """ROS 1 bytes of ``msg`` (type ``name``, a store name) as parts to send in turn: a
         large string or byte array at its end is not copied into one buffer with the rest."""
         return self._ros1.parts(msg, name)
+
+    def ros1_reader(self, name: str) -> Callable[[bytes | memoryview], Any]:
+        """Messages of type ``name`` (a store name) from their ROS 1 bytes: rosbags'
+        deserializer looked up once, for a connection's every message (``SerdeError``, or
+        the ``struct.error`` / ``UnicodeDecodeError`` of bad bytes, when they are not one)."""
+        msgdef = self.store.get_msgdef(name)
+        read, cls, store = msgdef.deserialize_ros1, msgdef.cls, self.store
+
+        def message(data: bytes | memoryview) -> Any:
+            msg, end = read(data, 0, cls, store)
+            if end != len(data):
+                text = f"{len(data)} bytes for a {short(name)} of {end}"
+                raise SerdeError(text)
+            return msg
+
+        return message
 
     def _byte_tail(self, name: str) -> str | None:
         """The last field of a message type when it is a ``uint8[]`` (else None)."""

@@ -260,12 +260,13 @@ class Ros1Bridge(ServiceSide):
             store_type = self._learn(header, inlet)
             latched = header.get("latching", "0") == "1"
             self.graph.executor.post(partial(self._open_publisher, inlet, store_type, latched))
-            deserialize = types().store.deserialize_ros1
+            message = types().ros1_reader(store_type)
             reader = FrameReader(sock)
             # each read brings all the publisher wrote meanwhile: its messages go to the
-            # executor together, for one job and one lock, not one each
+            # executor together, for one job and one lock, not one each (the reads end, with
+            # an OSError, when the sources are dropped)
             while not inlet.closed:
-                msgs = [deserialize(data, store_type) for data in reader.batch()]
+                msgs = [message(data) for data in reader.batch()]
                 with inlet.lock:
                     inlet.waiting.extend(msgs)
                     post, inlet.posted = not inlet.posted, True

@@ -1,15 +1,19 @@
 """A message's ROS 1 bytes in parts (its large last string or byte array apart, encoded
 once): joined, exactly rosbags' bytes, which read back to the message; other messages are
-one part, as rosbags writes them."""
+one part, as rosbags writes them. A connection's reader of ROS 1 bytes reads as rosbags
+does."""
 
 from __future__ import annotations
 
+import struct
 from dataclasses import replace
 from typing import Any
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from rosbags.serde import SerdeError
 
 from belvedere.msgs import build, message_from_data, types
 from belvedere.msgs._ros1bytes import BULK_BYTES
@@ -80,3 +84,22 @@ def test_messages_without_a_large_tail_are_one_part() -> None:
     twist = message_from_data("geometry_msgs/Twist", {"linear": {"x": 0.5}})
     for msg in (cloud, small_image, small_jpeg, twist):
         assert _joined(msg) == (1, _rosbags(msg))
+
+
+def test_the_ros1_reader_reads_what_rosbags_reads_and_refuses_what_it_refuses() -> None:
+    registry = types()
+    image = registry.cls("sensor_msgs/Image")(
+        build.header(9, "cam", seq=3), 2, 3, "rgb8", 1, 9, np.arange(18, dtype=np.uint8)
+    )
+    data = _rosbags(image)
+    read = registry.ros1_reader(image.__msgtype__)
+    back = read(data)
+    assert back.header == image.header
+    assert np.array_equal(back.data, image.data)
+    assert read(memoryview(data)).encoding == "rgb8"
+    with pytest.raises(SerdeError, match="bytes for a sensor_msgs/Image of"):
+        read(data + b"\x00")
+    with pytest.raises((SerdeError, struct.error)):
+        read(data[:-5])
+    with pytest.raises(UnicodeDecodeError):
+        registry.ros1_reader("std_msgs/msg/String")(b"\x02\x00\x00\x00\xff\xfe")
