@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from rosbags.serde import SerdeError
 
 from belvedere.msgs import build, message_from_data, types
-from belvedere.msgs._ros1bytes import BULK_BYTES
+from belvedere.msgs._ros1bytes import BULK_BYTES, holds_views
 
 
 def _joined(msg: Any) -> tuple[int, bytes]:
@@ -103,3 +103,42 @@ def test_the_ros1_reader_reads_what_rosbags_reads_and_refuses_what_it_refuses() 
         read(data[:-5])
     with pytest.raises(UnicodeDecodeError):
         registry.ros1_reader("std_msgs/msg/String")(b"\x02\x00\x00\x00\xff\xfe")
+
+
+def test_which_types_hold_views_of_the_bytes_they_are_read_from() -> None:
+    store = types().store
+    holding = {
+        name: holds_views(store, name)
+        for name in (
+            "std_msgs/msg/String",
+            "std_msgs/msg/Header",
+            "geometry_msgs/msg/Twist",
+            "geometry_msgs/msg/PoseArray",
+            "diagnostic_msgs/msg/DiagnosticArray",
+            "sensor_msgs/msg/Image",
+            "sensor_msgs/msg/LaserScan",
+            "sensor_msgs/msg/JointState",
+            "geometry_msgs/msg/PoseWithCovarianceStamped",
+            "nav_msgs/msg/Path",
+        )
+    }
+    assert [name for name, views in holding.items() if views] == [
+        "sensor_msgs/msg/Image",
+        "sensor_msgs/msg/LaserScan",
+        "sensor_msgs/msg/JointState",
+        "geometry_msgs/msg/PoseWithCovarianceStamped",
+    ]
+
+
+def test_a_borrowed_buffer_overwritten_after_reading_leaves_the_messages_as_read() -> None:
+    registry = types()
+    scan = message_from_data("sensor_msgs/LaserScan", {"ranges": [1.5, 2.5, 3.5]})
+    text = registry.cls("std_msgs/String")(data="ünïcode")
+    for msg in (scan, text):
+        buffer = bytearray(_rosbags(msg))
+        back = registry.ros1_reader(msg.__msgtype__, borrowed=True)(memoryview(buffer))
+        buffer[:] = bytes(len(buffer))
+        if msg is scan:
+            assert back.ranges.tolist() == [1.5, 2.5, 3.5]
+        else:
+            assert back == text

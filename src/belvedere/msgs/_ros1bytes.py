@@ -1,5 +1,5 @@
 """ROS 1 bytes of a message as parts to send one after another, its large last field not
-copied.
+copied; which messages hold views of the bytes they were read from.
 
 rosbags encodes a string field twice (once to size the buffer, once to fill it) and copies
 every field into one new buffer; for a message that ends in a large string (a
@@ -12,13 +12,13 @@ from __future__ import annotations
 
 import struct
 from dataclasses import replace
-from typing import Any, Final
+from typing import Any, Final, cast
 
 import numpy as np
 from rosbags.interfaces import Nodetype
 from rosbags.typesys.store import Typestore
 
-__all__ = ["BULK_BYTES", "Ros1Parts"]
+__all__ = ["BULK_BYTES", "Ros1Parts", "holds_views"]
 
 BULK_BYTES: Final = 4096
 """A last field larger than this is sent as a part of its own (below, one buffer is cheaper
@@ -27,6 +27,8 @@ than two parts)."""
 _LENGTH: Final = struct.Struct("<I")
 _SEQUENCE: Final = int(Nodetype.SEQUENCE)
 _BASE: Final = int(Nodetype.BASE)
+_NAME: Final = int(Nodetype.NAME)
+_ARRAY: Final = int(Nodetype.ARRAY)
 _EMPTY_BYTES: Final = np.zeros(0, dtype=np.uint8)
 
 
@@ -75,3 +77,20 @@ class Ros1Parts:
                 tail = (field, "uint8[]")
         self._tails[name] = tail
         return tail
+
+
+def holds_views(store: Typestore, name: str) -> bool:
+    """Whether rosbags' ROS 1 deserializer gives messages of type ``name`` numpy arrays that
+    are views of the bytes read (any array or sequence of numbers, at any depth): those
+    bytes must then outlive the message."""
+    for _, desc in store.fielddefs[name][1]:
+        kind, detail = int(desc[0]), cast(Any, desc[1])
+        if kind == _NAME and holds_views(store, detail):
+            return True
+        if kind in (_ARRAY, _SEQUENCE):
+            (inner_kind, inner), _ = detail
+            if int(inner_kind) == _BASE and inner[0] != "string":
+                return True
+            if int(inner_kind) == _NAME and holds_views(store, inner):
+                return True
+    return False

@@ -27,7 +27,7 @@ from belvedere.errors import BelvedereError
 from belvedere.msgs import _dynamic_reconfigure_types
 from belvedere.msgs._genmsg import PLACEHOLDER, Definition, typedef
 from belvedere.msgs._packages import PackageInterfaces
-from belvedere.msgs._ros1bytes import Ros1Parts
+from belvedere.msgs._ros1bytes import Ros1Parts, holds_views
 from belvedere.msgs._turtlesim_types import TURTLESIM_MESSAGES, TURTLESIM_SERVICES
 
 __all__ = ["PLACEHOLDER", "MessageTypeError", "TypeRegistry", "types"]
@@ -377,14 +377,21 @@ class TypeRegistry:
         large string or byte array at its end is not copied into one buffer with the rest."""
         return self._ros1.parts(msg, name)
 
-    def ros1_reader(self, name: str) -> Callable[[bytes | memoryview], Any]:
+    def ros1_reader(
+        self, name: str, *, borrowed: bool = False
+    ) -> Callable[[bytes | memoryview], Any]:
         """Messages of type ``name`` (a store name) from their ROS 1 bytes: rosbags'
         deserializer looked up once, for a connection's every message (``SerdeError``, or
-        the ``struct.error`` / ``UnicodeDecodeError`` of bad bytes, when they are not one)."""
+        the ``struct.error`` / ``UnicodeDecodeError`` of bad bytes, when they are not one).
+        ``borrowed``: the bytes are reused once read (a socket's buffer); a type whose
+        messages would keep views of them (numpy arrays) is then read from a copy."""
         msgdef = self.store.get_msgdef(name)
         read, cls, store = msgdef.deserialize_ros1, msgdef.cls, self.store
+        copy = borrowed and holds_views(store, name)
 
         def message(data: bytes | memoryview) -> Any:
+            if copy:
+                data = bytes(data)
             msg, end = read(data, 0, cls, store)
             if end != len(data):
                 text = f"{len(data)} bytes for a {short(name)} of {end}"

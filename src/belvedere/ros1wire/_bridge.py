@@ -260,13 +260,13 @@ class Ros1Bridge(ServiceSide):
             store_type = self._learn(header, inlet)
             latched = header.get("latching", "0") == "1"
             self.graph.executor.post(partial(self._open_publisher, inlet, store_type, latched))
-            message = types().ros1_reader(store_type)
+            message = types().ros1_reader(store_type, borrowed=True)
             reader = FrameReader(sock)
             # each read brings all the publisher wrote meanwhile: its messages go to the
             # executor together, for one job and one lock, not one each (the reads end, with
             # an OSError, when the sources are dropped)
             while not inlet.closed:
-                msgs = [message(data) for data in reader.batch()]
+                msgs = reader.batch(message)
                 with inlet.lock:
                     inlet.waiting.extend(msgs)
                     post, inlet.posted = not inlet.posted, True

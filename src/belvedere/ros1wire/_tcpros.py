@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import socket
 import struct
-from collections.abc import Iterable, Sequence
-from typing import Final
+from collections.abc import Callable, Iterable, Sequence
+from typing import Final, TypeVar
 
 __all__ = [
     "MAX_HEADER",
@@ -25,6 +25,8 @@ __all__ = [
     "write_frames",
     "write_header",
 ]
+
+T = TypeVar("T")
 
 _LENGTH: Final = struct.Struct("<I")
 MAX_HEADER: Final = 1 << 20
@@ -104,8 +106,9 @@ class FrameReader:
     sender has written meanwhile (hundreds of small ones), which :meth:`batch` splits. A
     message larger than the chunk is read into a buffer of its own size, not copied again.
 
-    Each message is handed out as its own bytes, never a view of the reused buffer: what a
-    deserializer keeps of it (a numpy view of an array) stays valid."""
+    :meth:`batch` hands each message to a reader as a view of the buffer, valid only during
+    that call (the buffer is then reused): a deserializer that keeps views of its input (numpy
+    arrays) must be given a copy."""
 
     def __init__(self, sock: socket.socket, chunk: int = 1 << 16) -> None:
         self._sock = sock
@@ -116,28 +119,30 @@ class FrameReader:
         self._end = 0
         """Where the bytes received end."""
 
-    def batch(self) -> list[bytes | memoryview]:
-        """Every complete message received so far, waiting for at least one; TcprosError
-        when the connection closes (or sends a length over :data:`MAX_MESSAGE`)."""
+    def batch(self, read: Callable[[memoryview], T]) -> list[T]:
+        """``read`` of every complete message received so far, waiting for at least one;
+        TcprosError when the connection closes (or sends a length over :data:`MAX_MESSAGE`)."""
         while True:
-            frames = self._split()
+            frames = self._split(read)
             if frames:
                 return frames
             large = self._fill()
             if large is not None:
-                return [memoryview(large)]
+                return [read(memoryview(large))]
 
-    def _split(self) -> list[bytes | memoryview]:
-        frames: list[bytes | memoryview] = []
+    def _split(self, read: Callable[[memoryview], T]) -> list[T]:
+        frames: list[T] = []
         buffer, view, at, end = self._buffer, self._view, self._start, self._end
         unpack = _LENGTH.unpack_from
-        while end - at >= 4:
-            (size,) = unpack(buffer, at)
-            if at + 4 + size > end:
-                break
-            frames.append(bytes(view[at + 4 : at + 4 + size]))
-            at += 4 + size
-        self._start = at
+        try:
+            while end - at >= 4:
+                (size,) = unpack(buffer, at)
+                if at + 4 + size > end:
+                    break
+                frames.append(read(view[at + 4 : at + 4 + size]))
+                at += 4 + size
+        finally:  # a message read raises: those before it are not read again
+            self._start = at
         return frames
 
     def _fill(self) -> bytearray | None:
