@@ -53,6 +53,10 @@ RETIRE_S: Final = 5.0
 OUT_QUEUE: Final = 100
 """Messages waiting for one ROS 1 subscriber; past this the oldest are dropped, as a
 roscpp publisher's queue does."""
+IN_QUEUE: Final = 1000
+"""Messages read from a topic's ROS 1 publishers and not yet published on the graph; past
+this the oldest are dropped (the executor is behind: a graph subscription's queue would drop
+them too), so a stalled executor does not grow this process without end."""
 _connection_ids = itertools.count(1)
 
 
@@ -81,7 +85,7 @@ class _Inlet:
     sources: dict[str, socket.socket | None] = field(default_factory=dict)
     """publisher's slave API → its connection (None while connecting)"""
     closed: bool = False
-    waiting: deque[Any] = field(default_factory=deque)
+    waiting: deque[Any] = field(default_factory=lambda: deque(maxlen=IN_QUEUE))
     """Messages read and not yet published on the graph: one executor job publishes all
     that came in meanwhile, not one job each."""
     posted: bool = False
