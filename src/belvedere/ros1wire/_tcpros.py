@@ -158,7 +158,9 @@ class FrameReader:
             if 4 + size > len(self._buffer):
                 return self._read_large(size)
         if start > 0:  # the cut message moves to the front, making room behind it
-            self._buffer[:have] = self._view[start:end]
+            # (through a copy: the two ranges may overlap, which a slice assignment's memcpy
+            # does not allow)
+            self._buffer[:have] = bytes(self._view[start:end])
             self._start, self._end = 0, have
         got = self._sock.recv_into(self._view[self._end :])
         if got == 0:
