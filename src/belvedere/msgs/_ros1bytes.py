@@ -43,7 +43,8 @@ class Ros1Parts:
     def parts(self, msg: Any, name: str) -> tuple[bytes | memoryview, ...]:
         """``msg``'s ROS 1 bytes (of type ``name``, a store name), as parts whose
         concatenation is what rosbags' ``serialize_ros1`` gives."""
-        tail = self._tail(name)
+        tails = self._tails
+        tail = tails[name] if name in tails else self._tail(name)
         if tail is not None:
             field, kind = tail
             value = getattr(msg, field)

@@ -215,17 +215,20 @@ def write_frames(sock: socket.socket, frames: Iterable[Sequence[bytes | memoryvi
     large field begins), in as few system calls as their sizes allow: small ones joined into
     one send, a large one's parts handed to ``sendmsg`` as they are (never copied here)."""
     joined = bytearray()
+    pack = _LENGTH.pack
     for parts in frames:
-        size = sum(len(part) for part in parts)
-        if size < _JOIN_BELOW:
-            joined += _LENGTH.pack(size)
-            for part in parts:
-                joined += part
-            continue
+        if len(parts) == 1:  # most messages: one part, small
+            size = len(parts[0])
+            if size < _JOIN_BELOW:
+                joined += pack(size)
+                joined += parts[0]
+                continue
+        else:
+            size = sum(map(len, parts))
         if joined:
             sock.sendall(joined)
             joined.clear()
-        _send_parts(sock, [_LENGTH.pack(size), *parts])
+        _send_parts(sock, [pack(size), *parts])
     if joined:
         sock.sendall(joined)
 
