@@ -9,7 +9,11 @@ seconds (its send time written at the start of the text, so the receiver measure
   ``belvedere roscore``'s master and bridge;
 - belvedere → ROS 1: a graph publisher to the same subscriber.
 
-Messages per second received and mean latency, and the ratios to the reference. The ROS 1
+Messages per second received and mean latency, and the ratios to the reference; and the CPU
+each message costs belvedere's side (the receiving process's CPU over the messages it got,
+the sending process's CPU a second over the messages received a second) against what it
+costs the same side of the reference: on a machine others share, the messages a second
+follow whoever else runs, the CPU a message much less. The ROS 1
 side is Debian's rospy (``/usr/bin/python3``), Debian's roscpp (two nodes compiled here with
 g++ against ``libroscpp-dev``, kept in ~/.cache/belvedere-bench), or both in turn.
 
@@ -21,12 +25,14 @@ from __future__ import annotations
 import argparse
 import hashlib
 import os
+import resource
 import socket
 import subprocess
 import tempfile
 import threading
 import time
 import xmlrpc.client
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -48,8 +54,10 @@ while pub.get_num_connections() == 0 and not rospy.is_shutdown():
 time.sleep(0.5)
 pad = "x" * size
 end = time.time() + seconds
+cpu, wall = time.process_time(), time.time()
 while time.time() < end and not rospy.is_shutdown():
     pub.publish(String(data="%.6f|" % time.time() + pad))
+print((time.process_time() - cpu) / (time.time() - wall), flush=True)
 time.sleep(0.5)
 """
 
@@ -65,17 +73,25 @@ rospy.Subscriber("/flood", String, take, queue_size=1000, buff_size=1 << 24)
 print("READY", flush=True)
 while not got and not rospy.is_shutdown():
     time.sleep(0.005)
+first, cpu = len(got), time.process_time()
 time.sleep(seconds)
 n = len(got)
+cpu = (time.process_time() - cpu) / max(n - first, 1)
 span = got[-1][0] - got[0][0]
-print(n / span if span > 0 else 0.0, sum(a - b for a, b in got) / n)
+print(n / span if span > 0 else 0.0, sum(a - b for a, b in got) / n, cpu)
 """
 
 CPP_PUBLISHER = r"""
 #include <ros/ros.h>
 #include <std_msgs/String.h>
 #include <cstdio>
+#include <ctime>
 #include <string>
+static double cpu_seconds() {
+  timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return t.tv_sec + t.tv_nsec * 1e-9;
+}
 int main(int argc, char** argv) {
   ros::init(argc, argv, "flood_pub", ros::init_options::AnonymousName);
   size_t size = std::stoul(argv[1]);
@@ -88,11 +104,14 @@ int main(int argc, char** argv) {
   double end = ros::WallTime::now().toSec() + seconds;
   std_msgs::String msg;
   char stamp[32];
+  double cpu = cpu_seconds(), wall = ros::WallTime::now().toSec();
   while (ros::ok() && ros::WallTime::now().toSec() < end) {
     std::snprintf(stamp, sizeof stamp, "%.6f|", ros::WallTime::now().toSec());
     msg.data = stamp + pad;
     pub.publish(msg);
   }
+  std::printf("%.6f\n", (cpu_seconds() - cpu) / (ros::WallTime::now().toSec() - wall));
+  std::fflush(stdout);
   ros::WallDuration(0.5).sleep();
   return 0;
 }
@@ -104,8 +123,14 @@ CPP_SUBSCRIBER = r"""
 #include <std_msgs/String.h>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <vector>
 static std::vector<std::pair<double, double>> got;
+static double cpu_seconds() {
+  timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return t.tv_sec + t.tv_nsec * 1e-9;
+}
 static void take(const std_msgs::String::ConstPtr& m) {
   got.emplace_back(ros::WallTime::now().toSec(), std::atof(m->data.c_str()));
 }
@@ -118,13 +143,16 @@ int main(int argc, char** argv) {
   std::fflush(stdout);
   ros::CallbackQueue* queue = ros::getGlobalCallbackQueue();
   while (got.empty() && ros::ok()) queue->callAvailable(ros::WallDuration(0.01));
+  size_t first = got.size();
+  double cpu = cpu_seconds();
   double end = ros::WallTime::now().toSec() + seconds;
   while (ros::ok() && ros::WallTime::now().toSec() < end)
     queue->callAvailable(ros::WallDuration(0.01));
   size_t count = got.size();
+  cpu = (cpu_seconds() - cpu) / (count > first ? count - first : 1);
   double span = got.back().first - got.front().first, lag = 0;
   for (auto& g : got) lag += g.first - g.second;
-  std::printf("%f %f\n", span > 0 ? count / span : 0.0, lag / count);
+  std::printf("%f %f %.9f\n", span > 0 ? count / span : 0.0, lag / count, cpu);
   return 0;
 }
 """
@@ -188,21 +216,46 @@ def _subscriber(uri: str, seconds: float, command: list[str]) -> subprocess.Pope
     return proc
 
 
-def _result(proc: subprocess.Popen[str]) -> tuple[float, float]:
+@dataclass(frozen=True)
+class Run:
+    rate: float
+    """messages received per second"""
+    latency: float
+    """mean seconds from send to receipt"""
+    sender_cpu: float
+    """the sending process's CPU seconds per message received"""
+    receiver_cpu: float
+    """the receiving process's CPU seconds per message received"""
+
+
+def _received(proc: subprocess.Popen[str]) -> tuple[float, float, float]:
+    """A ROS 1 subscriber's messages per second, mean latency and CPU seconds a message."""
     out, _ = proc.communicate(timeout=120)
-    rate, latency = out.split()[-2:]
-    return float(rate), float(latency)
+    rate, latency, cpu = out.split()[-3:]
+    return float(rate), float(latency), float(cpu)
+
+
+def _sender_cores(proc: subprocess.Popen[str]) -> float:
+    """A ROS 1 publisher's CPU seconds per second while it sent."""
+    out, _ = proc.communicate(timeout=120)
+    return float(out.split()[-1])
 
 
 def _publisher(uri: str, size: int, seconds: float, command: list[str]) -> subprocess.Popen[str]:
     return subprocess.Popen(
         [*command, str(size), str(seconds + 2)],
         env=_env(uri),
+        stdout=subprocess.PIPE,
         text=True,
     )
 
 
-def reference(size: int, seconds: float, ends: tuple[list[str], list[str]]) -> tuple[float, float]:
+def _cpu_seconds() -> float:
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
+
+
+def reference(size: int, seconds: float, ends: tuple[list[str], list[str]]) -> Run:
     port = _free_port()
     uri = f"http://127.0.0.1:{port}/"
     core = subprocess.Popen(
@@ -221,9 +274,8 @@ def reference(size: int, seconds: float, ends: tuple[list[str], list[str]]) -> t
                 time.sleep(0.1)
         sub = _subscriber(uri, seconds, ends[1])
         pub = _publisher(uri, size, seconds, ends[0])
-        result = _result(sub)
-        pub.wait(timeout=120)
-        return result
+        rate, latency, receiver = _received(sub)
+        return Run(rate, latency, _sender_cores(pub) / rate, receiver)
     finally:
         os.killpg(core.pid, 2)
         core.wait(timeout=30)
@@ -236,9 +288,7 @@ def _graph() -> tuple[Graph, Any]:
     return graph, start_master(graph, port=0)
 
 
-def ros1_to_graph(
-    size: int, seconds: float, ends: tuple[list[str], list[str]]
-) -> tuple[float, float]:
+def ros1_to_graph(size: int, seconds: float, ends: tuple[list[str], list[str]]) -> Run:
     graph, handle = _graph()
     got: list[tuple[float, float]] = []
 
@@ -250,18 +300,23 @@ def ros1_to_graph(
         pub = _publisher(handle.uri, size, seconds, ends[0])
         while not got:
             time.sleep(0.005)
+        first, cpu = len(got), _cpu_seconds()
         time.sleep(seconds)
-        n, span = len(got), got[-1][0] - got[0][0]
-        pub.wait(timeout=120)
-        return n / span, sum(a - b for a, b in got[:n]) / n
+        n, cpu = len(got), _cpu_seconds() - cpu
+        span = got[-1][0] - got[0][0]
+        rate = n / span
+        return Run(
+            rate,
+            sum(a - b for a, b in got[:n]) / n,
+            _sender_cores(pub) / rate,
+            cpu / (n - first),
+        )
     finally:
         handle.close()
         graph.shutdown()
 
 
-def graph_to_ros1(
-    size: int, seconds: float, ends: tuple[list[str], list[str]]
-) -> tuple[float, float]:
+def graph_to_ros1(size: int, seconds: float, ends: tuple[list[str], list[str]]) -> Run:
     graph, handle = _graph()
     pub = graph.create_node("flood_pub").publisher("/flood", "std_msgs/String", queue_size=1000)
     pad = "x" * size
@@ -288,11 +343,13 @@ def graph_to_ros1(
     try:
         sub = _subscriber(handle.uri, seconds, ends[1])
         thread = threading.Thread(target=flood, daemon=True)
+        cpu, wall = _cpu_seconds(), time.monotonic()
         thread.start()
-        result = _result(sub)
+        rate, latency, receiver = _received(sub)
+        cores = (_cpu_seconds() - cpu) / (time.monotonic() - wall)
         stop.set()
         thread.join()
-        return result
+        return Run(rate, latency, cores / rate, receiver)
     finally:
         handle.close()
         graph.shutdown()
@@ -312,16 +369,21 @@ def main() -> None:
                 into = ros1_to_graph(size, args.seconds, ends)
                 out = graph_to_ros1(size, args.seconds, ends)
                 print(
-                    f"{label}: {client} → {client} (Debian's roscore): {ref[0]:8.0f} msg/s, "
-                    f"latency {ref[1] * 1e3:6.2f} ms"
+                    f"{label}: {client} → {client} (Debian's roscore): {ref.rate:8.0f} msg/s, "
+                    f"latency {ref.latency * 1e3:6.2f} ms; CPU a message: sender "
+                    f"{ref.sender_cpu * 1e6:.2f} µs, receiver {ref.receiver_cpu * 1e6:.2f} µs"
                 )
-                for what, got in (
-                    (f"{client} → belvedere", into),
-                    (f"belvedere → {client}", out),
+                # belvedere's side against the same side of the reference: the receiver's
+                # CPU for ROS 1 → belvedere, the sender's for belvedere → ROS 1
+                for what, got, ours, theirs in (
+                    (f"{client} → belvedere", into, into.receiver_cpu, ref.receiver_cpu),
+                    (f"belvedere → {client}", out, out.sender_cpu, ref.sender_cpu),
                 ):
                     print(
-                        f"{label}: {what:30s}: {got[0]:8.0f} msg/s, latency "
-                        f"{got[1] * 1e3:6.2f} ms  ({got[0] / ref[0]:.2f}x the reference's msg/s)"
+                        f"{label}: {what:30s}: {got.rate:8.0f} msg/s, latency "
+                        f"{got.latency * 1e3:6.2f} ms  ({got.rate / ref.rate:.2f}x the "
+                        f"reference's msg/s); belvedere's CPU a message {ours * 1e6:.2f} µs "
+                        f"({ours / theirs:.2f}x {client}'s)"
                     )
 
 

@@ -19,6 +19,7 @@ from typing import Any, Final
 
 import numpy as np
 from rosbags.interfaces import Nodetype
+from rosbags.serde import SerdeError
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from rosbags.typesys.store import Typestore
 
@@ -26,6 +27,7 @@ from belvedere.errors import BelvedereError
 from belvedere.msgs import _dynamic_reconfigure_types
 from belvedere.msgs._genmsg import PLACEHOLDER, Definition, typedef
 from belvedere.msgs._packages import PackageInterfaces
+from belvedere.msgs._ros1bytes import Ros1Parts, holds_views
 from belvedere.msgs._turtlesim_types import TURTLESIM_MESSAGES, TURTLESIM_SERVICES
 
 __all__ = ["PLACEHOLDER", "MessageTypeError", "TypeRegistry", "types"]
@@ -236,6 +238,7 @@ class TypeRegistry:
                 (fielddef,) = get_types_from_msg(text, f"{pkg}/msg/{base}{suffix}").values()
                 extra[f"{name}{suffix}"] = fielddef
         self.store.register(extra)
+        self._ros1 = Ros1Parts(self.store)
         self.services = frozenset(_EXTRA_SERVICES)
         self.own = PackageInterfaces()
         """The packages on the package path: their msg/, srv/ and action/ files."""
@@ -368,6 +371,34 @@ class TypeRegistry:
                 pixels = np.ascontiguousarray(array).reshape(-1)
                 return b"".join((head[:-4], struct.pack("<I", pixels.size), pixels.data))
         return bytes(self.store.serialize_cdr(msg, name))
+
+    def ros1_parts(self, msg: Any, name: str) -> tuple[bytes | memoryview, ...]:
+        """ROS 1 bytes of ``msg`` (type ``name``, a store name) as parts to send in turn: a
+        large string or byte array at its end is not copied into one buffer with the rest."""
+        return self._ros1.parts(msg, name)
+
+    def ros1_reader(
+        self, name: str, *, borrowed: bool = False
+    ) -> Callable[[bytes | memoryview], Any]:
+        """Messages of type ``name`` (a store name) from their ROS 1 bytes: rosbags'
+        deserializer looked up once, for a connection's every message (``SerdeError``, or
+        the ``struct.error`` / ``UnicodeDecodeError`` of bad bytes, when they are not one).
+        ``borrowed``: the bytes are reused once read (a socket's buffer); a type whose
+        messages would keep views of them (numpy arrays) is then read from a copy."""
+        msgdef = self.store.get_msgdef(name)
+        read, cls, store = msgdef.deserialize_ros1, msgdef.cls, self.store
+        copy = borrowed and holds_views(store, name)
+
+        def message(data: bytes | memoryview) -> Any:
+            if copy:
+                data = bytes(data)
+            msg, end = read(data, 0, cls, store)
+            if end != len(data):
+                text = f"{len(data)} bytes for a {short(name)} of {end}"
+                raise SerdeError(text)
+            return msg
+
+        return message
 
     def _byte_tail(self, name: str) -> str | None:
         """The last field of a message type when it is a ``uint8[]`` (else None)."""

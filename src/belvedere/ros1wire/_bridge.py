@@ -34,8 +34,8 @@ from belvedere.msgs import canonical, learn_full_text, ros1_name, ros1_text, typ
 from belvedere.ros1wire._master import MasterSide, Registrations
 from belvedere.ros1wire._services import ServiceSide
 from belvedere.ros1wire._tcpros import (
+    FrameReader,
     TcprosError,
-    read_frames,
     read_header,
     write_frames,
     write_header,
@@ -53,6 +53,10 @@ RETIRE_S: Final = 5.0
 OUT_QUEUE: Final = 100
 """Messages waiting for one ROS 1 subscriber; past this the oldest are dropped, as a
 roscpp publisher's queue does."""
+IN_QUEUE: Final = 1000
+"""Messages read from a topic's ROS 1 publishers and not yet published on the graph; past
+this the oldest are dropped (the executor is behind: a graph subscription's queue would drop
+them too), so a stalled executor does not grow this process without end."""
 _connection_ids = itertools.count(1)
 
 
@@ -81,7 +85,7 @@ class _Inlet:
     sources: dict[str, socket.socket | None] = field(default_factory=dict)
     """publisher's slave API → its connection (None while connecting)"""
     closed: bool = False
-    waiting: deque[Any] = field(default_factory=deque)
+    waiting: deque[Any] = field(default_factory=lambda: deque(maxlen=IN_QUEUE))
     """Messages read and not yet published on the graph: one executor job publishes all
     that came in meanwhile, not one job each."""
     posted: bool = False
@@ -260,13 +264,15 @@ class Ros1Bridge(ServiceSide):
             store_type = self._learn(header, inlet)
             latched = header.get("latching", "0") == "1"
             self.graph.executor.post(partial(self._open_publisher, inlet, store_type, latched))
-            deserialize = types().store.deserialize_ros1
-            for data in read_frames(sock):  # ends (OSError) when the sources are dropped
-                if inlet.closed:
-                    break
-                msg = deserialize(data, store_type)
+            message = types().ros1_reader(store_type, borrowed=True)
+            reader = FrameReader(sock)
+            # each read brings all the publisher wrote meanwhile: its messages go to the
+            # executor together, for one job and one lock, not one each (the reads end, with
+            # an OSError, when the sources are dropped)
+            while not inlet.closed:
+                msgs = reader.batch(message)
                 with inlet.lock:
-                    inlet.waiting.append(msg)
+                    inlet.waiting.extend(msgs)
                     post, inlet.posted = not inlet.posted, True
                 if post:
                     self.graph.executor.post(partial(self._publish, inlet))
@@ -480,7 +486,7 @@ class Ros1Bridge(ServiceSide):
         with self._lock:
             self._outlets[outlet.id] = outlet
         self.graph.executor.post(partial(self._subscribe, outlet, store_type))
-        serialize = types().store.serialize_ros1
+        parts = types().ros1_parts
         try:
             while not outlet.closed and not self._stop.is_set():
                 with outlet.ready:
@@ -488,7 +494,7 @@ class Ros1Bridge(ServiceSide):
                         outlet.ready.wait(1.0)
                     batch = list(outlet.queue)
                     outlet.queue.clear()
-                write_frames(sock, (serialize(msg, store_type) for msg in batch))
+                write_frames(sock, (parts(msg, store_type) for msg in batch))
         finally:
             self._close_outlet(outlet)
 

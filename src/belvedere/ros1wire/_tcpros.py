@@ -9,22 +9,24 @@ from __future__ import annotations
 
 import socket
 import struct
-from collections.abc import Iterable, Iterator
-from typing import Final
+from collections.abc import Callable, Iterable, Sequence
+from typing import Final, TypeVar
 
 __all__ = [
     "MAX_HEADER",
+    "FrameReader",
     "TcprosError",
     "decode_header",
     "encode_header",
     "read_frame",
-    "read_frames",
     "read_header",
     "read_service_reply",
     "write_frame",
     "write_frames",
     "write_header",
 ]
+
+T = TypeVar("T")
 
 _LENGTH: Final = struct.Struct("<I")
 MAX_HEADER: Final = 1 << 20
@@ -99,27 +101,89 @@ def write_header(sock: socket.socket, fields: dict[str, str]) -> None:
     sock.sendall(encode_header(fields))
 
 
-def read_frames(sock: socket.socket) -> Iterator[bytes]:
-    """A connection's messages until it closes (TcprosError), read through a buffer: many
-    small messages cost one system call, not two each."""
-    reader = sock.makefile("rb", buffering=1 << 16)
-    try:
+class FrameReader:
+    """A connection's messages, read in large chunks: one ``recv`` brings every message the
+    sender has written meanwhile (hundreds of small ones), which :meth:`batch` splits. A
+    message larger than the chunk is read into a buffer of its own size, not copied again.
+
+    :meth:`batch` hands each message to a reader as a view of the buffer, valid only during
+    that call (the buffer is then reused): a deserializer that keeps views of its input (numpy
+    arrays) must be given a copy."""
+
+    def __init__(self, sock: socket.socket, chunk: int = 1 << 16) -> None:
+        self._sock = sock
+        self._buffer = bytearray(chunk)
+        self._view = memoryview(self._buffer)
+        self._start = 0
+        """Where the first message not yet handed out begins in the buffer."""
+        self._end = 0
+        """Where the bytes received end."""
+
+    def batch(self, read: Callable[[memoryview], T]) -> list[T]:
+        """``read`` of every complete message received so far, waiting for at least one;
+        TcprosError when the connection closes (or sends a length over :data:`MAX_MESSAGE`)."""
         while True:
-            head = reader.read(4)
-            if len(head) < 4:
-                msg = "the connection closed"
-                raise TcprosError(msg)
-            (size,) = _LENGTH.unpack(head)
+            frames = self._split(read)
+            if frames:
+                return frames
+            large = self._fill()
+            if large is not None:
+                return [read(memoryview(large))]
+
+    def _split(self, read: Callable[[memoryview], T]) -> list[T]:
+        frames: list[T] = []
+        buffer, view, at, end = self._buffer, self._view, self._start, self._end
+        unpack = _LENGTH.unpack_from
+        try:
+            while end - at >= 4:
+                (size,) = unpack(buffer, at)
+                if at + 4 + size > end:
+                    break
+                frames.append(read(view[at + 4 : at + 4 + size]))
+                at += 4 + size
+        finally:  # a message read raises: those before it are not read again
+            self._start = at
+        return frames
+
+    def _fill(self) -> bytearray | None:
+        """Receive more bytes after a message cut short (or none yet); a message too large
+        for the buffer is read whole and returned."""
+        start, end = self._start, self._end
+        have = end - start
+        if have >= 4:
+            (size,) = _LENGTH.unpack_from(self._buffer, start)
             if size > MAX_MESSAGE:
                 msg = f"a message of {size} bytes (more than {MAX_MESSAGE})"
                 raise TcprosError(msg)
-            data = reader.read(size)
-            if len(data) < size:
+            if 4 + size > len(self._buffer):
+                return self._read_large(size)
+        if start > 0:  # the cut message moves to the front, making room behind it
+            # (through a copy: the two ranges may overlap, which a slice assignment's memcpy
+            # does not allow)
+            self._buffer[:have] = bytes(self._view[start:end])
+            self._start, self._end = 0, have
+        got = self._sock.recv_into(self._view[self._end :])
+        if got == 0:
+            msg = "the connection closed"
+            raise TcprosError(msg)
+        self._end += got
+        return None
+
+    def _read_large(self, size: int) -> bytearray:
+        """A message larger than the buffer: its bytes so far, and the rest read straight
+        into a buffer of its size."""
+        message = bytearray(size)
+        have = self._end - self._start - 4
+        message[:have] = self._view[self._start + 4 : self._end]
+        self._start = self._end = 0
+        view = memoryview(message)
+        while have < size:
+            got = self._sock.recv_into(view[have:])
+            if got == 0:
                 msg = "the connection closed"
                 raise TcprosError(msg)
-            yield data
-    finally:
-        reader.close()
+            have += got
+        return message
 
 
 def read_frame(sock: socket.socket) -> bytes:
@@ -146,17 +210,36 @@ def read_service_reply(sock: socket.socket) -> tuple[bool, bytes]:
     return ok, read_frame(sock)
 
 
-def write_frames(sock: socket.socket, frames: Iterable[bytes | memoryview]) -> None:
-    """Several messages in as few sends as their sizes allow (small ones joined)."""
+def write_frames(sock: socket.socket, frames: Iterable[Sequence[bytes | memoryview]]) -> None:
+    """Several messages, each given as parts to send in turn (its ROS 1 bytes cut where a
+    large field begins), in as few system calls as their sizes allow: small ones joined into
+    one send, a large one's parts handed to ``sendmsg`` as they are (never copied here)."""
     joined = bytearray()
-    for data in frames:
-        if len(data) >= _JOIN_BELOW:
-            if joined:
-                sock.sendall(joined)
-                joined.clear()
-            write_frame(sock, data)
+    pack = _LENGTH.pack
+    for parts in frames:
+        if len(parts) == 1:  # most messages: one part, small
+            size = len(parts[0])
+            if size < _JOIN_BELOW:
+                joined += pack(size)
+                joined += parts[0]
+                continue
         else:
-            joined += _LENGTH.pack(len(data))
-            joined += data
+            size = sum(map(len, parts))
+        if joined:
+            sock.sendall(joined)
+            joined.clear()
+        _send_parts(sock, [pack(size), *parts])
     if joined:
         sock.sendall(joined)
+
+
+def _send_parts(sock: socket.socket, parts: list[bytes | memoryview]) -> None:
+    """``sendmsg`` until every part is sent (it may stop inside one)."""
+    views = [memoryview(part).cast("B") for part in parts if len(part)]
+    while views:
+        sent = sock.sendmsg(views)
+        while views and sent >= len(views[0]):
+            sent -= len(views[0])
+            views.pop(0)
+        if sent:
+            views[0] = views[0][sent:]
