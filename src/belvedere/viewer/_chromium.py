@@ -1,7 +1,12 @@
 """Debian's Chromium as the browser tests and the viewer's frame-rate benchmark run it:
 headless, WebGL in software (SwiftShader: no GPU on a CI runner), nothing fetched in the
 background. One command line, so the frame rate the benchmark measures is that of the
-browser the tests check."""
+browser the tests check.
+
+WebGL's antialiasing is off, as rviz's ``--disable-anti-aliasing`` turns it off where
+rendering is in software: SwiftShader resolves 4 samples a pixel on the CPU, and with it the
+viewer's frame under load cost ~1.6 times as much (docs/viewer-performance.md). A GPU does
+it at no noticeable cost, so a user's own browser keeps it."""
 
 from __future__ import annotations
 
@@ -14,6 +19,7 @@ CHROMIUM_ARGS: Final = (
     "--disable-gpu",
     "--enable-unsafe-swiftshader",
     "--use-angle=swiftshader",
+    "--webgl-antialiasing-mode=none",
     "--disable-background-networking",
     "--disable-component-update",
     "--disable-sync",
