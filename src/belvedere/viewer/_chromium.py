@@ -5,8 +5,8 @@ browser the tests check.
 
 WebGL's antialiasing is off, as rviz's ``--disable-anti-aliasing`` turns it off where
 rendering is in software: SwiftShader resolves 4 samples a pixel on the CPU, and with it the
-viewer's frame under load cost ~1.6 times as much (docs/viewer-performance.md). A GPU does
-it at no noticeable cost, so a user's own browser keeps it."""
+viewer's frame under load cost 1.1-1.6 times as much (docs/performance.md, "The viewer in
+a browser"). A GPU does it at no noticeable cost, so a user's own browser keeps it."""
 
 from __future__ import annotations
 
