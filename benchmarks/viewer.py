@@ -25,10 +25,11 @@ the page (viser's full-view background pass, the map, the lines, the robot, the 
 measures again, each interleaved with the whole scene so both see the same load.
 ``--antialias both`` draws the scene twice in the same run, with WebGL's 4x multisampling
 (a browser's default) and without it (our Chromium's flags, :mod:`belvedere.viewer._chromium`),
-and prints their ratio.
+and prints their ratio. ``--still``: the robot stands and no scan comes, so nothing changes
+and the page should draw only viser's one frame a second.
 
     python benchmarks/viewer.py [--seconds 10] [--viewport 1000x700] [--breakdown]
-        [--antialias off|on|both]
+        [--antialias off|on|both] [--still]
 """
 
 from __future__ import annotations
@@ -205,8 +206,9 @@ def measure(args: argparse.Namespace) -> None:
     viewer.add_display("Path", "/plan")
     node = graph.create_node("driver")
     cmd = node.publisher("/cmd_vel", "geometry_msgs/Twist", latch=True)
-    cmd.publish_data({"linear": {"x": 0.2}, "angular": {"z": 0.5}})
-    _publish_world(node, sim.odom_frame or "odom")
+    if not args.still:
+        cmd.publish_data({"linear": {"x": 0.2}, "angular": {"z": 0.5}})
+    _publish_world(node, sim.odom_frame or "odom", scan=not args.still)
     graph.start(rtf=1.0)
     modes = {"off": [False], "on": [True], "both": [True, False]}[args.antialias]
     try:
@@ -219,9 +221,9 @@ def measure(args: argparse.Namespace) -> None:
         print(f"frames without antialiasing / with it: {medians[1] / medians[0]:.2f}")
 
 
-def _publish_world(node: Any, odom: str) -> None:
-    """A 360-beam scan at 10 Hz (stamped now, in the laser's frame), a 400 x 400 map and a
-    path, all in the odometry frame the robot drives in."""
+def _publish_world(node: Any, odom: str, *, scan: bool = True) -> None:
+    """A 360-beam scan at 10 Hz (stamped now, in the laser's frame; unless not ``scan``), a
+    400 x 400 map and a path, all in the odometry frame the robot drives in."""
     size = 400
     yy, xx = np.mgrid[0:size, 0:size]
     cells = np.where((xx % 40 < 2) | (yy % 40 < 2), 100, 0).astype(np.int8)
@@ -248,12 +250,14 @@ def _publish_world(node: Any, odom: str) -> None:
             ],
         }
     )
-    scan = node.publisher("/scan", "sensor_msgs/LaserScan")
+    if not scan:
+        return
+    scans = node.publisher("/scan", "sensor_msgs/LaserScan")
     ranges = (3.0 + 0.5 * np.sin(np.arange(360) / 10)).tolist()
 
     def tick() -> None:
         now = node.now_ns()
-        scan.publish_data(
+        scans.publish_data(
             {
                 "header": {"frame_id": "base_link", "stamp": [now // 10**9, now % 10**9]},
                 "angle_min": -math.pi,
@@ -275,6 +279,7 @@ def main() -> None:
     parser.add_argument("--viewport", default="1000x700", help="the page's size, WxH pixels")
     parser.add_argument("--windows", type=int, default=4, help="parts of the window (a median)")
     parser.add_argument("--breakdown", action="store_true", help="what each kind drawn costs")
+    parser.add_argument("--still", action="store_true", help="nothing moves: frames not drawn")
     parser.add_argument(
         "--antialias", choices=("off", "on", "both"), default="off", help="WebGL multisampling"
     )
