@@ -24,9 +24,10 @@ median is reported beside the range.
 the page (viser's full-view background pass, the map, the lines, the robot, the scan) and
 measures again, each interleaved with the whole scene so both see the same load.
 ``--antialias both`` draws the scene twice in the same run, with WebGL's 4x multisampling
-(a browser's default) and without it (our Chromium's flags, :mod:`belvedere.viewer._chromium`),
-and prints their ratio. ``--still``: the robot stands and no scan comes, so nothing changes
-and the page should draw only viser's one frame a second.
+(a browser's default, and the tests') and without it (the default here: what software
+rendering should use, :mod:`belvedere.viewer._chromium`), and prints their ratio.
+``--still``: the robot stands and no scan comes, so nothing changes and the page should draw
+only viser's one frame a second.
 
     python benchmarks/viewer.py [--seconds 10] [--viewport 1000x700] [--breakdown]
         [--antialias off|on|both] [--still]
@@ -50,7 +51,7 @@ from belvedere.description.urdf import RobotModel
 from belvedere.graph import Graph
 from belvedere.sim.kinematic import KinematicSimulation
 from belvedere.viewer import Viewer
-from belvedere.viewer._chromium import CHROMIUM_ARGS
+from belvedere.viewer._chromium import launch_chromium
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 MBOT = EXAMPLES / "mbot_description/urdf/xacro/gazebo/mbot_gazebo.xacro"
@@ -133,8 +134,7 @@ def _browse(
     chromium = shutil.which("chromium")
     if chromium is None:
         sys.exit("Debian's chromium is not installed (apt-get install chromium)")
-    flags = [f for f in CHROMIUM_ARGS if not (antialias and f.startswith("--webgl-antialiasing"))]
-    browser = p.chromium.launch(executable_path=chromium, headless=True, args=flags)
+    browser = launch_chromium(p, chromium, antialias=antialias)
     try:
         page = browser.new_page(viewport={"width": args.viewport[0], "height": args.viewport[1]})
         page.set_default_timeout(300_000)

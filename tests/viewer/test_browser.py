@@ -330,18 +330,6 @@ def test_scan_and_map_appear(scene: Scene, page: Any) -> None:
     wait_for_pixel(page, occupied, lambda rgb: rgb[0] < 80, what="a black (occupied) map row")
 
 
-def test_the_view_is_drawn_without_multisampling(page: Any) -> None:
-    """The browser the tests and benchmarks/viewer.py share draws WebGL with one sample a
-    pixel: software WebGL resolves four on the CPU, the largest single cost of a frame."""
-    attributes = page.evaluate(
-        """() => {
-            const gl = window.__viserMutable.canvas.getContext("webgl2");
-            return [gl.getContextAttributes().antialias, gl.getParameter(gl.SAMPLES)];
-        }"""
-    )
-    assert attributes == [False, 0]
-
-
 def test_map_cells_are_drawn_one_by_one(scene: Scene, page: Any) -> None:
     """A checkerboard map at 0.1 m: each cell in its own colour (rviz's free white and
     occupied black at the Map's alpha 0.7 over the background), none blurred into its
