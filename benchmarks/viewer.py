@@ -26,11 +26,12 @@ measures again, each interleaved with the whole scene so both see the same load.
 ``--antialias both`` draws the scene twice in the same run, with WebGL's 4x multisampling
 (a browser's default, and the tests') and without it (the default here: what software
 rendering should use, :mod:`belvedere.viewer._chromium`), and prints their ratio.
-``--still``: the robot stands and no scan comes, so nothing changes and the page should draw
-only viser's one frame a second.
+``--pixel-ratio R`` fixes the pixel ratio (viser's ``fixedDpr``: no adaptive resolution), so
+two runs draw the same pixels. ``--still``: the robot stands and no scan comes, so nothing
+changes and the page should draw only viser's one frame a second.
 
     python benchmarks/viewer.py [--seconds 10] [--viewport 1000x700] [--breakdown]
-        [--antialias off|on|both] [--still]
+        [--antialias off|on|both] [--pixel-ratio R] [--still]
 """
 
 from __future__ import annotations
@@ -139,7 +140,10 @@ def _browse(
         page = browser.new_page(viewport={"width": args.viewport[0], "height": args.viewport[1]})
         page.set_default_timeout(300_000)
         started = time.perf_counter()
-        page.goto(viewer.url)
+        url = viewer.url
+        if args.pixel_ratio:
+            url += ("&" if "?" in url else "?") + f"fixedDpr={args.pixel_ratio:g}"
+        page.goto(url)
         page.wait_for_selector("canvas")
         while not _robot_drawn(page):
             time.sleep(0.1)
@@ -279,6 +283,7 @@ def main() -> None:
     parser.add_argument("--viewport", default="1000x700", help="the page's size, WxH pixels")
     parser.add_argument("--windows", type=int, default=4, help="parts of the window (a median)")
     parser.add_argument("--breakdown", action="store_true", help="what each kind drawn costs")
+    parser.add_argument("--pixel-ratio", type=float, default=0.0, help="fixed (0: viser's own)")
     parser.add_argument("--still", action="store_true", help="nothing moves: frames not drawn")
     parser.add_argument(
         "--antialias", choices=("off", "on", "both"), default="off", help="WebGL multisampling"
