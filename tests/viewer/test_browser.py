@@ -330,6 +330,48 @@ def test_scan_and_map_appear(scene: Scene, page: Any) -> None:
     wait_for_pixel(page, occupied, lambda rgb: rgb[0] < 80, what="a black (occupied) map row")
 
 
+def test_map_cells_are_drawn_one_by_one(scene: Scene, page: Any) -> None:
+    """A checkerboard map at 0.1 m: each cell in its own colour (rviz's free white and
+    occupied black at the Map's alpha 0.7 over the background), none blurred into its
+    neighbours' grey."""
+    pub = scene.node.publisher("/checker", "nav_msgs/OccupancyGrid", latch=True)
+    checker = scene.viewer.add_display("Map", "/checker")
+    size, resolution, origin = 6, 0.1, (-0.2, 0.6)  # beside the robot, clear of the other map
+    pub.publish_data(
+        {
+            "header": {"frame_id": "base_footprint"},
+            "info": {
+                "resolution": resolution,
+                "width": size,
+                "height": size,
+                "origin": {"position": {"x": origin[0], "y": origin[1]}},
+            },
+            "data": [100 * ((i % size + i // size) % 2) for i in range(size * size)],
+        }
+    )
+    try:
+        wait_until(lambda: "grid" in checker.handles, what="the checkerboard in the scene")
+        # cells 1..3 each way: clear of the Grid display's lines at x = 0 and y = 1
+        for row in (1, 2, 3):
+            for col in (1, 2, 3):
+                centre = (
+                    origin[0] + (col + 0.5) * resolution,
+                    origin[1] + (row + 0.5) * resolution,
+                    0.0,
+                )
+                xy = project(centre)
+                side = abs(project((centre[0] + resolution, *centre[1:]))[0] - xy[0])
+                assert side > 6, f"a cell is {side:.1f} px wide: too small to tell apart"
+                if (row + col) % 2:
+                    wait_for_pixel(page, xy, lambda rgb: rgb[0] < 40, what=f"black cell {row, col}")
+                else:
+                    wait_for_pixel(
+                        page, xy, lambda rgb: rgb[0] > 170, what=f"white cell {row, col}"
+                    )
+    finally:
+        scene.viewer.remove_display(checker)
+
+
 def test_a_viewer_with_a_token_in_the_browser(page: Any) -> None:
     """Served beyond loopback: the printed URL's page connects (its websocket carries the
     token by cookie); the same page without the token is refused."""

@@ -275,6 +275,10 @@ def _palette(scheme: str) -> U8:
     return table
 
 
+MAP_UPSAMPLE = 8
+"""At most this many texels a cell's side."""
+
+
 class MapDisplay(Display):
     """An OccupancyGrid as one textured plane, redrawn when a new grid comes (a SLAM map grows),
     moved with its frame's latest transform in between (as rviz does)."""
@@ -316,7 +320,7 @@ class MapDisplay(Display):
             rgba[..., 3] = (rgba[..., 3] * float(self.values["Alpha"])).astype(np.uint8)
             self.image = rgba
             # Cells stay crisp when each is several texels (the browser filters linearly).
-            k = max(1, min(8, 1024 // max(info.width, info.height)))
+            k = max(1, min(MAP_UPSAMPLE, 1024 // max(info.width, info.height)))
             texels = np.repeat(np.repeat(rgba, k, axis=0), k, axis=1) if k > 1 else rgba
             handle = self.ctx.scene.add_image(
                 f"{self.base}/grid",
