@@ -524,6 +524,26 @@ def test_a_followed_view_puts_back_a_tab_that_went_back_to_the_initial_camera() 
     assert f.seen()[1] == pytest.approx(placed[1])
 
 
+def test_a_followed_view_puts_back_a_tab_that_reports_the_clients_own_default_camera() -> None:
+    """A loaded tab may report viser's client's own initial camera (3, 3, 3), from before the
+    server's initial camera reached it, after the view placed it and the tab had reported
+    that: not the user's mouse (a TopDownOrtho view followed from there showed one robot
+    filling the view); the view puts it back."""
+    from belvedere.viewer._views import CLIENT_DEFAULT_POSITION, RESEND_S
+
+    f = _Following()
+    f.frame(0.5)
+    placed = f.seen()
+    f.frame()  # told: synced
+    f.camera.position, f.camera.look_at = np.array(CLIENT_DEFAULT_POSITION), np.zeros(3)
+    f.frame()
+    assert not f.view.moved
+    f.now += RESEND_S
+    f.frame()
+    assert f.seen()[0] == pytest.approx(placed[0])
+    assert f.seen()[1] == pytest.approx(placed[1])
+
+
 def test_a_top_down_view_is_placed_again_for_a_canvas_reported_late() -> None:
     """A tab may first report its canvas unsized (150 px high): the TopDownOrtho view placed
     for that would show a twentieth of the map's scale; it is placed again for the canvas's

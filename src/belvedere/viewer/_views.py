@@ -37,6 +37,9 @@ CAMERA_LOOK_AT = (0.0, 0.0, 0.1)
 CAMERA_FOV = math.radians(50.0)
 """The initial view without a config: a robot-sized scene seen from the front right, above.
 viser's client may move a tab's camera back to it a moment after a view has placed it."""
+CLIENT_DEFAULT_POSITION = (3.0, 3.0, 3.0)
+"""viser's client's own initial eye, before the server's initial camera reaches it: a loaded
+tab can report it after a view has placed its camera."""
 RESEND_S = 1.0
 """How long a tab may report an older camera than the one it was last told before it is told
 again: a told state can reach viser's server after the tab's report of the newer one."""
@@ -140,8 +143,9 @@ class ViewState:
         eye with an older target; and viser's position setter first sends a target shifted with
         the eye from the camera it last heard of, which a report can catch. The initial camera is
         one it was told too: viser's client may go back to it after the view has placed it (its
-        initial-camera effect runs after the messages that placed it), and is told again."""
-        eyes = np.array([*(w[0] for w in self.written), CAMERA_POSITION])
+        initial-camera effect runs after the messages that placed it), and is told again; so is
+        the client's own default, which a loaded tab reports before the initial camera."""
+        eyes = np.array([*(w[0] for w in self.written), CAMERA_POSITION, CLIENT_DEFAULT_POSITION])
         return bool((np.abs(eyes - seen[0]).max(axis=1) <= 1e-4).any())
 
     @property
