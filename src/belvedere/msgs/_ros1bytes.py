@@ -44,7 +44,7 @@ class Ros1Parts:
         """``msg``'s ROS 1 bytes (of type ``name``, a store name), as parts whose
         concatenation is what rosbags' ``serialize_ros1`` gives."""
         tails = self._tails
-        tail = tails[name] if name in tails else self._tail(name)
+        tail = tails[name] if name in tails else self.tail(name)
         if tail is not None:
             field, kind = tail
             value = getattr(msg, field)
@@ -65,7 +65,8 @@ class Ros1Parts:
                 return (bytes(head[:-4]) + _LENGTH.pack(len(bulk)), bulk)
         return (self.store.serialize_ros1(msg, name),)
 
-    def _tail(self, name: str) -> tuple[str, str] | None:
+    def tail(self, name: str) -> tuple[str, str] | None:
+        """A type's last field and its kind ("string" or "uint8[]") when it is one of those."""
         if name in self._tails:
             return self._tails[name]
         fields = self.store.fielddefs[name][1]

@@ -227,7 +227,6 @@ class TypeRegistry:
 
     def __init__(self) -> None:
         self.store: Typestore = get_typestore(Stores.ROS1_NOETIC)
-        self._tails: dict[str, str | None] = {}
         extra: dict[str, Any] = {}
         for name, text in _EXTRA_MESSAGES.items():
             extra.update(get_types_from_msg(text, name))
@@ -402,16 +401,8 @@ class TypeRegistry:
 
     def _byte_tail(self, name: str) -> str | None:
         """The last field of a message type when it is a ``uint8[]`` (else None)."""
-        if name in self._tails:
-            return self._tails[name]
-        fields = self.store.fielddefs[name][1]
-        tail = None
-        if fields:
-            field_name, (kind, detail) = fields[-1]
-            if int(kind) == _SEQUENCE and detail[0] == (_BASE, ("uint8", 0)):
-                tail = field_name
-        self._tails[name] = tail
-        return tail
+        tail = self._ros1.tail(name)
+        return tail[0] if tail is not None and tail[1] == "uint8[]" else None
 
     def prepare(self, name: str) -> None:
         """Make the serializers of message type ``name`` (and of the types in it) now: rosbags
