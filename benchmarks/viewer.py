@@ -66,7 +66,7 @@ VIEW = """() => {
 LAYERS = {
     "background pass": "o.material && o.material.uniforms && o.material.uniforms.depthMap",
     "map": "o.isMesh && o.material && o.material.map && o.material.type === 'MeshBasicMaterial'",
-    "lines (grid, path, TF)": "o.type === 'LineSegments2'",
+    "lines (grid, path, TF)": "o.type === 'LineSegments2' || o.type === 'LineSegments'",
     "robot": "o.isMesh && o.material && o.material.type === 'MeshStandardMaterial'",
     "scan": "o.isPoints",
 }

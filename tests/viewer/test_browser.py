@@ -332,8 +332,8 @@ def test_scan_and_map_appear(scene: Scene, page: Any) -> None:
 
 def test_map_cells_are_drawn_one_by_one(scene: Scene, page: Any) -> None:
     """A checkerboard map at 0.1 m: each cell in its own colour (rviz's free white and
-    occupied black at the Map's alpha 0.7 over the background), none blurred into its
-    neighbours' grey."""
+    occupied black at the Map's alpha 0.7 over the background) up to its sides, none blurred
+    into its neighbours' grey."""
     pub = scene.node.publisher("/checker", "nav_msgs/OccupancyGrid", latch=True)
     checker = scene.viewer.add_display("Map", "/checker")
     size, resolution, origin = 6, 0.1, (-0.2, 0.6)  # beside the robot, clear of the other map
@@ -362,12 +362,18 @@ def test_map_cells_are_drawn_one_by_one(scene: Scene, page: Any) -> None:
                 xy = project(centre)
                 side = abs(project((centre[0] + resolution, *centre[1:]))[0] - xy[0])
                 assert side > 6, f"a cell is {side:.1f} px wide: too small to tell apart"
-                if (row + col) % 2:
-                    wait_for_pixel(page, xy, lambda rgb: rgb[0] < 40, what=f"black cell {row, col}")
-                else:
-                    wait_for_pixel(
-                        page, xy, lambda rgb: rgb[0] > 170, what=f"white cell {row, col}"
-                    )
+                # the centre and a point near each side: a filtered texture blends a cell's
+                # edges with its neighbours', rviz's unfiltered one does not
+                for dx, dy in ((0.0, 0.0), (0.2, 0.0), (-0.2, 0.0), (0.0, 0.2), (0.0, -0.2)):
+                    at = project((centre[0] + dx * resolution, centre[1] + dy * resolution, 0.0))
+                    if (row + col) % 2:
+                        wait_for_pixel(
+                            page, at, lambda rgb: rgb[0] < 40, what=f"black cell {row, col}"
+                        )
+                    else:
+                        wait_for_pixel(
+                            page, at, lambda rgb: rgb[0] > 170, what=f"white cell {row, col}"
+                        )
     finally:
         scene.viewer.remove_display(checker)
 

@@ -3,12 +3,15 @@ the Map display's updates."""
 
 from __future__ import annotations
 
+import json
 import socket
+import struct
 import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 import pytest
 
 from belvedere.cli import main
@@ -69,6 +72,19 @@ def test_display_of_a_broken_model_is_an_error(
     assert err.startswith(f"{bad}:1:1: error: two root links found")
 
 
+def glb_lines(data: bytes) -> npt.NDArray[np.float32]:
+    """The line segments (N, 2, 3) of a GLB holding one primitive in LINES mode."""
+    text_length = struct.unpack_from("<I", data, 12)[0]
+    document = json.loads(data[20 : 20 + text_length])
+    blob = data[20 + text_length + 8 :]
+    (primitive,) = document["meshes"][0]["primitives"]
+    assert primitive["mode"] == 1  # GL_LINES: a pixel wide whatever the distance
+    accessor = document["accessors"][primitive["attributes"]["POSITION"]]
+    view = document["bufferViews"][accessor["bufferView"]]
+    points = np.frombuffer(blob, np.float32, accessor["count"] * 3, view["byteOffset"])
+    return points.reshape(-1, 2, 3)
+
+
 def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -104,7 +120,15 @@ def test_grid_is_rviz_lines(values: dict[str, object], lines: int, normal_axis: 
         normal = int(values.get("Normal Cell Count", 0))  # type: ignore[call-overload]
         assert np.abs(spread[:, normal_axis]).max() == pytest.approx(normal * size / 2)
         viewer.render_once()
-        assert grid.handles["grid"].points.shape == (lines, 2, 3)
+        pieces = grid.pieces()  # type: ignore[attr-defined]
+        drawn = glb_lines(grid.handles["grid"].glb_data)
+        assert np.array_equal(drawn, pieces)
+        # the lines come in pieces a cell long at most, and in all cover the lines end to end
+        lengths = np.linalg.norm(pieces[:, 1] - pieces[:, 0], axis=1)
+        assert lengths.max() == pytest.approx(size, rel=1e-5)
+        assert lengths.sum() == pytest.approx(
+            np.linalg.norm(segs[:, 1] - segs[:, 0], axis=1).sum(), rel=1e-5
+        )
     finally:
         viewer.close()
         graph.shutdown()

@@ -13,6 +13,7 @@ from belvedere.graph import NS
 from belvedere.msgs import ImageError, image_rgb
 from belvedere.tf import Transform
 from belvedere.viewer._display import Display, Prop, transform_points
+from belvedere.viewer._page import sharpen_texels
 from belvedere.viewer._status import Level
 
 __all__ = [
@@ -275,10 +276,6 @@ def _palette(scheme: str) -> U8:
     return table
 
 
-MAP_UPSAMPLE = 8
-"""At most this many texels a cell's side."""
-
-
 class MapDisplay(Display):
     """An OccupancyGrid as one textured plane, redrawn when a new grid comes (a SLAM map grows),
     moved with its frame's latest transform in between (as rviz does)."""
@@ -297,6 +294,8 @@ class MapDisplay(Display):
     """The message the scene shows."""
     image: U8 | None = None
     """(height, width, 4) RGBA of its cells, row 0 at the map's origin."""
+    sharpened = False
+    """Whether the pages were told to draw its texture texel by texel."""
 
     def update(self, msg: Any, fixed: str) -> None:
         if msg is None:
@@ -310,21 +309,23 @@ class MapDisplay(Display):
             return
         origin = msg_pose(info.origin)
         w, h = info.width * info.resolution, info.height * info.resolution
-        # Just under the plane z = 0, where the Grid display's (depth-writing) plane lies:
-        # at the same height the two fight over each pixel.
-        below = -0.004 if self.values["Draw Behind"] else -0.002
+        # Just under the plane z = 0, where the Grid display's (depth-writing) lines lie: at the
+        # same height the two fight over each pixel, and a software renderer's depth still
+        # cannot tell them apart 2 mm apart a few metres away.
+        below = -0.02 if self.values["Draw Behind"] else -0.01
         center = origin @ Transform((w / 2, h / 2, below))
         if msg is not self.drawn or "grid" not in self.handles:
             cells = np.asarray(msg.data, dtype=np.int16).reshape(info.height, info.width)
             rgba = _palette(self.values["Color Scheme"])[cells.astype(np.uint8)]
             rgba[..., 3] = (rgba[..., 3] * float(self.values["Alpha"])).astype(np.uint8)
             self.image = rgba
-            # Cells stay crisp when each is several texels (the browser filters linearly).
-            k = max(1, min(MAP_UPSAMPLE, 1024 // max(info.width, info.height)))
-            texels = np.repeat(np.repeat(rgba, k, axis=0), k, axis=1) if k > 1 else rgba
+            name = f"{self.base}/grid"
+            if not self.sharpened:
+                sharpen_texels(self.ctx.gui, name)
+                self.sharpened = True
             handle = self.ctx.scene.add_image(
-                f"{self.base}/grid",
-                np.ascontiguousarray(texels),  # viser puts row 0 at the plane's lowest y
+                name,
+                np.ascontiguousarray(rgba),  # viser puts row 0 at the plane's lowest y
                 render_width=w,
                 render_height=h,
                 format="png",

@@ -13,7 +13,8 @@ from belvedere.description.urdf import RobotModel
 from belvedere.errors import BelvedereError
 from belvedere.graph import NS
 from belvedere.tf import TFError, Transform, wxyz_from_xyzw
-from belvedere.viewer._display import Display, Prop, line_style
+from belvedere.viewer._display import Display, Prop, color_tuple, line_style
+from belvedere.viewer._glb import line_glb
 from belvedere.viewer._robot import RobotDrawing
 from belvedere.viewer._status import Level
 
@@ -30,9 +31,8 @@ class _Unstamped(Display):
         return self.latest_pose("" if frame == FIXED else frame, fixed)
 
 
-GRID_LINE_M = 0.01
-"""The width of the Grid's "Lines" (rviz: one pixel): about a pixel or two at the distances a
-robot is looked at from; farther lines fade rather than vanish."""
+GRID_PIECES = 100_000
+"""At most this many pieces of line in a Grid (a 1000-cell grid's lines come in longer ones)."""
 
 
 class GridDisplay(_Unstamped):
@@ -63,16 +63,20 @@ class GridDisplay(_Unstamped):
         handle = self.handles.get("grid")
         if handle is None:
             style = line_style(self.values)
-            if style["thickness_units"] == "screen":
-                # viser's screen-wide lines are drawn through walls in front of them; lines a
-                # few pixels wide in metres are hidden by what stands before them, as rviz's are
-                style = {"thickness": GRID_LINE_M, "thickness_units": "world"}
-            handle = self.ctx.scene.add_line_segments(
-                f"{self.base}/grid",
-                self.segments(),
-                tuple(self.values["Color"]),
-                **style,
-            )
+            if style["thickness_units"] == "screen":  # rviz's "Lines": GL lines, a pixel wide
+                handle = self.ctx.scene.add_glb(
+                    f"{self.base}/grid",
+                    line_glb(self.pieces(), color_tuple(self.values["Color"])),
+                    cast_shadow=False,
+                    receive_shadow=False,
+                )
+            else:
+                handle = self.ctx.scene.add_line_segments(
+                    f"{self.base}/grid",
+                    self.segments(),
+                    tuple(self.values["Color"]),
+                    **style,
+                )
         self.keep("grid", handle, pose)
 
     def segments(self) -> npt.NDArray[np.float32]:
@@ -104,6 +108,20 @@ class GridDisplay(_Unstamped):
         offset = np.array([float(self.values[k]) for k in ("X", "Y", "Z")])
         placed_at: npt.NDArray[np.float32] = (placed + offset).astype(np.float32)
         return placed_at
+
+    def pieces(self) -> npt.NDArray[np.float32]:
+        """The grid's lines cut into cell-long pieces (at most :data:`GRID_PIECES` in all):
+        a software renderer drops a GL line that crosses the camera's near plane, so a line
+        passing beside the camera would vanish whole; a piece vanishes only there."""
+        segs = self.segments()
+        cells = int(self.values["Plane Cell Count"])
+        n = max(1, min(cells, GRID_PIECES // max(1, len(segs))))
+        t = np.linspace(0.0, 1.0, n + 1, dtype=np.float32)[None, :, None]
+        along = segs[:, :1] + (segs[:, 1:] - segs[:, :1]) * t  # (N, n + 1, 3)
+        cut: npt.NDArray[np.float32] = np.stack((along[:, :-1], along[:, 1:]), axis=2).reshape(
+            -1, 2, 3
+        )
+        return cut
 
     def changed(self, key: str) -> None:
         self.forget("grid")  # rebuilt with the new size, style or colour

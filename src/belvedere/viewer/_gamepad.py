@@ -20,6 +20,7 @@ from typing import Any, Final
 
 from belvedere.graph import Node
 from belvedere.msgs import GAMEPAD_TOPIC, GAMEPAD_TYPE, GamepadState, gamepad_from_json
+from belvedere.viewer._page import run_in_page
 
 __all__ = ["PAGE_GAMEPAD", "STATE_PREFIX", "ViewerGamepad", "pad_markdown", "parse_field"]
 
@@ -86,8 +87,6 @@ class ViewerGamepad:
     """The Gamepad folder of the viewer's panel and its publisher."""
 
     def __init__(self, node: Node, gui: Any) -> None:
-        from viser import _messages  # heavy: only the viewer imports viser
-
         self.node = node
         self.pub = node.publisher(GAMEPAD_TOPIC, GAMEPAD_TYPE, queue_size=10)
         self.lock = threading.Lock()
@@ -104,9 +103,7 @@ class ViewerGamepad:
                 hint="The browser's gamepad as this page reads it, sent to joy_node",
             )
         self.field.on_update(lambda _: self._changed())
-        # viser's add_plotly sends its JavaScript this way; the message is kept for pages that
-        # connect later (viser never culls it)
-        gui._websock_interface.queue_message(_messages.RunJavascriptMessage(source=PAGE_GAMEPAD))
+        run_in_page(gui, PAGE_GAMEPAD)
         node.timer(REFRESH_S, self.refresh)
 
     def refresh(self) -> None:

@@ -27,6 +27,7 @@ from typing import Any, Final
 from belvedere.graph import GraphTopics, Node, Publisher, Subscription
 from belvedere.msgs import ImageError, image_rgb
 from belvedere.ros1.highgui import KEY_SUFFIX, KEY_TYPE, NAME_SUFFIX, NAME_TYPE, TOPIC_PREFIX
+from belvedere.viewer._page import run_in_page
 
 __all__ = ["KEY_BUTTONS", "WINDOW_PREFIX", "ImageWindows", "typed_keys"]
 
@@ -109,11 +110,7 @@ def typed_keys(before: str, after: str) -> list[int]:
 def send_page_keys(gui: Any) -> None:
     """Have every page of ``gui``'s server (those open and those to come) send the keys
     pressed on a window's panel into its key field."""
-    from viser import _messages  # heavy: only the viewer imports viser
-
-    # viser's add_plotly sends its JavaScript this way; the message is kept for pages that
-    # connect later (viser never culls it)
-    gui._websock_interface.queue_message(_messages.RunJavascriptMessage(source=PAGE_KEYS))
+    run_in_page(gui, PAGE_KEYS)
 
 
 def window_name(topic: str) -> str:
