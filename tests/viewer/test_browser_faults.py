@@ -1,5 +1,6 @@
 """The viewer faults a new user met (issue 33 §2), seen in a real Chromium: the grid hidden by
-the walls in front of it, a Kinect's cloud in its own colours, rviz's dark background.
+the walls in front of it, a Kinect's cloud in its own colours, rviz's dark background (drawn
+without viser's background pass).
 
 With ``BELVEDERE_DOCS_SCREENSHOTS=docs/images`` each test writes its picture (the "after" of
 docs/images/viewfix-*.png; the "before" pictures beside them were taken the same way on the
@@ -98,6 +99,49 @@ def test_the_grid_is_hidden_by_the_walls_in_front_of_it(tmp_path: Path) -> None:
             assert ((floor == (48, 48, 48)).all(axis=2)).mean() > 0.5
             assert ((floor[..., 0] > 90) & (floor[..., 0] < 200)).sum() > 500
             docs_screenshot(page, "viewfix-grid-after")
+    finally:
+        viewer.close()
+        graph.shutdown()
+
+
+BACKGROUND_PASS = """() => {
+    const m = window.__viserMutable;
+    let shown = null;
+    m.scene.traverse((o) => { if (o.material === m.backgroundMaterial) shown = o.visible; });
+    return [shown, m.canvas.style.backgroundColor];
+}"""
+"""Whether viser's background quad is drawn, and the colour behind the 3D view's canvas."""
+
+
+def test_the_background_colour_is_the_pages_not_a_pass_of_its_own() -> None:
+    """rviz's flat background colour shows behind the 3D view without viser's full-view
+    background pass (a software renderer pays for it at every pixel), and follows a change."""
+    graph = Graph(sim_time=False)
+    viewer = Viewer(graph, port=free_port(), fixed_frame="map")
+    graph.start(rtf=None)
+    try:
+        with browser_page(viewer.url) as page:
+
+            def most(rgb: Image) -> tuple[int, ...]:
+                view = rgb[:-120, round(VIEW["x"]) + 2 :].reshape(-1, 3)
+                colours, seen = np.unique(view, axis=0, return_counts=True)
+                return tuple(int(c) for c in colours[seen.argmax()])
+
+            for colour in ((48, 48, 48), (10, 90, 200)):
+                viewer.set_background(colour)
+                wait_until(
+                    lambda c=colour: (
+                        page.evaluate(BACKGROUND_PASS) == [False, "rgb({}, {}, {})".format(*c)]
+                    ),  # type: ignore[misc]
+                    what=f"the pass hidden, {colour} behind the view",
+                    timeout=BROWSER_DEADLINE,
+                    detail=lambda: page.evaluate(BACKGROUND_PASS),
+                )
+                wait_until(
+                    lambda c=colour: most(_screenshot(page)) == c,  # type: ignore[misc]
+                    what=f"the view's background {colour}",
+                    detail=lambda: most(_screenshot(page)),
+                )
     finally:
         viewer.close()
         graph.shutdown()

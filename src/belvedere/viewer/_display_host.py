@@ -23,6 +23,7 @@ from belvedere.viewer._access import ViewerError
 from belvedere.viewer._canvas import CanvasDrawing
 from belvedere.viewer._catalog import DISPLAYS, UnsupportedDisplay, display_type
 from belvedere.viewer._display import Display, DisplayContext, color_tuple
+from belvedere.viewer._page import page_background
 from belvedere.viewer._panel import DisplayPanel, global_status_markdown, set_handle
 from belvedere.viewer._rviz import RvizConfig, RvizDisplay, RvizView, format_color, write_rviz
 from belvedere.viewer._status import Level, Status
@@ -97,6 +98,7 @@ class _DisplayHost:
     def set_background(self, color: Any) -> None:
         rgb = color_tuple(color)
         self.scene.set_background_image(np.full((2, 2, 3), rgb, dtype=np.uint8), format="png")
+        page_background(self.gui, rgb)
         if tuple(self.background.value) != rgb:
             set_handle(self.background, rgb)
 
