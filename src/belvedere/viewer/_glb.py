@@ -24,8 +24,8 @@ UNLIT = "KHR_materials_unlit"
 
 
 def linear(rgb: tuple[int, int, int]) -> list[float]:
-    """An sRGB colour (0-255 a channel) as glTF's linear factors (three.js encodes its output
-    back to sRGB)."""
+    """An sRGB colour (0-255 a channel) as glTF's linear factors: three.js encodes its output
+    back to sRGB, after viser's tone mapping (which viser's own lines go through too)."""
     c = np.asarray(rgb, dtype=np.float64) / 255.0
     lin = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
     return [float(v) for v in lin]
@@ -52,7 +52,7 @@ def _glb(document: dict[str, Any], blob: bytes) -> bytes:
 def line_glb(segments: npt.NDArray[Any], rgb: tuple[int, int, int]) -> bytes:
     """Opaque GL lines, one pixel wide at any distance (WebGL draws no other width):
     ``segments`` (N, 2, 3) in metres, in one colour. Opaque, so they write depth: a map
-    blended just below them leaves them showing through it, as rviz's grid does.
+    blended just below them does not cover them, and walls in front of them hide them.
 
     Chromium's software WebGL (SwiftShader) drops a line that crosses the camera's near plane
     rather than clipping it: long lines that pass beside the camera should come in pieces."""
